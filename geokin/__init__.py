@@ -1,0 +1,38 @@
+"""geokin: kinematics of planar linkages from geometric constructions.
+
+Declare a linkage as a :class:`Construction` (fixed pivots, a driven input,
+and points found by intersecting lines, rays and circles), then
+:func:`sweep` it over the input range to get every point's motion on the
+right assembly branch.
+
+>>> import geokin
+>>> import numpy as np
+>>> c = geokin.Construction("crank")
+>>> c.input("theta")
+>>> c.fixed("O", 0, 0)
+>>> c.polar("A", "O", 10, "theta")
+>>> geokin.sweep(c, [0.0, np.pi / 2])["A"].round(12)
+array([[10.,  0.],
+       [ 0., 10.]])
+"""
+
+from .construction import Compiled, Construction, Input, Link, Parameter, Slider
+from .errors import AssemblyError, ConstructionError, GeokinError, ScriptError
+from .sweep import BranchEvent, Sweep, sweep
+
+__all__ = [
+    "AssemblyError",
+    "BranchEvent",
+    "Compiled",
+    "Construction",
+    "ConstructionError",
+    "GeokinError",
+    "Input",
+    "Link",
+    "Parameter",
+    "ScriptError",
+    "Slider",
+    "Sweep",
+    "sweep",
+]
+__version__ = "0.1.0"

@@ -1,0 +1,935 @@
+"""Constructions: parameters, inputs and points built on earlier points.
+
+A :class:`Construction` is declared step by step, the way a mechanism is
+drawn with ruler and compass: fixed pivots, a driven input, and every other
+point found from points already known. Declaring checks each node on its
+own (names, arity, branch); :meth:`Construction.compile` checks the whole
+graph (unknown names, cycles) and orders it into :class:`Step` objects.
+
+Angles are radians in the Python API. A construction loaded from a script
+keeps its expressions in degrees (``angle_unit == "deg"``); the sweep then
+hands its angle inputs to the expressions in degrees and converts every
+angle field back to radians, so expressions mean what the script says.
+
+Examples
+--------
+A four-bar with a coupler point, ground pivots 40 apart:
+
+>>> c = Construction("four-bar")
+>>> c.parameter("crank", 10)
+>>> c.input("theta", kind="angle", range=(0, 2 * np.pi))
+>>> c.fixed("O2", 0, 0)
+>>> c.fixed("O4", 40, 0)
+>>> c.polar("A", "O2", "crank", "theta")
+>>> c.circle_circle("B", ("A", "O4"), (35, 30), branch="left")
+>>> c.polar("P", "A", 20, "radians(30)", reference=("A", "B"))
+>>> print(c.compile())
+construction 'four-bar': 5 steps
+  1  O2 = fixed(0, 0)
+  2  O4 = fixed(40, 0)
+  3  A  = polar(O2, crank, theta)
+  4  B  = circle_circle(A, 35; O4, 30)  [left]
+  5  P  = polar(A, 20, radians(30) from A->B)
+"""
+
+from __future__ import annotations
+
+import heapq
+from collections.abc import Iterable, Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import ClassVar
+
+import numpy as np
+
+from . import primitives as prim
+from .errors import ConstructionError, did_you_mean
+from .expressions import CONSTANTS, FUNCTIONS, Expr, as_expr
+
+__all__ = [
+    "BRANCHES",
+    "Candidates",
+    "CircleCircle",
+    "Compiled",
+    "Construction",
+    "Fixed",
+    "Input",
+    "LineCircle",
+    "LineLine",
+    "Link",
+    "Node",
+    "Parameter",
+    "Polar",
+    "RayCircle",
+    "SegmentCircle",
+    "Slider",
+    "Step",
+    "Along",
+]
+
+BRANCHES = {
+    "circle_circle": ("left", "right"),
+    "line_circle": ("first", "second"),
+    "segment_circle": ("first", "second"),
+    "ray_circle": ("first", "second"),
+}
+"""Branch names of each two-root node kind, in the primitives' root order."""
+
+INPUT_KINDS = ("angle", "length")
+
+# Why a sample could not be assembled at a node; codes stored per sample.
+REASONS = (
+    "",
+    "no intersection: the curves do not meet",
+    "degenerate input: coincident centres, zero-length line or parallel lines",
+    "the chosen root lies off the ray or segment",
+    "a value is not finite (for example a negative radius or NaN)",
+)
+NO_INTERSECTION, DEGENERATE, OFF_LINE, NOT_FINITE = 1, 2, 3, 4
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A named constant of a construction (a link length, an offset)."""
+
+    name: str
+    value: float
+    description: str = ""
+
+
+@dataclass(frozen=True)
+class Input:
+    """A driving variable: an angle (radians) or a length.
+
+    Attributes
+    ----------
+    name : str
+    kind : {"angle", "length"}
+    range : (float, float)
+        Default range of a sweep, radians for an angle.
+    samples : int
+        Default number of samples over the range.
+    speed : float
+        Constant rate of the input in radians (or length units) per second,
+        for time-based output.
+    """
+
+    name: str
+    kind: str = "angle"
+    range: tuple[float, float] = (0.0, 2 * np.pi)
+    samples: int = 361
+    speed: float = 2 * np.pi
+
+    def values(self, samples: int | None = None) -> np.ndarray:
+        """Return the default sweep of this input, endpoints included.
+
+        Examples
+        --------
+        >>> Input("theta", range=(0.0, 1.0), samples=3).values()
+        array([0. , 0.5, 1. ])
+        """
+        return np.linspace(self.range[0], self.range[1], samples or self.samples)
+
+
+@dataclass(frozen=True)
+class Link:
+    """A rigid link joining two or more points, for drawing and analysis."""
+
+    name: str
+    points: tuple[str, ...]
+
+
+@dataclass(frozen=True)
+class Slider:
+    """A slider block at ``point`` sliding along the line ``along[0] -> along[1]``."""
+
+    name: str
+    point: str
+    along: tuple[str, str]
+
+
+@dataclass(frozen=True)
+class Candidates:
+    """What a node computes for every sample, before a branch is chosen.
+
+    Attributes
+    ----------
+    x, y : ndarray, shape (roots, N)
+        One row per root: one for a single-root node, two for a two-root node.
+    valid : ndarray of bool, shape (roots, N)
+    margin : ndarray, shape (N,) or None
+        Distance from tangency of a two-root node (positive: two roots,
+        zero: tangent, negative: none), smooth in the inputs.
+    reason : ndarray of int8, shape (roots, N)
+        Why each invalid root is invalid (an index into ``REASONS``).
+    """
+
+    x: np.ndarray
+    y: np.ndarray
+    valid: np.ndarray
+    margin: np.ndarray | None
+    reason: np.ndarray
+
+
+def _reasons(valid, finite_inputs, margin, off_line=None):
+    """Classify invalid roots: shape (roots, N) of int8 codes."""
+    reason = np.zeros(valid.shape, dtype=np.int8)
+    with np.errstate(invalid="ignore"):
+        missing = margin < 0 if margin is not None else np.zeros(valid.shape[1:], bool)
+    per_sample = np.where(~finite_inputs, NOT_FINITE,
+                          np.where(missing, NO_INTERSECTION, DEGENERATE)).astype(np.int8)
+    reason[...] = np.where(valid, 0, per_sample)
+    if off_line is not None:
+        reason[off_line & finite_inputs & ~missing] = OFF_LINE
+    return reason
+
+
+@dataclass(frozen=True)
+class Node:
+    """A point of a construction. Subclasses say how it is found."""
+
+    name: str
+    kind: ClassVar[str] = ""
+    roots: ClassVar[int] = 1
+
+    def point_fields(self) -> dict[str, tuple[str, ...]]:
+        """Return the points this node is built on, by field."""
+        return {}
+
+    def value_fields(self) -> dict[str, Expr]:
+        """Return the values (numbers, names, arithmetic) by field."""
+        return {}
+
+    def angle_fields(self) -> frozenset[str]:
+        """Return the value fields that are angles."""
+        return frozenset()
+
+    def depends_on(self) -> tuple[str, ...]:
+        """Return every point this node is built on, in order, without repeats."""
+        seen: dict[str, None] = {}
+        for names in self.point_fields().values():
+            seen.update(dict.fromkeys(names))
+        return tuple(seen)
+
+    def describe(self) -> str:
+        """Return the node's right-hand side, as a step list shows it."""
+        raise NotImplementedError
+
+    def candidates(self, coords, values) -> Candidates:
+        """Compute every root for all samples.
+
+        Parameters
+        ----------
+        coords : mapping of str to (x, y)
+            Coordinate arrays of the points already known.
+        values : mapping of str to ndarray or float
+            The evaluated value fields, angles in radians.
+        """
+        raise NotImplementedError
+
+
+def _xy(coords, name):
+    return coords[name]
+
+
+def _finite(*arrays):
+    ok = True
+    for a in arrays:
+        ok = ok & np.isfinite(a)
+    return ok
+
+
+@dataclass(frozen=True)
+class Fixed(Node):
+    """A fixed point (a ground pivot) at ``(x, y)``."""
+
+    x: Expr = None
+    y: Expr = None
+    kind: ClassVar[str] = "fixed"
+
+    def value_fields(self):
+        return {"x": self.x, "y": self.y}
+
+    def describe(self):
+        return f"fixed({self.x}, {self.y})"
+
+    def candidates(self, coords, values):
+        x, y = np.broadcast_arrays(values["x"], values["y"])
+        x = x[None].astype(float)
+        y = y[None].astype(float)
+        valid = np.isfinite(x) & np.isfinite(y)
+        reason = np.where(valid, 0, NOT_FINITE).astype(np.int8)
+        return Candidates(x, y, valid, None, reason)
+
+
+@dataclass(frozen=True)
+class Polar(Node):
+    """The point at ``distance`` from ``origin`` at ``angle``.
+
+    The angle is absolute (counter-clockwise from the x axis), or, with
+    ``reference=(P, Q)``, measured from the direction of the line P -> Q.
+    """
+
+    origin: str = ""
+    distance: Expr = None
+    angle: Expr = None
+    reference: tuple[str, str] | None = None
+    kind: ClassVar[str] = "polar"
+
+    def point_fields(self):
+        fields = {"origin": (self.origin,)}
+        if self.reference is not None:
+            fields["reference"] = self.reference
+        return fields
+
+    def value_fields(self):
+        return {"distance": self.distance, "angle": self.angle}
+
+    def angle_fields(self):
+        return frozenset({"angle"})
+
+    def describe(self):
+        ref = "" if self.reference is None else f" from {self.reference[0]}->{self.reference[1]}"
+        return f"polar({self.origin}, {self.distance}, {self.angle}{ref})"
+
+    def candidates(self, coords, values):
+        ox, oy = coords[self.origin]
+        distance, angle = values["distance"], values["angle"]
+        if self.reference is None:
+            x = ox + distance * np.cos(angle)
+            y = oy + distance * np.sin(angle)
+        else:
+            (x1, y1), (x2, y2) = coords[self.reference[0]], coords[self.reference[1]]
+            x, y = prim.relative_point_xy(ox, oy, x1, y1, x2, y2, distance, angle)
+        return _single(x, y, _finite(ox, oy, distance, angle))
+
+
+@dataclass(frozen=True)
+class Along(Node):
+    """The point at a signed ``distance`` from ``line[0]`` towards ``line[1]``."""
+
+    line: tuple[str, str] = ()
+    distance: Expr = None
+    kind: ClassVar[str] = "along"
+
+    def point_fields(self):
+        return {"line": self.line}
+
+    def value_fields(self):
+        return {"distance": self.distance}
+
+    def describe(self):
+        return f"along({self.line[0]}->{self.line[1]}, {self.distance})"
+
+    def candidates(self, coords, values):
+        (x1, y1), (x2, y2) = coords[self.line[0]], coords[self.line[1]]
+        x, y = prim.relative_point_xy(x1, y1, x1, y1, x2, y2, values["distance"], 0.0)
+        return _single(x, y, _finite(x1, y1, x2, y2, values["distance"]))
+
+
+def _single(x, y, finite_inputs):
+    x, y, finite_inputs = np.broadcast_arrays(x, y, finite_inputs)
+    valid = np.isfinite(x) & np.isfinite(y)
+    reason = np.where(valid, 0, np.where(finite_inputs, DEGENERATE, NOT_FINITE))
+    return Candidates(x[None], y[None], valid[None], None, reason[None].astype(np.int8))
+
+
+@dataclass(frozen=True)
+class LineLine(Node):
+    """The intersection of the lines ``first[0]-first[1]`` and ``second[0]-second[1]``."""
+
+    first: tuple[str, str] = ()
+    second: tuple[str, str] = ()
+    kind: ClassVar[str] = "line_line"
+
+    def point_fields(self):
+        return {"first": self.first, "second": self.second}
+
+    def describe(self):
+        return f"line_line({self.first[0]}-{self.first[1]}; {self.second[0]}-{self.second[1]})"
+
+    def candidates(self, coords, values):
+        args = [c for name in (*self.first, *self.second) for c in coords[name]]
+        x, y, _, _, _ = prim.line_line_xy(*args)
+        return _single(x, y, _finite(*args))
+
+
+@dataclass(frozen=True)
+class _TwoRoot(Node):
+    """A node with two candidate roots, chosen by ``branch`` or ``near``."""
+
+    branch: str | None = None
+    near: tuple[float, float] | None = None
+    roots: ClassVar[int] = 2
+
+    def branch_names(self) -> tuple[str, str]:
+        """Return the names of the two roots, in the primitive's order."""
+        return BRANCHES[self.kind]
+
+    def choice(self) -> str:
+        """Return how the initial branch is chosen, as text."""
+        if self.near is not None:
+            return f"near ({self.near[0]:g}, {self.near[1]:g})"
+        return self.branch
+
+
+@dataclass(frozen=True)
+class CircleCircle(_TwoRoot):
+    """An intersection of two circles: centres ``centers``, radii ``radii``.
+
+    Branch ``left`` is left of the directed line from the first centre to the
+    second, ``right`` right of it.
+    """
+
+    centers: tuple[str, str] = ()
+    radii: tuple[Expr, Expr] = ()
+    kind: ClassVar[str] = "circle_circle"
+
+    def point_fields(self):
+        return {"centers": self.centers}
+
+    def value_fields(self):
+        return {"radii[0]": self.radii[0], "radii[1]": self.radii[1]}
+
+    def describe(self):
+        (a, b), (ra, rb) = self.centers, self.radii
+        return f"circle_circle({a}, {ra}; {b}, {rb})  [{self.choice()}]"
+
+    def candidates(self, coords, values):
+        (x1, y1), (x2, y2) = coords[self.centers[0]], coords[self.centers[1]]
+        r1, r2 = values["radii[0]"], values["radii[1]"]
+        xl, yl, xr, yr, margin = prim.circle_circle_xy(x1, y1, r1, x2, y2, r2)
+        xl, yl, xr, yr, margin = np.broadcast_arrays(xl, yl, xr, yr, margin)
+        x = np.stack([xl, yl, xr, yr]).reshape(2, 2, -1)
+        valid = np.isfinite(x[:, 0]) & np.isfinite(x[:, 1])
+        reason = _reasons(valid, _finite(x1, y1, x2, y2, r1, r2), margin)
+        return Candidates(x[:, 0], x[:, 1], valid, margin, reason)
+
+
+@dataclass(frozen=True)
+class _LineCircle(_TwoRoot):
+    """An intersection of the line ``line[0] -> line[1]`` with a circle.
+
+    Branch ``first`` comes first along the line's direction, ``second`` after it.
+    """
+
+    line: tuple[str, str] = ()
+    center: str = ""
+    radius: Expr = None
+    low: ClassVar[float] = -np.inf
+    high: ClassVar[float] = np.inf
+
+    def point_fields(self):
+        return {"line": self.line, "center": (self.center,)}
+
+    def value_fields(self):
+        return {"radius": self.radius}
+
+    def describe(self):
+        joint = {"line_circle": "-", "segment_circle": "..", "ray_circle": "->"}[self.kind]
+        return (f"{self.kind}({self.line[0]}{joint}{self.line[1]}; {self.center}, {self.radius})"
+                f"  [{self.choice()}]")
+
+    def candidates(self, coords, values):
+        (x1, y1), (x2, y2) = coords[self.line[0]], coords[self.line[1]]
+        cx, cy = coords[self.center]
+        r = values["radius"]
+        xa, ya, xb, yb, ta, tb, margin = prim.line_circle_xy(x1, y1, x2, y2, cx, cy, r)
+        xa, ya, xb, yb, ta, tb, margin = np.broadcast_arrays(xa, ya, xb, yb, ta, tb, margin)
+        x = np.stack([xa, xb])
+        y = np.stack([ya, yb])
+        t = np.stack([ta, tb])
+        with np.errstate(invalid="ignore"):
+            on_line = (t >= self.low - prim.PARAMETER_RTOL) & (t <= self.high + prim.PARAMETER_RTOL)
+        exists = np.isfinite(x) & np.isfinite(y)
+        valid = exists & on_line
+        reason = _reasons(valid, _finite(x1, y1, x2, y2, cx, cy, r), margin,
+                          off_line=exists & ~on_line)
+        # off-line roots keep their positions: branch tracking follows them
+        return Candidates(x, y, valid, margin, reason)
+
+
+@dataclass(frozen=True)
+class LineCircle(_LineCircle):
+    """An intersection of the whole line through ``line`` with a circle."""
+
+    kind: ClassVar[str] = "line_circle"
+
+
+@dataclass(frozen=True)
+class RayCircle(_LineCircle):
+    """An intersection of the ray from ``line[0]`` through ``line[1]`` with a circle."""
+
+    kind: ClassVar[str] = "ray_circle"
+    low: ClassVar[float] = 0.0
+
+
+@dataclass(frozen=True)
+class SegmentCircle(_LineCircle):
+    """An intersection of the segment ``line[0]..line[1]`` with a circle."""
+
+    kind: ClassVar[str] = "segment_circle"
+    low: ClassVar[float] = 0.0
+    high: ClassVar[float] = 1.0
+
+
+NODE_KINDS: dict[str, type[Node]] = {
+    cls.kind: cls
+    for cls in (Fixed, Polar, Along, LineLine, LineCircle, SegmentCircle, RayCircle, CircleCircle)
+}
+"""Every point node kind by its name in scripts."""
+
+
+@dataclass(frozen=True)
+class Step:
+    """One step of a compiled construction: a node and its place in the order."""
+
+    index: int
+    node: Node
+
+    def __repr__(self):
+        return f"<Step {self.index}: {self.node.name} = {self.node.describe()}>"
+
+
+@dataclass(frozen=True)
+class Compiled:
+    """A validated construction in evaluation order.
+
+    Attributes
+    ----------
+    name : str
+    steps : tuple of Step
+        Every point node, each after the points it is built on.
+    parameters : dict of str to float
+    inputs : dict of str to Input
+    angle_unit : {"rad", "deg"}
+        The unit of angle values inside the expressions.
+    """
+
+    name: str
+    steps: tuple[Step, ...]
+    parameters: Mapping[str, float]
+    inputs: Mapping[str, Input]
+    angle_unit: str = "rad"
+    links: tuple[Link, ...] = ()
+    sliders: tuple[Slider, ...] = ()
+    _values: Mapping[str, Mapping[str, Expr]] = field(default_factory=dict, repr=False)
+
+    def __len__(self):
+        return len(self.steps)
+
+    def __iter__(self):
+        return iter(self.steps)
+
+    @property
+    def point_names(self) -> tuple[str, ...]:
+        """Return the point names in evaluation order."""
+        return tuple(step.node.name for step in self.steps)
+
+    def as_list(self) -> list[tuple]:
+        """Return the steps as plain tuples ``(name, kind, points..., branch)``.
+
+        Examples
+        --------
+        >>> c = Construction()
+        >>> c.fixed("O", 0, 0)
+        >>> c.input("t")
+        >>> c.polar("A", "O", 1, "t")
+        >>> c.compile().as_list()
+        [('O', 'fixed'), ('A', 'polar', 'O')]
+        """
+        rows = []
+        for step in self.steps:
+            node = step.node
+            row = (node.name, node.kind, *node.depends_on())
+            if node.roots == 2:
+                row += (node.choice(),)
+            rows.append(row)
+        return rows
+
+    def __str__(self):
+        width = max((len(s.node.name) for s in self.steps), default=0)
+        lines = [f"construction {self.name!r}: {len(self.steps)} steps"]
+        for step in self.steps:
+            lines.append(f"  {step.index:>{len(str(len(self.steps)))}}  "
+                         f"{step.node.name:<{width}} = {step.node.describe()}")
+        return "\n".join(lines)
+
+    def __repr__(self):
+        return f"<Compiled {self.name!r}: {len(self.steps)} steps>"
+
+
+class Construction:
+    """A planar linkage declared as a geometric construction.
+
+    Declare parameters, inputs and points in any order that refers only to
+    declared names by the time :meth:`compile` runs. Each declaring method
+    checks its own arguments and raises :class:`~geokin.errors.ConstructionError`
+    naming the node and field.
+
+    Parameters
+    ----------
+    name : str
+        A name for messages and pictures.
+    angle_unit : {"rad", "deg"}
+        The unit of angle values inside expressions; "rad" in Python.
+    """
+
+    def __init__(self, name: str = "construction", *, angle_unit: str = "rad",
+                 description: str = "", units: str = ""):
+        if angle_unit not in ("rad", "deg"):
+            raise ConstructionError(f"angle_unit must be 'rad' or 'deg', got {angle_unit!r}")
+        self.name = name
+        self.description = description
+        self.units = units
+        self.angle_unit = angle_unit
+        self.parameters: dict[str, Parameter] = {}
+        self.inputs: dict[str, Input] = {}
+        self.nodes: dict[str, Node] = {}
+        self.links: dict[str, Link] = {}
+        self.sliders: dict[str, Slider] = {}
+        self._compiled: Compiled | None = None
+
+    def __repr__(self):
+        return (f"<Construction {self.name!r}: {len(self.parameters)} parameters, "
+                f"{len(self.inputs)} inputs, {len(self.nodes)} points>")
+
+    def __eq__(self, other):
+        if not isinstance(other, Construction):
+            return NotImplemented
+        return (self.name, self.angle_unit, self.parameters, self.inputs, self.nodes,
+                self.links, self.sliders) == (other.name, other.angle_unit, other.parameters,
+                                              other.inputs, other.nodes, other.links,
+                                              other.sliders)
+
+    __hash__ = None
+
+    # -- names -------------------------------------------------------------
+
+    def _all_names(self) -> dict[str, str]:
+        names = {}
+        for kind, table in (("parameter", self.parameters), ("input", self.inputs),
+                            ("point", self.nodes), ("link", self.links),
+                            ("slider", self.sliders)):
+            names.update(dict.fromkeys(table, kind))
+        return names
+
+    def _claim(self, name: str, what: str):
+        if not isinstance(name, str) or not name.isidentifier():
+            raise ConstructionError(
+                f"a {what} name must be an identifier (letters, digits, _), got {name!r}",
+                node=str(name), field="name")
+        if name in CONSTANTS or name in FUNCTIONS:
+            raise ConstructionError(f"{name!r} is reserved for the built-in "
+                                    f"{'constant' if name in CONSTANTS else 'function'}",
+                                    node=name, field="name")
+        existing = self._all_names().get(name)
+        if existing is not None:
+            raise ConstructionError(f"duplicate name: a {existing} {name!r} is already declared",
+                                    node=name, field="name")
+        self._compiled = None
+
+    # -- declarations ------------------------------------------------------
+
+    def parameter(self, name: str, value: float, description: str = "") -> None:
+        """Declare a named constant, usable in any value by its name."""
+        self._claim(name, "parameter")
+        number = as_expr(value, node=name, field="value")
+        if number.names():
+            raise ConstructionError("a parameter's value must be a number", node=name,
+                                    field="value")
+        self.parameters[name] = Parameter(name, float(number.evaluate({})), description)
+
+    def input(self, name: str, kind: str = "angle", range: Sequence[float] | None = None,
+              samples: int = 361, speed: float | None = None) -> None:
+        """Declare a driving variable.
+
+        Parameters
+        ----------
+        name : str
+        kind : {"angle", "length"}
+        range : (float, float), optional
+            Default sweep range; radians for an angle. Defaults to one turn
+            for an angle; required for a length.
+        samples : int
+            Default number of samples.
+        speed : float, optional
+            Rate in radians (or lengths) per second; one turn per second by default.
+        """
+        self._claim(name, "input")
+        if kind not in INPUT_KINDS:
+            raise ConstructionError(f"unknown input kind {kind!r}; use one of "
+                                    f"{', '.join(INPUT_KINDS)}{did_you_mean(kind, INPUT_KINDS)}",
+                                    node=name, field="kind")
+        if range is None:
+            if kind == "length":
+                raise ConstructionError("a length input needs a range", node=name,
+                                        field="range")
+            range = (0.0, 2 * np.pi)
+        lo_hi = _pair_of_numbers(range, node=name, field="range")
+        if not (isinstance(samples, int | np.integer) and samples >= 2):
+            raise ConstructionError(f"samples must be an integer of at least 2, got {samples!r}",
+                                    node=name, field="samples")
+        if speed is None:
+            speed = 2 * np.pi if kind == "angle" else 1.0
+        self.inputs[name] = Input(name, kind, lo_hi, int(samples), float(speed))
+
+    def fixed(self, name: str, x, y) -> None:
+        """Declare a fixed point (a ground pivot)."""
+        self._add(Fixed(name, self._value(x, name, "x"), self._value(y, name, "y")))
+
+    def polar(self, name: str, origin: str, distance, angle,
+              reference: Sequence[str] | None = None) -> None:
+        """Declare the point at ``distance`` and ``angle`` from ``origin``.
+
+        ``angle`` is absolute, or measured from the direction of the line
+        ``reference[0] -> reference[1]`` when given.
+        """
+        ref = None if reference is None else self._points(reference, name, "reference", 2)
+        self._add(Polar(name, self._point(origin, name, "origin"),
+                        self._value(distance, name, "distance"),
+                        self._value(angle, name, "angle"), ref))
+
+    def along(self, name: str, line: Sequence[str], distance) -> None:
+        """Declare the point at a signed ``distance`` from ``line[0]`` towards ``line[1]``."""
+        self._add(Along(name, self._points(line, name, "line", 2),
+                        self._value(distance, name, "distance")))
+
+    def line_line(self, name: str, first: Sequence[str], second: Sequence[str]) -> None:
+        """Declare the intersection of two lines, each through two points."""
+        self._add(LineLine(name, self._points(first, name, "first", 2),
+                           self._points(second, name, "second", 2)))
+
+    def circle_circle(self, name: str, centers: Sequence[str], radii: Sequence,
+                      branch: str | None = None, near: Sequence[float] | None = None) -> None:
+        """Declare an intersection of two circles.
+
+        Parameters
+        ----------
+        centers : (str, str)
+            The two centres.
+        radii : (value, value)
+            Their radii.
+        branch : {"left", "right"}, optional
+            The root left or right of the directed line ``centers[0] -> centers[1]``.
+        near : (float, float), optional
+            Instead of ``branch``: a sketch position; the root nearer to it at
+            the first assemblable sample is taken.
+        """
+        radii = self._values(radii, name, "radii", 2)
+        self._add(CircleCircle(name, *self._branch("circle_circle", name, branch, near),
+                               centers=self._points(centers, name, "centers", 2), radii=radii))
+
+    def line_circle(self, name: str, line: Sequence[str], center: str, radius,
+                    branch: str | None = None, near: Sequence[float] | None = None) -> None:
+        """Declare an intersection of the line through ``line`` with a circle.
+
+        ``branch`` is ``"first"`` or ``"second"`` along ``line[0] -> line[1]``,
+        or give ``near`` instead.
+        """
+        self._line_circle(LineCircle, name, line, center, radius, branch, near)
+
+    def ray_circle(self, name: str, line: Sequence[str], center: str, radius,
+                   branch: str | None = None, near: Sequence[float] | None = None) -> None:
+        """Declare an intersection of the ray ``line[0]`` through ``line[1]`` with a circle."""
+        self._line_circle(RayCircle, name, line, center, radius, branch, near)
+
+    def segment_circle(self, name: str, line: Sequence[str], center: str, radius,
+                       branch: str | None = None, near: Sequence[float] | None = None) -> None:
+        """Declare an intersection of the segment ``line[0]..line[1]`` with a circle."""
+        self._line_circle(SegmentCircle, name, line, center, radius, branch, near)
+
+    def link(self, name: str, *points: str) -> None:
+        """Declare a rigid link joining two or more points (for drawing and analysis)."""
+        self._claim(name, "link")
+        self.links[name] = Link(name, self._points(points, name, "points", None))
+
+    def slider(self, name: str, point: str, along: Sequence[str]) -> None:
+        """Declare a slider block at ``point`` sliding on the line ``along``."""
+        self._claim(name, "slider")
+        self.sliders[name] = Slider(name, self._point(point, name, "point"),
+                                    self._points(along, name, "along", 2))
+
+    def add(self, node: Node) -> None:
+        """Declare a node built elsewhere (used by the script loader)."""
+        self._add(node)
+
+    # -- checks of one declaration -------------------------------------------
+
+    def _add(self, node: Node) -> None:
+        self._claim(node.name, "point")
+        self.nodes[node.name] = node
+
+    def _line_circle(self, cls, name, line, center, radius, branch, near):
+        self._add(cls(name, *self._branch(cls.kind, name, branch, near),
+                      line=self._points(line, name, "line", 2),
+                      center=self._point(center, name, "center"),
+                      radius=self._value(radius, name, "radius")))
+
+    @staticmethod
+    def _value(value, node, field_name) -> Expr:
+        return as_expr(value, node=node, field=field_name)
+
+    def _values(self, values, node, field_name, count) -> tuple[Expr, ...]:
+        if isinstance(values, str | bytes) or not isinstance(values, Sequence):
+            raise ConstructionError(f"expected {count} values, got {values!r}", node=node,
+                                    field=field_name)
+        if len(values) != count:
+            raise ConstructionError(f"expected {count} values, got {len(values)}", node=node,
+                                    field=field_name)
+        return tuple(self._value(v, node, f"{field_name}[{i}]") for i, v in enumerate(values))
+
+    @staticmethod
+    def _point(point, node, field_name) -> str:
+        if not isinstance(point, str):
+            raise ConstructionError(f"expected a point name, got {point!r}", node=node,
+                                    field=field_name)
+        return point
+
+    def _points(self, points, node, field_name, count) -> tuple[str, ...]:
+        if isinstance(points, str) or not isinstance(points, Iterable):
+            raise ConstructionError(f"expected a list of point names, got {points!r}",
+                                    node=node, field=field_name)
+        points = tuple(points)
+        if count is not None and len(points) != count:
+            raise ConstructionError(f"expected {count} point names, got {len(points)}",
+                                    node=node, field=field_name)
+        if count is None and len(points) < 2:
+            raise ConstructionError(f"a link joins at least 2 points, got {len(points)}",
+                                    node=node, field=field_name)
+        for i, p in enumerate(points):
+            self._point(p, node, f"{field_name}[{i}]")
+        return points
+
+    @staticmethod
+    def _branch(kind, node, branch, near):
+        names = BRANCHES[kind]
+        if branch is not None and near is not None:
+            raise ConstructionError("give either branch or near, not both", node=node,
+                                    field="branch")
+        if branch is None and near is None:
+            raise ConstructionError(f"a {kind} node has two roots: choose one with branch "
+                                    f"({' or '.join(map(repr, names))}) or near=(x, y)",
+                                    node=node, field="branch")
+        if branch is not None and branch not in names:
+            raise ConstructionError(f"unknown branch {branch!r} for {kind}; use "
+                                    f"{' or '.join(map(repr, names))}"
+                                    f"{did_you_mean(str(branch), names)}",
+                                    node=node, field="branch")
+        if near is not None:
+            near = _pair_of_numbers(near, node=node, field="near")
+        return branch, near
+
+    # -- the whole graph -----------------------------------------------------
+
+    def compile(self) -> Compiled:
+        """Validate the whole construction and order it into steps.
+
+        Raises
+        ------
+        ConstructionError
+            For an unknown point or value name (with the closest existing
+            name), a cycle (naming its points), or a link, slider or input
+            that refers to nothing.
+        """
+        if self._compiled is not None:
+            return self._compiled
+        value_names = {**dict.fromkeys(self.parameters, "parameter"),
+                       **dict.fromkeys(self.inputs, "input")}
+        for node in self.nodes.values():
+            for field_name, points in node.point_fields().items():
+                for p in points:
+                    self._check_point_name(p, node.name, field_name)
+            for field_name, expr in node.value_fields().items():
+                for name in sorted(expr.names()):
+                    if name not in value_names:
+                        hint = did_you_mean(name, value_names)
+                        if name in self.nodes:
+                            hint = f"; {name!r} is a point, not a parameter or input"
+                        raise ConstructionError(f"unknown parameter or input {name!r}{hint}",
+                                                node=node.name, field=field_name)
+        for link in self.links.values():
+            for i, p in enumerate(link.points):
+                self._check_point_name(p, link.name, f"points[{i}]")
+        for slider in self.sliders.values():
+            self._check_point_name(slider.point, slider.name, "point")
+            for i, p in enumerate(slider.along):
+                self._check_point_name(p, slider.name, f"along[{i}]")
+        order = self._ordered()
+        steps = tuple(Step(i + 1, self.nodes[name]) for i, name in enumerate(order))
+        self._compiled = Compiled(
+            self.name, steps, {k: p.value for k, p in self.parameters.items()},
+            dict(self.inputs), self.angle_unit, tuple(self.links.values()),
+            tuple(self.sliders.values()),
+            {n: node.value_fields() for n, node in self.nodes.items()})
+        return self._compiled
+
+    def _check_point_name(self, point, node, field_name):
+        if point in self.nodes:
+            return
+        hint = did_you_mean(point, self.nodes)
+        other = self._all_names().get(point)
+        if other is not None:
+            hint = f"; {point!r} is a {other}, not a point" + hint
+        raise ConstructionError(f"unknown point {point!r}{hint}", node=node, field=field_name)
+
+    def _ordered(self) -> list[str]:
+        """Topological order, declaration order breaking ties."""
+        position = {name: i for i, name in enumerate(self.nodes)}
+        waiting = {name: set(node.depends_on()) for name, node in self.nodes.items()}
+        for name, deps in waiting.items():
+            if name in deps:
+                raise ConstructionError("the point is built on itself", node=name,
+                                        field=_field_naming(self.nodes[name], name))
+        users: dict[str, list[str]] = {name: [] for name in self.nodes}
+        for name, deps in waiting.items():
+            for d in deps:
+                users[d].append(name)
+        ready = [(position[n], n) for n, deps in waiting.items() if not deps]
+        heapq.heapify(ready)
+        order = []
+        while ready:
+            _, name = heapq.heappop(ready)
+            order.append(name)
+            for user in users[name]:
+                waiting[user].discard(name)
+                if not waiting[user]:
+                    heapq.heappush(ready, (position[user], user))
+        if len(order) < len(self.nodes):
+            cycle = _find_cycle({n: d for n, d in waiting.items() if d})
+            first = cycle[0]
+            raise ConstructionError(
+                "cycle: " + " -> ".join([*cycle, first]) + " (each is built on the next)",
+                node=first, field=_field_naming(self.nodes[first], cycle[1 % len(cycle)]))
+        return order
+
+
+def _field_naming(node: Node, point: str) -> str:
+    for field_name, points in node.point_fields().items():
+        if point in points:
+            return field_name
+    return "name"
+
+
+def _find_cycle(waiting: Mapping[str, set[str]]) -> list[str]:
+    """Return one cycle among nodes that all wait on each other."""
+    start = min(waiting)
+    path, seen = [start], {start: 0}
+    while True:
+        nxt = min(d for d in waiting[path[-1]] if d in waiting)
+        if nxt in seen:
+            return path[seen[nxt]:]
+        seen[nxt] = len(path)
+        path.append(nxt)
+
+
+def _pair_of_numbers(value, *, node, field) -> tuple[float, float]:
+    try:
+        a, b = value
+        pair = (float(a), float(b))
+    except (TypeError, ValueError):
+        raise ConstructionError(f"expected two numbers, got {value!r}", node=node,
+                                field=field) from None
+    if not all(np.isfinite(pair)):
+        raise ConstructionError(f"expected two finite numbers, got {value!r}", node=node,
+                                field=field)
+    return pair

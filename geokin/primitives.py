@@ -1,0 +1,402 @@
+"""Vectorized intersection primitives: both roots and a validity mask.
+
+Every function here is pure and elementwise. Points are arrays whose last
+axis has length 2 (x, y); every other argument broadcasts against the
+leading axes of the points. An element that has no solution, or whose input
+is degenerate (coincident centres, zero-length direction, parallel lines,
+negative or NaN radius), gives NaN and ``valid=False`` for that element; no
+element ever raises.
+
+Root order
+----------
+``circle_circle``
+    ``points[..., 0, :]`` lies to the *left* of the directed line from the
+    first centre to the second, ``points[..., 1, :]`` to the *right*.
+``line_circle``, ``segment_circle``, ``ray_circle``
+    Roots are ordered along the direction of the line, from ``start`` to
+    ``through``: ``points[..., 0, :]`` comes *first*, ``points[..., 1, :]``
+    *second*. The parameter ``t`` of a point ``start + t * (through - start)``
+    decides validity: any ``t`` for a line, ``t >= 0`` for a ray, and
+    ``0 <= t <= 1`` for a segment (with a relative tolerance of 1e-9).
+
+Tangency
+--------
+A pair of curves counts as tangent, giving one double root (both roots
+equal), when the squared half-chord is negative by no more than
+``TANGENCY_RTOL`` times the square of the scale of the inputs (the largest
+of the distances and radii involved). Exactly tangent inputs in floating
+point therefore give the double root rather than NaN.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+__all__ = [
+    "TANGENCY_RTOL",
+    "circle_circle",
+    "line_circle",
+    "line_line",
+    "point_along",
+    "polar_point",
+    "ray_circle",
+    "relative_point",
+    "segment_circle",
+]
+
+TANGENCY_RTOL = 1e-10
+"""Relative tolerance on the squared half-chord below which curves touch."""
+
+PARAMETER_RTOL = 1e-9
+"""Tolerance on the line parameter ``t`` at the ends of rays and segments."""
+
+PARALLEL_RTOL = 1e-12
+"""Lines whose directions' cross product is below this (relative) are parallel."""
+
+
+def _xy(points):
+    points = np.asarray(points, dtype=float)
+    return points[..., 0], points[..., 1]
+
+
+def _stack_roots(x0, y0, x1, y1):
+    """Stack two roots into an array of shape (..., 2, 2)."""
+    first = np.stack(np.broadcast_arrays(x0, y0), axis=-1)
+    second = np.stack(np.broadcast_arrays(x1, y1), axis=-1)
+    return np.stack([first, second], axis=-2)
+
+
+# -- kernels on separate coordinate arrays: the sweep calls these directly ----
+
+
+def circle_circle_xy(x1, y1, r1, x2, y2, r2):
+    """Kernel of :func:`circle_circle` on coordinate arrays.
+
+    Returns
+    -------
+    xl, yl, xr, yr : ndarray
+        The left and right roots (NaN where there are none).
+    margin : ndarray
+        The squared half-chord divided by the squared scale: positive for two
+        roots, zero at tangency, negative where the circles miss. NaN for
+        degenerate input. Smooth in the inputs, so a root finder can locate
+        the limits of motion on it.
+    """
+    dx = x2 - x1
+    dy = y2 - y1
+    d2 = dx * dx + dy * dy
+    d = np.sqrt(d2)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        scale = np.maximum(np.maximum(d, np.abs(r1)), np.abs(r2))
+        # m: distance from the first centre to the foot of the chord
+        m = (d2 + (r1 - r2) * (r1 + r2)) / (2.0 * d)
+        half_chord_sq = (r1 - m) * (r1 + m)
+        margin = half_chord_sq / (scale * scale)
+        ok = (d > 0) & (r1 >= 0) & (r2 >= 0) & (margin >= -TANGENCY_RTOL)
+        margin = np.where((d > 0) & (r1 >= 0) & (r2 >= 0), margin, np.nan)
+        h = np.sqrt(np.where(ok, np.maximum(half_chord_sq, 0.0), np.nan))
+        ux = dx / d
+        uy = dy / d
+    fx = x1 + m * ux
+    fy = y1 + m * uy
+    # left normal of (ux, uy) is (-uy, ux)
+    return fx - h * uy, fy + h * ux, fx + h * uy, fy - h * ux, margin
+
+
+def line_circle_xy(x1, y1, x2, y2, cx, cy, r):
+    """Kernel of :func:`line_circle` on coordinate arrays.
+
+    Returns
+    -------
+    xa, ya, xb, yb : ndarray
+        The first and second roots along the line (NaN where there are none).
+    ta, tb : ndarray
+        Their parameters along ``start + t * (through - start)``.
+    margin : ndarray
+        Squared half-chord over squared scale, as in :func:`circle_circle_xy`.
+    """
+    dx = x2 - x1
+    dy = y2 - y1
+    length = np.sqrt(dx * dx + dy * dy)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ux = dx / length
+        uy = dy / length
+        # signed distance along the line to the foot of the perpendicular
+        s = (cx - x1) * ux + (cy - y1) * uy
+        # signed distance of the centre from the line
+        e = (cy - y1) * ux - (cx - x1) * uy
+        scale = np.maximum(np.maximum(np.abs(r), np.abs(e)), np.maximum(np.abs(s), length))
+        half_chord_sq = (r - e) * (r + e)
+        good_input = (length > 0) & (r >= 0)
+        margin = np.where(good_input, half_chord_sq / (scale * scale), np.nan)
+        ok = good_input & (margin >= -TANGENCY_RTOL)
+        h = np.sqrt(np.where(ok, np.maximum(half_chord_sq, 0.0), np.nan))
+        sa = s - h
+        sb = s + h
+        ta = sa / length
+        tb = sb / length
+    return x1 + sa * ux, y1 + sa * uy, x1 + sb * ux, y1 + sb * uy, ta, tb, margin
+
+
+def line_line_xy(x1, y1, x2, y2, x3, y3, x4, y4):
+    """Kernel of :func:`line_line` on coordinate arrays.
+
+    Returns
+    -------
+    x, y : ndarray
+        The intersection (NaN where the lines are parallel or degenerate).
+    t, u : ndarray
+        Its parameters along the first and the second line.
+    margin : ndarray
+        The sine of the angle between the lines (signed); zero when parallel.
+    """
+    ax = x2 - x1
+    ay = y2 - y1
+    bx = x4 - x3
+    by = y4 - y3
+    cross = ax * by - ay * bx
+    norms = np.sqrt((ax * ax + ay * ay) * (bx * bx + by * by))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        sine = cross / norms
+        ok = (norms > 0) & (np.abs(sine) > PARALLEL_RTOL)
+        wx = x3 - x1
+        wy = y3 - y1
+        t = np.where(ok, (wx * by - wy * bx) / cross, np.nan)
+        u = np.where(ok, (wx * ay - wy * ax) / cross, np.nan)
+    return x1 + t * ax, y1 + t * ay, t, u, np.where(norms > 0, sine, np.nan)
+
+
+# -- public primitives --------------------------------------------------------
+
+
+def circle_circle(c1, r1, c2, r2):
+    """Intersect two circles elementwise.
+
+    Parameters
+    ----------
+    c1, c2 : array_like, shape (..., 2)
+        Centres.
+    r1, r2 : float or array_like
+        Radii, broadcasting against the leading axes of the centres.
+
+    Returns
+    -------
+    points : ndarray, shape (..., 2, 2)
+        ``points[..., 0, :]`` left of the directed line c1 -> c2,
+        ``points[..., 1, :]`` right of it; NaN where invalid.
+    valid : ndarray of bool, shape (..., 2)
+        Whether each root exists. Both roots exist or neither does.
+
+    See Also
+    --------
+    line_circle : a line and a circle.
+
+    Examples
+    --------
+    >>> points, valid = circle_circle([0, 0], 5, [8, 0], 5)
+    >>> points
+    array([[ 4.,  3.],
+           [ 4., -3.]])
+    >>> valid
+    array([ True,  True])
+
+    A point 20 and 15 from the ends of a 35-long bar is a double root:
+
+    >>> points, valid = circle_circle([1, 2], 20, [1 + 35 * 0.6, 2 + 35 * 0.8], 15)
+    >>> bool(valid.all()), np.allclose(points[0], points[1])
+    (True, True)
+    """
+    x1, y1 = _xy(c1)
+    x2, y2 = _xy(c2)
+    r1 = np.asarray(r1, dtype=float)
+    r2 = np.asarray(r2, dtype=float)
+    xl, yl, xr, yr, _ = circle_circle_xy(x1, y1, r1, x2, y2, r2)
+    points = _stack_roots(xl, yl, xr, yr)
+    valid = ~np.isnan(points[..., 0])
+    return points, valid
+
+
+def _line_based_circle(start, through, center, radius, low, high):
+    x1, y1 = _xy(start)
+    x2, y2 = _xy(through)
+    cx, cy = _xy(center)
+    r = np.asarray(radius, dtype=float)
+    xa, ya, xb, yb, ta, tb, _ = line_circle_xy(x1, y1, x2, y2, cx, cy, r)
+    points = _stack_roots(xa, ya, xb, yb)
+    t = np.stack(np.broadcast_arrays(ta, tb), axis=-1)
+    with np.errstate(invalid="ignore"):
+        valid = (t >= low - PARAMETER_RTOL) & (t <= high + PARAMETER_RTOL)
+    points = np.where(valid[..., None], points, np.nan)
+    return points, valid
+
+
+def line_circle(start, through, center, radius):
+    """Intersect the line through two points with a circle, elementwise.
+
+    Parameters
+    ----------
+    start, through : array_like, shape (..., 2)
+        Two points of the line; its direction is from ``start`` to ``through``.
+    center : array_like, shape (..., 2)
+        Centre of the circle.
+    radius : float or array_like
+        Radius of the circle.
+
+    Returns
+    -------
+    points : ndarray, shape (..., 2, 2)
+        The first and second root along the line's direction; NaN where invalid.
+    valid : ndarray of bool, shape (..., 2)
+        Whether each root exists.
+
+    See Also
+    --------
+    ray_circle, segment_circle : the same with the line cut short.
+
+    Examples
+    --------
+    >>> points, valid = line_circle([-10, 0], [10, 0], [0, 0], 5)
+    >>> points
+    array([[-5.,  0.],
+           [ 5.,  0.]])
+    >>> line_circle([10, 0], [-10, 0], [0, 0], 5)[0]
+    array([[ 5.,  0.],
+           [-5.,  0.]])
+    """
+    return _line_based_circle(start, through, center, radius, -np.inf, np.inf)
+
+
+def ray_circle(start, through, center, radius):
+    """Intersect the ray from ``start`` through ``through`` with a circle.
+
+    Same as :func:`line_circle`, but a root is valid only if it lies on the
+    ray: ``t >= 0`` in ``start + t * (through - start)``.
+
+    Examples
+    --------
+    >>> points, valid = ray_circle([0, 0], [1, 0], [0, 0], 140)
+    >>> valid
+    array([False,  True])
+    >>> points[1]
+    array([140.,   0.])
+    """
+    return _line_based_circle(start, through, center, radius, 0.0, np.inf)
+
+
+def segment_circle(start, through, center, radius):
+    """Intersect the segment from ``start`` to ``through`` with a circle.
+
+    Same as :func:`line_circle`, but a root is valid only if it lies on the
+    segment: ``0 <= t <= 1`` in ``start + t * (through - start)``.
+
+    Examples
+    --------
+    >>> points, valid = segment_circle([0, 30], [20, 30], [20, 30], 5)
+    >>> valid
+    array([ True, False])
+    >>> points[0]
+    array([15., 30.])
+    """
+    return _line_based_circle(start, through, center, radius, 0.0, 1.0)
+
+
+def line_line(start1, through1, start2, through2):
+    """Intersect two lines, each through two points, elementwise.
+
+    Parameters
+    ----------
+    start1, through1, start2, through2 : array_like, shape (..., 2)
+        Two points on each line.
+
+    Returns
+    -------
+    point : ndarray, shape (..., 2)
+        The intersection; NaN where the lines are parallel, coincident or
+        degenerate (two equal points).
+    valid : ndarray of bool, shape (...)
+
+    Examples
+    --------
+    >>> point, valid = line_line([0, 0], [2, 2], [0, 2], [2, 0])
+    >>> point, bool(valid)
+    (array([1., 1.]), True)
+    >>> bool(line_line([0, 0], [1, 0], [0, 1], [1, 1])[1])
+    False
+    """
+    x1, y1 = _xy(start1)
+    x2, y2 = _xy(through1)
+    x3, y3 = _xy(start2)
+    x4, y4 = _xy(through2)
+    x, y, _, _, _ = line_line_xy(x1, y1, x2, y2, x3, y3, x4, y4)
+    point = np.stack(np.broadcast_arrays(x, y), axis=-1)
+    return point, np.asarray(~np.isnan(x + y))
+
+
+def polar_point(origin, distance, angle):
+    """Return the point at ``distance`` from ``origin`` at an absolute ``angle``.
+
+    Parameters
+    ----------
+    origin : array_like, shape (..., 2)
+    distance : float or array_like
+    angle : float or array_like
+        Radians, counter-clockwise from the x axis.
+
+    Examples
+    --------
+    >>> polar_point([0, 30], 20, np.pi / 3).round(6)
+    array([10.      , 47.320508])
+    """
+    x, y = _xy(origin)
+    distance = np.asarray(distance, dtype=float)
+    angle = np.asarray(angle, dtype=float)
+    return np.stack(np.broadcast_arrays(x + distance * np.cos(angle),
+                                        y + distance * np.sin(angle)), axis=-1)
+
+
+def relative_point(origin, start, through, distance, angle):
+    """Return the point at ``distance`` from ``origin``, ``angle`` off a line's direction.
+
+    The angle is measured counter-clockwise from the direction of the line
+    from ``start`` to ``through``; a coupler point is usually
+    ``relative_point(A, A, B, distance, angle)``. NaN where the line has zero
+    length.
+
+    Examples
+    --------
+    >>> relative_point([0, 0], [0, 0], [0, 10], 2, np.pi / 2)
+    array([-2.,  0.])
+    """
+    ox, oy = _xy(origin)
+    x1, y1 = _xy(start)
+    x2, y2 = _xy(through)
+    x, y = relative_point_xy(ox, oy, x1, y1, x2, y2, np.asarray(distance, dtype=float),
+                             np.asarray(angle, dtype=float))
+    return np.stack(np.broadcast_arrays(x, y), axis=-1)
+
+
+def relative_point_xy(ox, oy, x1, y1, x2, y2, distance, angle):
+    """Kernel of :func:`relative_point` on coordinate arrays."""
+    dx = x2 - x1
+    dy = y2 - y1
+    length = np.sqrt(dx * dx + dy * dy)
+    c = np.cos(angle)
+    s = np.sin(angle)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        k = np.where(length > 0, distance / length, np.nan)
+    # rotate the direction (dx, dy) by the angle, scaled to the distance
+    return ox + k * (c * dx - s * dy), oy + k * (s * dx + c * dy)
+
+
+def point_along(start, through, distance):
+    """Return the point at a signed ``distance`` from ``start`` towards ``through``.
+
+    Examples
+    --------
+    >>> point_along([0, 0], [3, 4], 10)
+    array([6., 8.])
+    >>> point_along([0, 0], [3, 4], -5)
+    array([-3., -4.])
+    """
+    zero = np.zeros(np.shape(distance))
+    return relative_point(start, start, through, distance, zero)
