@@ -513,6 +513,7 @@ class Compiled:
     links: tuple[Link, ...] = ()
     sliders: tuple[Slider, ...] = ()
     _values: Mapping[str, Mapping[str, Expr]] = field(default_factory=dict, repr=False)
+    traced: tuple[str, ...] = ()
 
     def __len__(self):
         return len(self.steps)
@@ -587,6 +588,7 @@ class Construction:
         self.nodes: dict[str, Node] = {}
         self.links: dict[str, Link] = {}
         self.sliders: dict[str, Slider] = {}
+        self.traced: tuple[str, ...] = ()
         self._compiled: Compiled | None = None
 
     def __repr__(self):
@@ -596,10 +598,11 @@ class Construction:
     def __eq__(self, other):
         if not isinstance(other, Construction):
             return NotImplemented
-        return (self.name, self.angle_unit, self.parameters, self.inputs, self.nodes,
-                self.links, self.sliders) == (other.name, other.angle_unit, other.parameters,
-                                              other.inputs, other.nodes, other.links,
-                                              other.sliders)
+        mine = (self.name, self.angle_unit, self.parameters, self.inputs, self.nodes,
+                self.links, self.sliders, self.traced)
+        theirs = (other.name, other.angle_unit, other.parameters, other.inputs, other.nodes,
+                  other.links, other.sliders, other.traced)
+        return mine == theirs
 
     __hash__ = None
 
@@ -749,6 +752,12 @@ class Construction:
         self.sliders[name] = Slider(name, self._point(point, name, "point"),
                                     self._points(along, name, "along", 2))
 
+    def trace(self, *points: str) -> None:
+        """Name the points whose paths are traced (coupler points) in plots."""
+        self.traced = self._points(points, "trace", "points", None) if len(points) > 1 else (
+            (self._point(points[0], "trace", "points[0]"),) if points else ())
+        self._compiled = None
+
     def add(self, node: Node) -> None:
         """Declare a node built elsewhere (used by the script loader)."""
         self._add(node)
@@ -850,6 +859,8 @@ class Construction:
         for link in self.links.values():
             for i, p in enumerate(link.points):
                 self._check_point_name(p, link.name, f"points[{i}]")
+        for i, p in enumerate(self.traced):
+            self._check_point_name(p, "trace", f"points[{i}]")
         for slider in self.sliders.values():
             self._check_point_name(slider.point, slider.name, "point")
             for i, p in enumerate(slider.along):
@@ -860,7 +871,7 @@ class Construction:
             self.name, steps, {k: p.value for k, p in self.parameters.items()},
             dict(self.inputs), self.angle_unit, tuple(self.links.values()),
             tuple(self.sliders.values()),
-            {n: node.value_fields() for n, node in self.nodes.items()})
+            {n: node.value_fields() for n, node in self.nodes.items()}, self.traced)
         return self._compiled
 
     def _check_point_name(self, point, node, field_name):
