@@ -754,8 +754,7 @@ class Construction:
 
     def trace(self, *points: str) -> None:
         """Name the points whose paths are traced (coupler points) in plots."""
-        self.traced = self._points(points, "trace", "points", None) if len(points) > 1 else (
-            (self._point(points[0], "trace", "points[0]"),) if points else ())
+        self.traced = tuple(self._point(p, "trace", f"points[{i}]") for i, p in enumerate(points))
         self._compiled = None
 
     def add(self, node: Node) -> None:
