@@ -107,7 +107,10 @@ class Input:
     range : (float, float)
         Default range of a sweep, radians for an angle.
     samples : int
-        Default number of samples over the range.
+        Default number of samples over the range, both ends included.
+    step : float or None
+        Instead of ``samples``: the spacing of samples from the start of the
+        range, the last one not beyond its end (like MATLAB's ``0:16:1800``).
     speed : float
         Constant rate of the input in radians (or length units) per second,
         for time-based output.
@@ -118,16 +121,23 @@ class Input:
     range: tuple[float, float] = (0.0, 2 * np.pi)
     samples: int = 361
     speed: float = 2 * np.pi
+    step: float | None = None
 
     def values(self, samples: int | None = None) -> np.ndarray:
-        """Return the default sweep of this input, endpoints included.
+        """Return the default sweep of this input.
 
         Examples
         --------
         >>> Input("theta", range=(0.0, 1.0), samples=3).values()
         array([0. , 0.5, 1. ])
+        >>> Input("s", kind="length", range=(0.0, 1.0), step=0.4).values()
+        array([0. , 0.4, 0.8])
         """
-        return np.linspace(self.range[0], self.range[1], samples or self.samples)
+        lo, hi = self.range
+        if samples is None and self.step is not None:
+            count = int(np.floor((hi - lo) / self.step * (1 + 1e-12) + 1e-9)) + 1
+            return lo + self.step * np.arange(count)
+        return np.linspace(lo, hi, samples or self.samples)
 
 
 @dataclass(frozen=True)
@@ -643,7 +653,8 @@ class Construction:
         self.parameters[name] = Parameter(name, float(number.evaluate({})), description)
 
     def input(self, name: str, kind: str = "angle", range: Sequence[float] | None = None,
-              samples: int = 361, speed: float | None = None) -> None:
+              samples: int = 361, speed: float | None = None,
+              step: float | None = None) -> None:
         """Declare a driving variable.
 
         Parameters
@@ -654,7 +665,10 @@ class Construction:
             Default sweep range; radians for an angle. Defaults to one turn
             for an angle; required for a length.
         samples : int
-            Default number of samples.
+            Default number of samples, both ends of the range included.
+        step : float, optional
+            Instead of ``samples``: the spacing of the samples from the start
+            of the range (radians for an angle).
         speed : float, optional
             Rate in radians (or lengths) per second; one turn per second by default.
         """
@@ -672,9 +686,13 @@ class Construction:
         if not (isinstance(samples, int | np.integer) and samples >= 2):
             raise ConstructionError(f"samples must be an integer of at least 2, got {samples!r}",
                                     node=name, field="samples")
+        if step is not None and not (np.isfinite(step) and step * (lo_hi[1] - lo_hi[0]) > 0):
+            raise ConstructionError(f"step must be a non-zero number with the sign of "
+                                    f"range[1] - range[0], got {step!r}", node=name, field="step")
         if speed is None:
             speed = 2 * np.pi if kind == "angle" else 1.0
-        self.inputs[name] = Input(name, kind, lo_hi, int(samples), float(speed))
+        self.inputs[name] = Input(name, kind, lo_hi, int(samples), float(speed),
+                                  None if step is None else float(step))
 
     def fixed(self, name: str, x, y) -> None:
         """Declare a fixed point (a ground pivot)."""
