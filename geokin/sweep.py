@@ -371,7 +371,12 @@ def _track(node, cand, n, track, override=None):
     x0, y0, x1, y1 = (np.broadcast_to(a, (n,)) for a in (cand.x[0], cand.y[0],
                                                           cand.x[1], cand.y[1]))
     separation = np.hypot(x1 - x0, y1 - y0)
-    motion = np.maximum(np.hypot(np.diff(x0), np.diff(y0)), np.hypot(np.diff(x1), np.diff(y1)))
+    step = np.fmax(np.hypot(np.diff(x0), np.diff(y0)), np.hypot(np.diff(x1), np.diff(y1)))
+    # at a graze the kept root barely moves across the pair itself: judge the
+    # separation against the motion of the neighbouring pairs as well
+    motion = step.copy()
+    motion[1:] = np.fmax(motion[1:], step[:-1])
+    motion[:-1] = np.fmax(motion[:-1], step[1:])
     with np.errstate(invalid="ignore"):
         close = np.minimum(separation[:-1], separation[1:]) <= 2 * motion
     pairs = np.flatnonzero(close)
@@ -382,7 +387,8 @@ def _track(node, cand, n, track, override=None):
     flips, events, current = np.zeros(n, dtype=np.int8), [], start
     for i in pairs:
         # the branch at sample i is `current`; should sample i+1 take the other root?
-        if _smoother_to_switch(roots, i, current, n):
+        before = current ^ flips[i]  # the branch at sample i-1
+        if _smoother_to_switch(roots, i, before, current, n):
             flips[i + 1] = 1
             events.append(BranchEvent(node.name, int(i + 1), names[current], names[1 - current]))
             current = 1 - current
@@ -390,21 +396,26 @@ def _track(node, cand, n, track, override=None):
     return label, events
 
 
-def _smoother_to_switch(roots, i, current, n) -> bool:
-    """Whether taking the other root at sample i+1 continues the motion more smoothly."""
-    here = roots[current]
+def _smoother_to_switch(roots, i, before, current, n) -> bool:
+    """Whether taking the other root at sample i+1 continues the motion more smoothly.
+
+    ``roots`` has shape (2, N, 2); the path is on root ``before`` at sample
+    i-1 and on root ``current`` at sample i.
+    """
+    here = roots[current, i]
     keep, switch = roots[current, i + 1], roots[1 - current, i + 1]
-    if not (np.isfinite(keep).all() and np.isfinite(here[i]).all()):
+    if i < 1 or not (np.isfinite(keep).all() and np.isfinite(here).all()):
         return False
-    if i >= 1 and np.isfinite(here[i - 1]).all():
-        predicted = 2 * here[i] - here[i - 1]
-        keep_error = np.hypot(*(keep - predicted))
-        switch_error = np.hypot(*(switch - predicted))
-        if i + 2 < n:
-            # the sample after: does each choice carry on straight?
-            keep_next, switch_next = roots[current, i + 2], roots[1 - current, i + 2]
-            if np.isfinite(keep_next).all() and np.isfinite(switch_next).all():
-                keep_error += np.hypot(*(keep_next - 2 * keep + here[i]))
-                switch_error += np.hypot(*(switch_next - 2 * switch + here[i]))
-        return bool(switch_error < 0.5 * keep_error)
-    return False
+    previous = roots[before, i - 1]
+    if not np.isfinite(previous).all():
+        return False
+    predicted = 2 * here - previous
+    keep_error = np.hypot(*(keep - predicted))
+    switch_error = np.hypot(*(switch - predicted))
+    if i + 2 < n:
+        # the sample after: does each choice carry on straight?
+        keep_next, switch_next = roots[current, i + 2], roots[1 - current, i + 2]
+        if np.isfinite(keep_next).all() and np.isfinite(switch_next).all():
+            keep_error += np.hypot(*(keep_next - 2 * keep + here))
+            switch_error += np.hypot(*(switch_next - 2 * switch + here))
+    return bool(switch_error < 0.5 * keep_error)

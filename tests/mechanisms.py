@@ -1,0 +1,50 @@
+"""Constructions shared by the engine tests, built with the Python API."""
+
+import numpy as np
+
+from geokin import Construction
+
+SIXBAR = dict(x=168, y=20, l1=10, l2=20, l2p=5, l3=100, l3p=70, l4=100, l5=140)
+FOURBAR_004 = dict(a=10.55, b=25, c=14, d=24)
+
+
+def sixbar():
+    """Seed 003's six-bar, with the seed's point names and primitive choices."""
+    c = Construction("six-bar")
+    for name, value in SIXBAR.items():
+        c.parameter(name, value)
+    c.input("theta", range=(0, np.radians(1800)), step=np.radians(16))
+    c.fixed("D", 0, 0)
+    c.fixed("mid", 0, "y")
+    c.fixed("A0", 0, "y + l1")
+    c.fixed("B0", "x", "l1")
+    c.polar("A", "A0", "l2", "theta")
+    c.circle_circle("B", ("A", "B0"), ("l3", "l4"), branch="left")
+    c.line_circle("Ap", ("A0", "A"), "A", "l2p", branch="first")
+    c.line_circle("C", ("A", "B"), "Ap", "l3p", branch="second")
+    c.ray_circle("M", ("Ap", "C"), "Ap", "l5", branch="second")
+    c.link("crank", "A0", "A")
+    c.link("coupler", "A", "B", "C")
+    c.link("rocker", "B", "B0")
+    c.link("output", "Ap", "M")
+    c.slider("block", "C", ("Ap", "M"))
+    c.trace("M")
+    return c
+
+
+def fourbar(ground=24.0, crank=10.55, coupler=25.0, rocker=14.0, branch="left", **input_options):
+    """A four-bar O2-A-B-O4 with ground pivots on the x axis, crank angle theta."""
+    c = Construction("four-bar")
+    c.input("theta", **input_options)
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", ground, 0)
+    c.polar("A", "O2", crank, "theta")
+    c.circle_circle("B", ("A", "O4"), (coupler, rocker), branch=branch)
+    return c
+
+
+def coupler_fourbar():
+    """The benchmark four-bar: pivots 40 apart, crank 10, coupler 35, rocker 30, point P."""
+    c = fourbar(40, 10, 35, 30)
+    c.polar("P", "A", 20, np.radians(30), reference=("A", "B"))
+    return c

@@ -1,0 +1,195 @@
+import numpy as np
+import pytest
+from mechanisms import sixbar
+
+from geokin import Construction, ConstructionError, GeokinError
+from geokin.construction import NODE_KINDS
+from geokin.expressions import as_expr, parse
+
+
+def base():
+    c = Construction("test")
+    c.parameter("l3", 100)
+    c.input("theta")
+    c.fixed("A0", 0, 0)
+    c.fixed("B0", 40, 0)
+    c.polar("A", "A0", 10, "theta")
+    return c
+
+
+def check(error_info, node, field):
+    err = error_info.value
+    assert isinstance(err, GeokinError)
+    assert err.node == node and err.field == field
+    assert f"node {node!r}" in str(err)
+    if field is not None:
+        assert f"field {field!r}" in str(err)
+
+
+def test_unknown_point_names_the_node_field_and_closest_name():
+    c = base()
+    c.circle_circle("B", ("A", "B00"), ("l3", 30), branch="left")
+    with pytest.raises(ConstructionError, match="unknown point 'B00'; did you mean 'B0'") as info:
+        c.compile()
+    check(info, "B", "centers")
+
+
+def test_unknown_value_name_suggests_the_closest_parameter():
+    c = base()
+    c.circle_circle("B", ("A", "B0"), ("l33", 30), branch="left")
+    with pytest.raises(ConstructionError, match="unknown parameter or input 'l33'; "
+                                                "did you mean 'l3'") as info:
+        c.compile()
+    check(info, "B", "radii[0]")
+
+
+def test_a_point_used_as_a_value_is_explained():
+    c = base()
+    c.polar("P", "A", "A0", 0)
+    with pytest.raises(ConstructionError, match="'A0' is a point, not a parameter") as info:
+        c.compile()
+    check(info, "P", "distance")
+
+
+def test_a_parameter_used_as_a_point_is_explained():
+    c = base()
+    c.polar("P", "l3", 5, 0)
+    with pytest.raises(ConstructionError, match="'l3' is a parameter, not a point") as info:
+        c.compile()
+    check(info, "P", "origin")
+
+
+def test_cycles_name_their_points():
+    c = base()
+    c.circle_circle("P", ("A", "Q"), (1, 1), branch="left")
+    c.circle_circle("Q", ("P", "B0"), (1, 1), branch="left")
+    with pytest.raises(ConstructionError, match=r"cycle: P -> Q -> P") as info:
+        c.compile()
+    check(info, "P", "centers")
+
+
+def test_a_point_built_on_itself_is_a_cycle():
+    c = base()
+    c.polar("P", "P", 1, 0)
+    with pytest.raises(ConstructionError, match="built on itself") as info:
+        c.compile()
+    check(info, "P", "origin")
+
+
+@pytest.mark.parametrize("declare", [
+    lambda c: c.fixed("A", 1, 1),
+    lambda c: c.parameter("A0", 1),
+    lambda c: c.input("l3"),
+    lambda c: c.link("theta", "A0", "A"),
+])
+def test_duplicate_names_are_refused(declare):
+    with pytest.raises(ConstructionError, match="duplicate name") as info:
+        declare(base())
+    assert info.value.field == "name"
+
+
+@pytest.mark.parametrize(("declare", "node", "field", "match"), [
+    (lambda c: c.circle_circle("B", ("A",), (1, 2), branch="left"), "B", "centers",
+     "expected 2 point names, got 1"),
+    (lambda c: c.circle_circle("B", ("A", "B0"), (1, 2, 3), branch="left"), "B", "radii",
+     "expected 2 values, got 3"),
+    (lambda c: c.line_circle("B", ("A", "B0", "A0"), "A", 1, branch="first"), "B", "line",
+     "expected 2 point names, got 3"),
+    (lambda c: c.line_line("B", ("A", "B0"), "A0"), "B", "second",
+     "expected a list of point names"),
+    (lambda c: c.link("bar", "A"), "bar", "points", "at least 2 points"),
+    (lambda c: c.polar("P", 3, 1, 0), "P", "origin", "expected a point name"),
+    (lambda c: c.polar("P", "A", [1], 0), "P", "distance", "expected a number or an expression"),
+    (lambda c: c.polar("P", "A", "1 +", 0), "P", "distance", "not a valid expression"),
+    (lambda c: c.polar("P", "A", "os.system('x')", 0), "P", "distance", "plain function names"),
+    (lambda c: c.polar("P", "A", "l3.real", 0), "P", "distance", "Attribute is not allowed"),
+    (lambda c: c.circle_circle("B", ("A", "B0"), (1, 2)), "B", "branch",
+     "choose one with branch"),
+    (lambda c: c.circle_circle("B", ("A", "B0"), (1, 2), branch="lefft"), "B", "branch",
+     "did you mean 'left'"),
+    (lambda c: c.ray_circle("B", ("A", "B0"), "A", 1, branch="left"), "B", "branch",
+     "'first' or 'second'"),
+    (lambda c: c.circle_circle("B", ("A", "B0"), (1, 2), branch="left", near=(0, 0)), "B",
+     "branch", "either branch or near"),
+    (lambda c: c.circle_circle("B", ("A", "B0"), (1, 2), near=(0,)), "B", "near",
+     "expected two numbers"),
+    (lambda c: c.input("s", kind="length"), "s", "range", "needs a range"),
+    (lambda c: c.input("s", kind="lenght", range=(0, 1)), "s", "kind", "did you mean 'length'"),
+    (lambda c: c.input("s", samples=1), "s", "samples", "at least 2"),
+    (lambda c: c.input("s", step=-1.0), "s", "step", "sign"),
+    (lambda c: c.parameter("k", "l3 + 1"), "k", "value", "must be a number"),
+    (lambda c: c.fixed("2P", 0, 0), "2P", "name", "identifier"),
+    (lambda c: c.fixed("pi", 0, 0), "pi", "name", "reserved"),
+])
+def test_declaration_errors_name_node_and_field(declare, node, field, match):
+    with pytest.raises(ConstructionError, match=match) as info:
+        declare(base())
+    check(info, node, field)
+
+
+def test_links_sliders_and_traces_must_name_points():
+    for declare, node, field in [
+        (lambda c: c.link("bar", "A0", "Aa"), "bar", "points[1]"),
+        (lambda c: c.slider("block", "A", ("A0", "Bo")), "block", "along[1]"),
+        (lambda c: c.trace("AA"), "trace", "points[0]"),
+    ]:
+        c = base()
+        declare(c)
+        with pytest.raises(ConstructionError, match="unknown point") as info:
+            c.compile()
+        check(info, node, field)
+
+
+def test_compile_orders_by_dependency_then_declaration():
+    c = Construction()
+    c.input("t")
+    c.polar("A", "O", 1, "t")  # declared before its origin
+    c.fixed("Z", 5, 0)
+    c.fixed("O", 0, 0)
+    c.circle_circle("B", ("A", "Z"), (5, 5), branch="right")
+    assert c.compile().point_names == ("Z", "O", "A", "B")
+    assert c.compile().as_list()[-1] == ("B", "circle_circle", "A", "Z", "right")
+
+
+def test_compile_is_cached_until_the_construction_changes():
+    c = base()
+    first = c.compile()
+    assert c.compile() is first
+    c.fixed("Q", 1, 1)
+    assert c.compile() is not first and "Q" in c.compile().point_names
+
+
+def test_every_node_kind_describes_itself():
+    c = base()
+    c.along("P1", ("A0", "A"), 3)
+    c.line_line("P2", ("A0", "A"), ("B0", "P1"))
+    c.line_circle("P3", ("A0", "B0"), "A", 20, branch="first")
+    c.segment_circle("P4", ("A0", "B0"), "A", 20, branch="second")
+    c.ray_circle("P5", ("A0", "B0"), "A", 20, near=(1, 2))
+    c.circle_circle("P6", ("A", "B0"), (30, 30), branch="right")
+    c.polar("P7", "A", 2, 0.5, reference=("A0", "A"))
+    text = str(c.compile())
+    kinds = {step.node.kind for step in c.compile()}
+    assert kinds == set(NODE_KINDS)
+    for fragment in ["along(A0->A, 3)", "line_line(A0-A; B0-P1)", "line_circle(A0-B0; A, 20)",
+                     "segment_circle(A0..B0; A, 20)  [second]", "near (1, 2)",
+                     "polar(A, 2, 0.5 from A0->A)"]:
+        assert fragment in text
+
+
+def test_constructions_compare_by_content():
+    assert sixbar() == sixbar()
+    other = sixbar()
+    other.parameter("extra", 1)
+    assert sixbar() != other
+
+
+def test_expressions_round_trip_through_text_and_evaluate_with_numpy():
+    for text in ["a + b * c", "(a + b) * c", "a - (b - c)", "a / (b * c)", "-a ** 2",
+                 "(-a) ** 2", "2 ** 3 ** 2", "(2 ** 3) ** 2", "atan2(y, x) + pi",
+                 "sqrt(a ** 2 + b ** 2)", "degrees(radians(30))", "a - b - c", "-(a + b)"]:
+        expr = parse(text)
+        assert parse(str(expr)) == expr, text
+        env = dict(a=1.5, b=np.array([2.0, 3.0]), c=0.5, x=1.0, y=2.0)
+        assert np.allclose(parse(str(expr)).evaluate(env), eval(text, vars(np), env)), text
+    assert (as_expr("l3") + 5) * 2 == parse("(l3 + 5) * 2")

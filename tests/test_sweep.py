@@ -1,0 +1,237 @@
+import numpy as np
+import pytest
+from mechanisms import FOURBAR_004, SIXBAR, coupler_fourbar, fourbar, sixbar
+
+from geokin import Construction, ConstructionError, sweep
+
+
+def distance(s, p, q):
+    return np.hypot(*(s[p] - s[q]).T)
+
+
+def cross(s, origin, p, q):
+    u, v = s[p] - s[origin], s[q] - s[origin]
+    return u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
+
+
+# -- seed 003: the six-bar ----------------------------------------------------
+
+
+def test_sixbar_compiles_to_the_seed_step_list():
+    text = str(sixbar().compile())
+    assert text.splitlines()[1:] == [
+        "  1  D   = fixed(0, 0)",
+        "  2  mid = fixed(0, y)",
+        "  3  A0  = fixed(0, y + l1)",
+        "  4  B0  = fixed(x, l1)",
+        "  5  A   = polar(A0, l2, theta)",
+        "  6  B   = circle_circle(A, l3; B0, l4)  [left]",
+        "  7  Ap  = line_circle(A0-A; A, l2p)  [first]",
+        "  8  C   = line_circle(A-B; Ap, l3p)  [second]",
+        "  9  M   = ray_circle(Ap->C; Ap, l5)  [second]",
+    ]
+
+
+def test_sixbar_seed_sweep_keeps_every_length_and_incidence():
+    c = sixbar()
+    theta = c.inputs["theta"].values()
+    assert len(theta) == 113 and np.isclose(np.degrees(theta[-1]), 1792)
+    s = sweep(c)
+    assert s.valid.all()
+    p = SIXBAR
+    np.testing.assert_allclose(s["A0"], np.broadcast_to([0, p["y"] + p["l1"]], (113, 2)))
+    np.testing.assert_allclose(s["B0"], np.broadcast_to([p["x"], p["l1"]], (113, 2)))
+    for a, b, length in [("A0", "A", p["l2"]), ("A", "B", p["l3"]), ("B", "B0", p["l4"]),
+                         ("Ap", "A", p["l2p"]), ("Ap", "C", p["l3p"]), ("Ap", "M", p["l5"]),
+                         ("A0", "Ap", p["l2"] - p["l2p"])]:
+        np.testing.assert_allclose(distance(s, a, b), length, rtol=1e-12, err_msg=f"{a}{b}")
+    # C on line AB, A' on line A0A between A0 and A, M on the ray A'C beyond C
+    np.testing.assert_allclose(cross(s, "A", "B", "C") / (p["l3"] * p["l3p"]), 0, atol=1e-12)
+    np.testing.assert_allclose(cross(s, "A0", "A", "Ap") / p["l2"] ** 2, 0, atol=1e-12)
+    along = np.einsum("ij,ij->i", s["C"] - s["Ap"], s["M"] - s["Ap"])
+    np.testing.assert_allclose(along, p["l3p"] * p["l5"], rtol=1e-12)
+
+
+def test_sixbar_branches_match_the_seed_choices():
+    s = sweep(sixbar())
+    # B: left of A->B0 is above the ground for this mechanism
+    assert (s["B"][:, 1] > s["A"][:, 1]).all()
+    # A' lies between A0 and A; C is the root beyond A' along A->B
+    t = np.einsum("ij,ij->i", s["Ap"] - s["A0"], s["A"] - s["A0"]) / SIXBAR["l2"] ** 2
+    np.testing.assert_allclose(t, 0.75)
+    assert (np.einsum("ij,ij->i", s["C"] - s["A"], s["B"] - s["A"]) > 0).all()
+    assert all((s.branch_names(n) == b).all()
+               for n, b in [("B", "left"), ("Ap", "first"), ("C", "second"), ("M", "second")])
+    assert s.events == []
+
+
+def test_sixbar_is_periodic_in_the_crank_angle():
+    s = sweep(sixbar(), np.radians([0, 360, 720, 16, 376]))
+    np.testing.assert_allclose(s["M"][0], s["M"][1], atol=1e-10)
+    np.testing.assert_allclose(s["M"][0], s["M"][2], atol=1e-10)
+    np.testing.assert_allclose(s["M"][3], s["M"][4], atol=1e-10)
+
+
+# -- seed 004: the four-bar, open and crossed ------------------------------------
+
+
+def fourbar_004_closed_form(theta2, open_):
+    """Rocker angle by the half-angle formula of seed 004, with atan2.
+
+    The open configuration takes the minus sign of the root (the seed's Python
+    labels the plus sign "open", a sign slip: it draws the crossed one).
+    """
+    a, b, c, d = (FOURBAR_004[k] for k in "abcd")
+    k1, k2, k3 = d / a, d / c, (a**2 - b**2 + c**2 + d**2) / (2 * a * c)
+    big_a = np.cos(theta2) - k1 - k2 * np.cos(theta2) + k3
+    big_b = -2 * np.sin(theta2)
+    big_c = k1 - (k2 + 1) * np.cos(theta2) + k3
+    root = np.sqrt(big_b**2 - 4 * big_a * big_c)
+    return 2 * np.arctan2(-big_b + (-root if open_ else root), 2 * big_a)
+
+
+@pytest.mark.parametrize(("branch", "open_"), [("left", True), ("right", False)])
+def test_fourbar_004_open_and_crossed_match_the_closed_form(branch, open_):
+    a, b, c, d = (FOURBAR_004[k] for k in "abcd")
+    theta = np.linspace(0, 6 * 2 * np.pi, 2000)
+    s = sweep(fourbar(d, a, b, c, branch=branch), theta)
+    assert s.valid.all()
+    theta4 = fourbar_004_closed_form(theta, open_)
+    expected = np.stack([d + c * np.cos(theta4), c * np.sin(theta4)], axis=-1)
+    np.testing.assert_allclose(s["B"], expected, atol=1e-9)
+    np.testing.assert_allclose(distance(s, "A", "B"), b, rtol=1e-12)
+    np.testing.assert_allclose(distance(s, "B", "O4"), c, rtol=1e-12)
+
+
+def test_open_and_crossed_are_mirror_images_across_the_line_a_o4():
+    left = sweep(fourbar(branch="left"))
+    right = sweep(fourbar(branch="right"))
+    assert (cross(left, "A", "O4", "B") > 0).all()
+    assert (cross(right, "A", "O4", "B") < 0).all()
+
+
+# -- branch choice and tracking ---------------------------------------------------
+
+
+def test_near_picks_the_root_nearer_the_sketch_at_the_first_sample():
+    c = Construction()
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 24, 0)
+    c.polar("A", "O2", 10.55, "theta")
+    c.circle_circle("B", ("A", "O4"), (25, 14), near=(30, -10))
+    s = sweep(c)
+    assert s.branch_names("B")[0] == "right"
+    assert (s.branches["B"] == 1).all()
+    assert s["B"][0, 1] < 0
+
+
+def test_branch_override_at_sweep_time():
+    s = sweep(fourbar(branch="left"), branches={"B": "right"})
+    np.testing.assert_allclose(s["B"], sweep(fourbar(branch="right"))["B"])
+    with pytest.raises(ConstructionError, match="did you mean 'B'"):
+        sweep(fourbar(), branches={"b": "left"})
+    with pytest.raises(ConstructionError, match="'left' or 'right'"):
+        sweep(fourbar(), branches={"B": "up"})
+
+
+def triple_rocker():
+    """Seed 000's non-Grashof four-bar: ground 7, crank 5, coupler 6, follower 5."""
+    c = Construction("triple rocker")
+    c.input("theta2")
+    c.fixed("A", 0, 0)
+    c.fixed("D", 7, 0)
+    c.polar("B", "A", 5, "theta2")
+    c.circle_circle("C", ("B", "D"), (6, 5), branch="left")
+    return c
+
+
+def test_unreachable_samples_are_data_naming_the_failing_node():
+    theta = np.radians(np.arange(0, 360, 1.0))
+    s = sweep(triple_rocker(), theta)
+    limit = np.degrees(np.arccos((5**2 + 7**2 - 11**2) / (2 * 5 * 7)))  # 132.1774 degrees
+    reachable = (np.degrees(theta) <= limit) | (np.degrees(theta) >= 360 - limit)
+    np.testing.assert_array_equal(s.valid, reachable)
+    assert set(s.failed_node[~s.valid]) == {"C"}
+    assert set(s.failed_node[s.valid]) == {""}
+    assert all(r.startswith("no intersection") for r in s.failure_reason[~s.valid])
+    assert np.isnan(s["C"][~s.valid]).all() and np.isnan(s["B"][~s.valid]).all()
+    assert np.isfinite(s["C"][s.valid]).all()
+    assert "node 'C' cannot be assembled" in s.explain(180)
+
+
+def test_after_a_gap_the_branch_resumes_by_continuity_not_by_default():
+    # 0 -> 300 degrees crosses the unreachable stretch; the samples beyond it
+    # must be the configuration reached by turning the crank backwards from 0
+    forward = sweep(triple_rocker(), np.radians(np.arange(0, 301.0)))
+    backward = sweep(triple_rocker(), np.radians(np.arange(0, -61.0, -1.0)))
+    np.testing.assert_allclose(forward["C"][-1], backward["C"][-1], atol=1e-12)
+    assert len(set(forward.branches["C"])) == 1
+    # out to the limit and back: the crank retraces the same motion
+    theta = np.radians(np.r_[np.arange(0, 200.0), np.arange(200, -1.0, -1)])
+    there_and_back = sweep(triple_rocker(), theta)
+    np.testing.assert_allclose(there_and_back["C"][:100], there_and_back["C"][-1:-101:-1],
+                               atol=1e-12)
+
+
+def test_a_peer_defect_coming_back_on_the_other_branch_does_not_happen():
+    # start on the right branch: the resumed samples are on the right branch too
+    s = sweep(triple_rocker(), np.radians(np.arange(0, 360.0)), branches={"C": "right"})
+    valid = s.valid
+    assert (s.branch_names("C")[valid] == "right").all()
+
+
+def grazing():
+    """Two unit circles whose centres come exactly 2 apart and part again at s = 0."""
+    c = Construction("graze")
+    c.input("s", kind="length", range=(-1, 1), samples=201)
+    c.fixed("O", 0, 0)
+    c.polar("Q", "O", "2 - s ** 2", 0)
+    c.circle_circle("P", ("O", "Q"), (1, 1), branch="left")
+    return c
+
+
+@pytest.mark.parametrize("samples", [200, 201, 20, 21])
+def test_a_graze_changes_branch_so_the_motion_continues_smoothly(samples):
+    s = sweep(grazing(), samples=samples)
+    assert s.valid.all()
+    y = s["P"][:, 1]
+    # the smooth motion runs from the upper half through the touching point to the lower
+    assert (np.diff(y) < 0).all()
+    assert len(s.events) == 1 and s.events[0].node == "P"
+    assert s.events[0].before == "left" and s.events[0].after == "right"
+    assert (s.branch_names("P")[y > 1e-9] == "left").all()
+    assert (s.branch_names("P")[y < -1e-9] == "right").all()
+
+
+def test_no_branch_change_where_roots_stay_apart():
+    s = sweep(coupler_fourbar(), np.linspace(0, 4 * np.pi, 50))
+    assert s.events == [] and (s.branches["B"] == 0).all()
+
+
+def test_sweep_is_vectorized_not_one_sample_at_a_time():
+    c = coupler_fourbar()
+    theta = np.linspace(0, 2 * np.pi, 1001)
+    whole = sweep(c, theta)
+    one_by_one = np.array([sweep(c, [t])["P"][0] for t in theta[::50]])
+    np.testing.assert_allclose(whole["P"][::50], one_by_one, atol=1e-12)
+
+
+def test_inputs_mapping_and_errors():
+    c = coupler_fourbar()
+    s = sweep(c, {"theta": np.linspace(0, 1, 7)})
+    assert len(s) == 7 and s.input.shape == (7,)
+    assert len(sweep(c)) == c.inputs["theta"].samples
+    with pytest.raises(ConstructionError, match="unknown input 'thta'; did you mean 'theta'"):
+        sweep(c, {"thta": [0.0]})
+    with pytest.raises(ConstructionError, match="one-dimensional"):
+        sweep(c, np.zeros((2, 3)))
+    with pytest.raises(KeyError, match="did you mean 'P'"):
+        sweep(c, [0.0])["p"]
+
+
+def test_every_branch_is_recorded_at_every_sample():
+    s = sweep(sixbar())
+    assert set(s.branches) == {"B", "Ap", "C", "M"}
+    assert all(b.shape == (len(s),) for b in s.branches.values())
+    assert set(s.margins) == set(s.branches)
