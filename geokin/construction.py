@@ -157,39 +157,54 @@ class Slider:
     along: tuple[str, str]
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, slots=True)
 class Candidates:
     """What a node computes for every sample, before a branch is chosen.
 
     Attributes
     ----------
-    x, y : ndarray, shape (roots, N)
-        One row per root: one for a single-root node, two for a two-root node.
-    valid : ndarray of bool, shape (roots, N)
-    margin : ndarray, shape (N,) or None
+    x, y : tuple of ndarray
+        One entry per root (one for a single-root node, two for a two-root
+        node), each broadcastable to the N samples; NaN where the root does
+        not exist.
+    margin : ndarray or None
         Distance from tangency of a two-root node (positive: two roots,
         zero: tangent, negative: none), smooth in the inputs.
-    reason : ndarray of int8, shape (roots, N)
-        Why each invalid root is invalid (an index into ``REASONS``).
+    on_line : tuple of ndarray or None
+        For a ray or a segment: whether each root lies on it.
     """
 
-    x: np.ndarray
-    y: np.ndarray
-    valid: np.ndarray
-    margin: np.ndarray | None
-    reason: np.ndarray
+    x: tuple
+    y: tuple
+    margin: np.ndarray | None = None
+    on_line: tuple | None = None
 
 
-def _reasons(valid, finite_inputs, margin, off_line=None):
-    """Classify invalid roots: shape (roots, N) of int8 codes."""
-    reason = np.zeros(valid.shape, dtype=np.int8)
-    with np.errstate(invalid="ignore"):
-        missing = margin < 0 if margin is not None else np.zeros(valid.shape[1:], bool)
-    per_sample = np.where(~finite_inputs, NOT_FINITE,
-                          np.where(missing, NO_INTERSECTION, DEGENERATE)).astype(np.int8)
-    reason[...] = np.where(valid, 0, per_sample)
-    if off_line is not None:
-        reason[off_line & finite_inputs & ~missing] = OFF_LINE
+def failure_reasons(cand: Candidates, values: Mapping, root) -> np.ndarray:
+    """Say why the chosen roots do not exist, as codes into ``REASONS``.
+
+    Parameters
+    ----------
+    cand : Candidates
+        The node's candidates at the failing samples only.
+    values : mapping
+        The node's values at those samples.
+    root : int or ndarray
+        The chosen root at each of those samples.
+    """
+    shape = np.shape(cand.x[0] if np.ndim(root) == 0 else root)
+    finite = np.ones(shape, dtype=bool)
+    for value in values.values():
+        finite &= np.isfinite(value)
+    reason = np.full(shape, DEGENERATE, dtype=np.int8)
+    if cand.margin is not None:
+        with np.errstate(invalid="ignore"):
+            reason[np.broadcast_to(cand.margin < 0, shape)] = NO_INTERSECTION
+        if cand.on_line is not None:
+            exists = np.broadcast_to(np.isfinite(cand.margin) & (cand.margin >= 0), shape)
+            on_line = np.where(root, cand.on_line[1], cand.on_line[0])
+            reason[exists & ~np.broadcast_to(on_line, shape)] = OFF_LINE
+    reason[~finite] = NOT_FINITE
     return reason
 
 
@@ -237,17 +252,6 @@ class Node:
         raise NotImplementedError
 
 
-def _xy(coords, name):
-    return coords[name]
-
-
-def _finite(*arrays):
-    ok = True
-    for a in arrays:
-        ok = ok & np.isfinite(a)
-    return ok
-
-
 @dataclass(frozen=True)
 class Fixed(Node):
     """A fixed point (a ground pivot) at ``(x, y)``."""
@@ -263,12 +267,7 @@ class Fixed(Node):
         return f"fixed({self.x}, {self.y})"
 
     def candidates(self, coords, values):
-        x, y = np.broadcast_arrays(values["x"], values["y"])
-        x = x[None].astype(float)
-        y = y[None].astype(float)
-        valid = np.isfinite(x) & np.isfinite(y)
-        reason = np.where(valid, 0, NOT_FINITE).astype(np.int8)
-        return Candidates(x, y, valid, None, reason)
+        return Candidates((values["x"],), (values["y"],))
 
 
 @dataclass(frozen=True)
@@ -310,7 +309,7 @@ class Polar(Node):
         else:
             (x1, y1), (x2, y2) = coords[self.reference[0]], coords[self.reference[1]]
             x, y = prim.relative_point_xy(ox, oy, x1, y1, x2, y2, distance, angle)
-        return _single(x, y, _finite(ox, oy, distance, angle))
+        return Candidates((x,), (y,))
 
 
 @dataclass(frozen=True)
@@ -333,14 +332,7 @@ class Along(Node):
     def candidates(self, coords, values):
         (x1, y1), (x2, y2) = coords[self.line[0]], coords[self.line[1]]
         x, y = prim.relative_point_xy(x1, y1, x1, y1, x2, y2, values["distance"], 0.0)
-        return _single(x, y, _finite(x1, y1, x2, y2, values["distance"]))
-
-
-def _single(x, y, finite_inputs):
-    x, y, finite_inputs = np.broadcast_arrays(x, y, finite_inputs)
-    valid = np.isfinite(x) & np.isfinite(y)
-    reason = np.where(valid, 0, np.where(finite_inputs, DEGENERATE, NOT_FINITE))
-    return Candidates(x[None], y[None], valid[None], None, reason[None].astype(np.int8))
+        return Candidates((x,), (y,))
 
 
 @dataclass(frozen=True)
@@ -360,7 +352,7 @@ class LineLine(Node):
     def candidates(self, coords, values):
         args = [c for name in (*self.first, *self.second) for c in coords[name]]
         x, y, _, _, _ = prim.line_line_xy(*args)
-        return _single(x, y, _finite(*args))
+        return Candidates((x,), (y,))
 
 
 @dataclass(frozen=True)
@@ -408,11 +400,7 @@ class CircleCircle(_TwoRoot):
         (x1, y1), (x2, y2) = coords[self.centers[0]], coords[self.centers[1]]
         r1, r2 = values["radii[0]"], values["radii[1]"]
         xl, yl, xr, yr, margin = prim.circle_circle_xy(x1, y1, r1, x2, y2, r2)
-        xl, yl, xr, yr, margin = np.broadcast_arrays(xl, yl, xr, yr, margin)
-        x = np.stack([xl, yl, xr, yr]).reshape(2, 2, -1)
-        valid = np.isfinite(x[:, 0]) & np.isfinite(x[:, 1])
-        reason = _reasons(valid, _finite(x1, y1, x2, y2, r1, r2), margin)
-        return Candidates(x[:, 0], x[:, 1], valid, margin, reason)
+        return Candidates((xl, xr), (yl, yr), margin)
 
 
 @dataclass(frozen=True)
@@ -444,18 +432,12 @@ class _LineCircle(_TwoRoot):
         cx, cy = coords[self.center]
         r = values["radius"]
         xa, ya, xb, yb, ta, tb, margin = prim.line_circle_xy(x1, y1, x2, y2, cx, cy, r)
-        xa, ya, xb, yb, ta, tb, margin = np.broadcast_arrays(xa, ya, xb, yb, ta, tb, margin)
-        x = np.stack([xa, xb])
-        y = np.stack([ya, yb])
-        t = np.stack([ta, tb])
-        with np.errstate(invalid="ignore"):
-            on_line = (t >= self.low - prim.PARAMETER_RTOL) & (t <= self.high + prim.PARAMETER_RTOL)
-        exists = np.isfinite(x) & np.isfinite(y)
-        valid = exists & on_line
-        reason = _reasons(valid, _finite(x1, y1, x2, y2, cx, cy, r), margin,
-                          off_line=exists & ~on_line)
-        # off-line roots keep their positions: branch tracking follows them
-        return Candidates(x, y, valid, margin, reason)
+        on_line = None
+        if self.low != -np.inf or self.high != np.inf:
+            # off-line roots keep their positions: branch tracking follows them
+            low, high = self.low - prim.PARAMETER_RTOL, self.high + prim.PARAMETER_RTOL
+            on_line = ((ta >= low) & (ta <= high), (tb >= low) & (tb <= high))
+        return Candidates((xa, xb), (ya, yb), margin, on_line)
 
 
 @dataclass(frozen=True)
@@ -524,6 +506,8 @@ class Compiled:
     sliders: tuple[Slider, ...] = ()
     _values: Mapping[str, Mapping[str, Expr]] = field(default_factory=dict, repr=False)
     traced: tuple[str, ...] = ()
+    cache: dict = field(default_factory=dict, repr=False, compare=False)
+    """Whatever later layers derive once from this construction (evaluation plans)."""
 
     def __len__(self):
         return len(self.steps)

@@ -68,7 +68,11 @@ class Expr:
         raise NotImplementedError
 
     def evaluate(self, env: Mapping[str, object]):
-        """Return the value, with each name looked up in ``env``."""
+        """Return the value, with each name looked up in ``env``.
+
+        Invalid operations give NaN or inf as numpy does; wrap the call in
+        ``np.errstate`` to silence their warnings.
+        """
         raise NotImplementedError
 
     def _precedence(self) -> int:
@@ -186,8 +190,7 @@ class BinOp(Expr):
         return self.left.names() | self.right.names()
 
     def evaluate(self, env):
-        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
-            return _APPLY[self.op](self.left.evaluate(env), self.right.evaluate(env))
+        return _APPLY[self.op](self.left.evaluate(env), self.right.evaluate(env))
 
     def _precedence(self):
         return _PRECEDENCE[self.op]
@@ -216,8 +219,7 @@ class Call(Expr):
         return frozenset().union(*(a.names() for a in self.args))
 
     def evaluate(self, env):
-        with np.errstate(divide="ignore", invalid="ignore"):
-            return FUNCTIONS[self.function][1](*(a.evaluate(env) for a in self.args))
+        return FUNCTIONS[self.function][1](*(a.evaluate(env) for a in self.args))
 
     def __str__(self):
         return f"{self.function}({', '.join(str(a) for a in self.args)})"

@@ -72,6 +72,9 @@ def _stack_roots(x0, y0, x1, y1):
 def circle_circle_xy(x1, y1, r1, x2, y2, r2):
     """Kernel of :func:`circle_circle` on coordinate arrays.
 
+    Kernels leave floating-point warnings to the caller (wrap calls in
+    ``np.errstate``): degenerate elements give NaN or inf on the way.
+
     Returns
     -------
     xl, yl, xr, yr : ndarray
@@ -86,21 +89,29 @@ def circle_circle_xy(x1, y1, r1, x2, y2, r2):
     dy = y2 - y1
     d2 = dx * dx + dy * dy
     d = np.sqrt(d2)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        scale = np.maximum(np.maximum(d, np.abs(r1)), np.abs(r2))
-        # m: distance from the first centre to the foot of the chord
-        m = (d2 + (r1 - r2) * (r1 + r2)) / (2.0 * d)
-        half_chord_sq = (r1 - m) * (r1 + m)
-        margin = half_chord_sq / (scale * scale)
-        ok = (d > 0) & (r1 >= 0) & (r2 >= 0) & (margin >= -TANGENCY_RTOL)
-        margin = np.where((d > 0) & (r1 >= 0) & (r2 >= 0), margin, np.nan)
-        h = np.sqrt(np.where(ok, np.maximum(half_chord_sq, 0.0), np.nan))
-        ux = dx / d
-        uy = dy / d
-    fx = x1 + m * ux
-    fy = y1 + m * uy
-    # left normal of (ux, uy) is (-uy, ux)
-    return fx - h * uy, fy + h * ux, fx + h * uy, fy - h * ux, margin
+    # the foot of the chord is c1 + k * (c2 - c1); coincident centres give inf or NaN
+    k = (d2 + (r1 - r2) * (r1 + r2)) / (2.0 * d2)
+    m = k * d
+    half_chord_sq = (r1 - m) * (r1 + m)
+    scale = np.maximum(d, np.maximum(np.abs(r1), np.abs(r2)))
+    margin = half_chord_sq / (scale * scale)
+    if not (_nonnegative(r1) and _nonnegative(r2)):
+        margin = np.where((r1 >= 0) & (r2 >= 0), margin, np.nan)
+    h_over_d = np.sqrt(np.where(margin >= -TANGENCY_RTOL, np.maximum(half_chord_sq, 0.0),
+                                np.nan)) / d
+    fx = x1 + k * dx
+    fy = y1 + k * dy
+    # the left normal of (dx, dy) is (-dy, dx)
+    ex = h_over_d * dy
+    ey = h_over_d * dx
+    return fx - ex, fy + ey, fx + ex, fy - ey, margin
+
+
+def _nonnegative(r) -> bool:
+    """Whether every element of ``r`` is a number >= 0 (fast for Python floats)."""
+    if isinstance(r, float | int):
+        return r >= 0
+    return bool(np.all(np.asarray(r) >= 0))
 
 
 def line_circle_xy(x1, y1, x2, y2, cx, cy, r):
@@ -117,25 +128,24 @@ def line_circle_xy(x1, y1, x2, y2, cx, cy, r):
     """
     dx = x2 - x1
     dy = y2 - y1
-    length = np.sqrt(dx * dx + dy * dy)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ux = dx / length
-        uy = dy / length
-        # signed distance along the line to the foot of the perpendicular
-        s = (cx - x1) * ux + (cy - y1) * uy
-        # signed distance of the centre from the line
-        e = (cy - y1) * ux - (cx - x1) * uy
-        scale = np.maximum(np.maximum(np.abs(r), np.abs(e)), np.maximum(np.abs(s), length))
-        half_chord_sq = (r - e) * (r + e)
-        good_input = (length > 0) & (r >= 0)
-        margin = np.where(good_input, half_chord_sq / (scale * scale), np.nan)
-        ok = good_input & (margin >= -TANGENCY_RTOL)
-        h = np.sqrt(np.where(ok, np.maximum(half_chord_sq, 0.0), np.nan))
-        sa = s - h
-        sb = s + h
-        ta = sa / length
-        tb = sb / length
-    return x1 + sa * ux, y1 + sa * uy, x1 + sb * ux, y1 + sb * uy, ta, tb, margin
+    length_sq = dx * dx + dy * dy
+    wx = cx - x1
+    wy = cy - y1
+    # t of the foot of the perpendicular from the centre, and the centre's offset
+    t_foot = (wx * dx + wy * dy) / length_sq
+    offset_sq = (wy * dx - wx * dy) ** 2 / length_sq
+    r_sq = r * r
+    half_chord_sq = r_sq - offset_sq
+    scale_sq = np.maximum(np.maximum(r_sq, offset_sq), np.maximum(t_foot * t_foot, 1.0) * length_sq)
+    margin = half_chord_sq / scale_sq
+    if not _nonnegative(r):
+        margin = np.where(r >= 0, margin, np.nan)
+    # a zero-length line gives NaN through t_foot
+    dt = np.sqrt(np.where(margin >= -TANGENCY_RTOL, np.maximum(half_chord_sq, 0.0), np.nan)
+                 / length_sq)
+    ta = t_foot - dt
+    tb = t_foot + dt
+    return x1 + ta * dx, y1 + ta * dy, x1 + tb * dx, y1 + tb * dy, ta, tb, margin
 
 
 def line_line_xy(x1, y1, x2, y2, x3, y3, x4, y4):
@@ -156,14 +166,13 @@ def line_line_xy(x1, y1, x2, y2, x3, y3, x4, y4):
     by = y4 - y3
     cross = ax * by - ay * bx
     norms = np.sqrt((ax * ax + ay * ay) * (bx * bx + by * by))
-    with np.errstate(divide="ignore", invalid="ignore"):
-        sine = cross / norms
-        ok = (norms > 0) & (np.abs(sine) > PARALLEL_RTOL)
-        wx = x3 - x1
-        wy = y3 - y1
-        t = np.where(ok, (wx * by - wy * bx) / cross, np.nan)
-        u = np.where(ok, (wx * ay - wy * ax) / cross, np.nan)
-    return x1 + t * ax, y1 + t * ay, t, u, np.where(norms > 0, sine, np.nan)
+    sine = cross / norms
+    ok = np.abs(sine) > PARALLEL_RTOL  # False for NaN: zero-length lines
+    wx = x3 - x1
+    wy = y3 - y1
+    t = np.where(ok, (wx * by - wy * bx) / cross, np.nan)
+    u = np.where(ok, (wx * ay - wy * ax) / cross, np.nan)
+    return x1 + t * ax, y1 + t * ay, t, u, sine
 
 
 # -- public primitives --------------------------------------------------------
@@ -210,7 +219,8 @@ def circle_circle(c1, r1, c2, r2):
     x2, y2 = _xy(c2)
     r1 = np.asarray(r1, dtype=float)
     r2 = np.asarray(r2, dtype=float)
-    xl, yl, xr, yr, _ = circle_circle_xy(x1, y1, r1, x2, y2, r2)
+    with np.errstate(all="ignore"):
+        xl, yl, xr, yr, _ = circle_circle_xy(x1, y1, r1, x2, y2, r2)
     points = _stack_roots(xl, yl, xr, yr)
     valid = ~np.isnan(points[..., 0])
     return points, valid
@@ -221,7 +231,8 @@ def _line_based_circle(start, through, center, radius, low, high):
     x2, y2 = _xy(through)
     cx, cy = _xy(center)
     r = np.asarray(radius, dtype=float)
-    xa, ya, xb, yb, ta, tb, _ = line_circle_xy(x1, y1, x2, y2, cx, cy, r)
+    with np.errstate(all="ignore"):
+        xa, ya, xb, yb, ta, tb, _ = line_circle_xy(x1, y1, x2, y2, cx, cy, r)
     points = _stack_roots(xa, ya, xb, yb)
     t = np.stack(np.broadcast_arrays(ta, tb), axis=-1)
     with np.errstate(invalid="ignore"):
@@ -327,7 +338,8 @@ def line_line(start1, through1, start2, through2):
     x2, y2 = _xy(through1)
     x3, y3 = _xy(start2)
     x4, y4 = _xy(through2)
-    x, y, _, _, _ = line_line_xy(x1, y1, x2, y2, x3, y3, x4, y4)
+    with np.errstate(all="ignore"):
+        x, y, _, _, _ = line_line_xy(x1, y1, x2, y2, x3, y3, x4, y4)
     point = np.stack(np.broadcast_arrays(x, y), axis=-1)
     return point, np.asarray(~np.isnan(x + y))
 
@@ -370,8 +382,9 @@ def relative_point(origin, start, through, distance, angle):
     ox, oy = _xy(origin)
     x1, y1 = _xy(start)
     x2, y2 = _xy(through)
-    x, y = relative_point_xy(ox, oy, x1, y1, x2, y2, np.asarray(distance, dtype=float),
-                             np.asarray(angle, dtype=float))
+    with np.errstate(all="ignore"):
+        x, y = relative_point_xy(ox, oy, x1, y1, x2, y2, np.asarray(distance, dtype=float),
+                                 np.asarray(angle, dtype=float))
     return np.stack(np.broadcast_arrays(x, y), axis=-1)
 
 
@@ -382,8 +395,7 @@ def relative_point_xy(ox, oy, x1, y1, x2, y2, distance, angle):
     length = np.sqrt(dx * dx + dy * dy)
     c = np.cos(angle)
     s = np.sin(angle)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        k = np.where(length > 0, distance / length, np.nan)
+    k = distance / length  # inf or NaN for a zero-length line, NaN in the result
     # rotate the direction (dx, dy) by the angle, scaled to the distance
     return ox + k * (c * dx - s * dy), oy + k * (s * dx + c * dy)
 

@@ -30,7 +30,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .construction import REASONS, Compiled, Construction
+from .construction import REASONS, Compiled, Construction, failure_reasons
 from .errors import ConstructionError, did_you_mean
 
 __all__ = ["BranchEvent", "Sweep", "evaluate", "sweep"]
@@ -63,7 +63,7 @@ class Sweep:
         What was evaluated.
     inputs : dict of str to ndarray, shape (N,)
         Input values, radians for angles.
-    points : dict of str to ndarray, shape (N, 2)
+    points : mapping of str to ndarray, shape (N, 2)
         Position of every point; NaN at samples that cannot be assembled.
     valid : ndarray of bool, shape (N,)
         Whether each sample can be assembled.
@@ -81,27 +81,24 @@ class Sweep:
         roots, zero: tangent, negative: none), relative to its scale.
     """
 
-    def __init__(self, construction, inputs, points, valid, failed_step, reason_code,
-                 branches, events, margins):
+    def __init__(self, construction, inputs, coords, valid, failed_step, reason_code,
+                 labels, events, margins):
         self.construction: Compiled = construction
         self.inputs = inputs
-        self.points = points
+        self.points = _PointTable(coords, valid)
         self.valid = valid
         self.failed_step = failed_step
         self.reason_code = reason_code
-        self.branches = branches
         self.events = events
-        self.margins = margins
+        self._labels = labels
+        self._margins = margins
 
     def __len__(self):
         return len(self.valid)
 
     def __getitem__(self, name: str) -> np.ndarray:
         """Return the (N, 2) positions of a point."""
-        try:
-            return self.points[name]
-        except KeyError:
-            raise KeyError(f"no point {name!r}{did_you_mean(name, self.points)}") from None
+        return self.points[name]
 
     def __repr__(self):
         return (f"<Sweep of {self.construction.name!r}: {len(self)} samples, "
@@ -111,6 +108,19 @@ class Sweep:
     def input(self) -> np.ndarray:
         """Return the values of the first input (radians for an angle)."""
         return next(iter(self.inputs.values()))
+
+    @property
+    def branches(self) -> dict[str, np.ndarray]:
+        """Return the branch (0 or 1) of every two-root node at every sample."""
+        n = len(self)
+        return {name: np.broadcast_to(np.asarray(label, dtype=np.int8), (n,))
+                for name, label in self._labels.items()}
+
+    @property
+    def margins(self) -> dict[str, np.ndarray]:
+        """Return every two-root node's distance from tangency at every sample."""
+        n = len(self)
+        return {name: np.broadcast_to(m, (n,)) for name, m in self._margins.items()}
 
     @property
     def failed_node(self) -> np.ndarray:
@@ -159,6 +169,36 @@ class Sweep:
         raise KeyError(f"no point {name!r}{did_you_mean(name, self.construction.point_names)}")
 
 
+class _PointTable(Mapping):
+    """Point positions as (N, 2) arrays, stacked from coordinates when first read."""
+
+    def __init__(self, coords, valid):
+        self._coords = coords
+        self._valid = valid
+        self._stacked = {}
+
+    def __getitem__(self, name):
+        stacked = self._stacked.get(name)
+        if stacked is None:
+            try:
+                x, y = self._coords[name]
+            except KeyError:
+                raise KeyError(f"no point {name!r}{did_you_mean(name, self._coords)}") from None
+            stacked = np.empty((len(self._valid), 2))
+            stacked[:, 0] = x
+            stacked[:, 1] = y
+            if not self._valid.all():
+                stacked[~self._valid] = np.nan
+            self._stacked[name] = stacked
+        return stacked
+
+    def __iter__(self):
+        return iter(self._coords)
+
+    def __len__(self):
+        return len(self._coords)
+
+
 def _compiled(construction) -> Compiled:
     if isinstance(construction, Construction):
         return construction.compile()
@@ -201,6 +241,39 @@ def input_arrays(compiled: Compiled, values=None, samples: int | None = None):
     return {k: np.broadcast_to(v, (n,)).astype(float, copy=False) for k, v in arrays.items()}, n
 
 
+@dataclass(frozen=True)
+class _PlannedStep:
+    """A step with its constant values evaluated once and its varying ones listed."""
+
+    index: int
+    node: object
+    constants: dict
+    varying: tuple  # (field, expression, factor to radians or None)
+
+
+def _plan(compiled: Compiled) -> tuple[_PlannedStep, ...]:
+    """Return the evaluation plan of a compiled construction, made once and cached."""
+    plan = compiled.cache.get("plan")
+    if plan is not None:
+        return plan
+    to_radians = np.pi / 180 if compiled.angle_unit == "deg" else None
+    planned = []
+    with np.errstate(all="ignore"):
+        for step in compiled.steps:
+            node = step.node
+            constants, varying = {}, []
+            for field_name, expr in compiled._values[node.name].items():
+                factor = to_radians if field_name in node.angle_fields() else None
+                if expr.names() <= compiled.parameters.keys():
+                    value = expr.evaluate(compiled.parameters)
+                    constants[field_name] = float(value * factor if factor else value)
+                else:
+                    varying.append((field_name, expr, factor))
+            planned.append(_PlannedStep(step.index, node, constants, tuple(varying)))
+    compiled.cache["plan"] = plan = tuple(planned)
+    return plan
+
+
 def _environment(compiled: Compiled, inputs):
     env = dict(compiled.parameters)
     for name, value in inputs.items():
@@ -212,7 +285,7 @@ def _environment(compiled: Compiled, inputs):
 
 def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
              branches: Mapping[str, np.ndarray] | None = None, *, track: bool = True,
-             initial: Mapping[str, int] | None = None):
+             initial: Mapping[str, int] | None = None) -> Sweep:
     """Evaluate every step for all samples.
 
     Parameters
@@ -236,54 +309,80 @@ def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
     Sweep
     """
     compiled = _compiled(construction)
+    plan = _plan(compiled)
     env = _environment(compiled, inputs)
-    to_radians = np.pi / 180 if compiled.angle_unit == "deg" else None
-    coords = {}
-    valid = np.ones(n, dtype=bool)
+    coords, labels, margins, events, results = {}, {}, {}, [], []
+    with np.errstate(all="ignore"):
+        for step in plan:
+            node = step.node
+            values = step.constants
+            if step.varying:
+                values = dict(values)
+                for field_name, expr, factor in step.varying:
+                    value = expr.evaluate(env)
+                    values[field_name] = value * factor if factor else value
+            cand = node.candidates(coords, values)
+            if node.roots == 1:
+                x, y = cand.x[0], cand.y[0]
+                label = None
+            else:
+                if branches is not None and node.name in branches:
+                    label = branches[node.name]
+                else:
+                    label, found = _track(node, cand, n, track, (initial or {}).get(node.name))
+                    events.extend(found)
+                x, y = _choose(cand, label)
+                labels[node.name] = label
+                margins[node.name] = cand.margin
+            coords[node.name] = (x, y)
+            results.append((step, cand, values, label, x))
+        valid = np.ones(n, dtype=bool)
+        for *_, x in results:
+            valid &= np.isfinite(x)
     failed_step = np.zeros(n, dtype=np.int16)
     reason_code = np.zeros(n, dtype=np.int8)
-    chosen, margins, events = {}, {}, []
-    for step in compiled.steps:
-        node = step.node
-        values = {}
-        for field_name, expr in compiled._values[node.name].items():
-            value = expr.evaluate(env)
-            if to_radians is not None and field_name in node.angle_fields():
-                value = value * to_radians
-            values[field_name] = value
-        cand = node.candidates(coords, values)
-        if node.roots == 1:
-            x, y, ok, why = cand.x[0], cand.y[0], cand.valid[0], cand.reason[0]
-        else:
-            if branches is not None and node.name in branches:
-                label = np.broadcast_to(np.asarray(branches[node.name], dtype=np.int8), (n,))
-            else:
-                label, found = _track(node, cand, n, track, (initial or {}).get(node.name))
-                events.extend(found)
-            chosen[node.name] = label
-            margins[node.name] = np.broadcast_to(cand.margin, (n,))
-            second = label.astype(bool)
-            x = np.where(second, cand.x[1], cand.x[0])
-            y = np.where(second, cand.y[1], cand.y[0])
-            ok = np.where(second, cand.valid[1], cand.valid[0])
-            why = np.where(second, cand.reason[1], cand.reason[0])
-        ok = np.broadcast_to(ok, (n,))
-        if not ok.all():
-            newly = valid & ~ok
-            failed_step[newly] = step.index
-            reason_code[newly] = np.broadcast_to(why, (n,))[newly]
-            valid &= ok
-        coords[node.name] = (x, y)
-    points = {}
-    for name, (x, y) in coords.items():
-        xy = np.empty((n, 2))
-        xy[:, 0] = x
-        xy[:, 1] = y
-        if not valid.all():
-            xy[~valid] = np.nan
-        points[name] = xy
-    return Sweep(compiled, dict(inputs), points, valid, failed_step, reason_code, chosen,
+    if not valid.all():
+        _record_failures(results, n, failed_step, reason_code)
+    return Sweep(compiled, dict(inputs), coords, valid, failed_step, reason_code, labels,
                  events, margins)
+
+
+def _choose(cand, label):
+    """Take root ``label`` (an int, or an array of 0 and 1 per sample)."""
+    if np.ndim(label) == 0:
+        x, y = cand.x[label], cand.y[label]
+        if cand.on_line is not None:
+            off = ~cand.on_line[label]
+            x, y = np.where(off, np.nan, x), np.where(off, np.nan, y)
+        return x, y
+    second = label.astype(bool)
+    x = np.where(second, cand.x[1], cand.x[0])
+    y = np.where(second, cand.y[1], cand.y[0])
+    if cand.on_line is not None:
+        off = ~np.where(second, cand.on_line[1], cand.on_line[0])
+        x, y = np.where(off, np.nan, x), np.where(off, np.nan, y)
+    return x, y
+
+
+def _record_failures(results, n, failed_step, reason_code):
+    """Name the first node that fails at each invalid sample, and why."""
+    pending = np.ones(n, dtype=bool)
+    for step, cand, values, label, x in results:
+        failing = pending & ~np.isfinite(np.broadcast_to(x, (n,)))
+        if not failing.any():
+            continue
+        at = np.flatnonzero(failing)
+
+        def pick(a, at=at):
+            return None if a is None else np.broadcast_to(a, (n,))[at]
+
+        local = type(cand)(tuple(pick(a) for a in cand.x), tuple(pick(a) for a in cand.y),
+                           pick(cand.margin),
+                           None if cand.on_line is None else tuple(map(pick, cand.on_line)))
+        root = 0 if label is None else pick(np.asarray(label))
+        failed_step[at] = step.index
+        reason_code[at] = failure_reasons(local, {k: pick(v) for k, v in values.items()}, root)
+        pending &= ~failing
 
 
 def sweep(construction, values=None, *, samples: int | None = None,
@@ -346,30 +445,30 @@ def sweep(construction, values=None, *, samples: int | None = None,
     return evaluate(compiled, inputs, n, initial=initial)
 
 
-def _initial_label(node, cand, override) -> int:
+def _initial_label(node, cand, n, override) -> int:
     if override is not None:
         return override
     if node.near is None:
         return node.branch_names().index(node.branch)
-    exists = np.flatnonzero(np.isfinite(np.atleast_1d(cand.x[0] + cand.x[1])))
+    x0, y0, x1, y1 = (np.broadcast_to(a, (n,)) for a in (*cand.x, *cand.y))
+    exists = np.flatnonzero(np.isfinite(x0 + x1))
     if exists.size == 0:
         return 0
     i = exists[0]
     near_x, near_y = node.near
-    d0 = np.hypot(cand.x[0][i] - near_x, cand.y[0][i] - near_y)
-    d1 = np.hypot(cand.x[1][i] - near_x, cand.y[1][i] - near_y)
-    return int(d1 < d0)
+    return int(np.hypot(x1[i] - near_x, y1[i] - near_y) < np.hypot(x0[i] - near_x, y0[i] - near_y))
 
 
 def _track(node, cand, n, track, override=None):
-    """Choose the branch of a two-root node at every sample (rules 1 to 3)."""
-    start = _initial_label(node, cand, override)
-    label = np.full(n, start, dtype=np.int8)
-    margin = np.broadcast_to(cand.margin, (n,))
-    if not track or n < 3 or not (np.nanmin(margin, initial=np.inf) < GRAZE_MARGIN):
-        return label, []
-    x0, y0, x1, y1 = (np.broadcast_to(a, (n,)) for a in (cand.x[0], cand.y[0],
-                                                          cand.x[1], cand.y[1]))
+    """Choose the branch of a two-root node at every sample (rules 1 to 3).
+
+    Returns the branch as an int where it never changes, else an int8 array.
+    """
+    start = _initial_label(node, cand, n, override)
+    if not track or n < 3 or not (np.fmin.reduce(np.ravel(cand.margin)) < GRAZE_MARGIN):
+        return start, []
+    (x0, x1), (y0, y1) = cand.x, cand.y
+    x0, y0, x1, y1 = (np.broadcast_to(a, (n,)) for a in (x0, y0, x1, y1))
     separation = np.hypot(x1 - x0, y1 - y0)
     step = np.fmax(np.hypot(np.diff(x0), np.diff(y0)), np.hypot(np.diff(x1), np.diff(y1)))
     # at a graze the kept root barely moves across the pair itself: judge the
@@ -377,11 +476,10 @@ def _track(node, cand, n, track, override=None):
     motion = step.copy()
     motion[1:] = np.fmax(motion[1:], step[:-1])
     motion[:-1] = np.fmax(motion[:-1], step[1:])
-    with np.errstate(invalid="ignore"):
-        close = np.minimum(separation[:-1], separation[1:]) <= 2 * motion
+    close = np.minimum(separation[:-1], separation[1:]) <= 2 * motion
     pairs = np.flatnonzero(close)
     if pairs.size == 0:
-        return label, []
+        return start, []
     roots = np.stack([np.stack([x0, y0], axis=-1), np.stack([x1, y1], axis=-1)])
     names = node.branch_names()
     flips, events, current = np.zeros(n, dtype=np.int8), [], start
@@ -392,8 +490,9 @@ def _track(node, cand, n, track, override=None):
             flips[i + 1] = 1
             events.append(BranchEvent(node.name, int(i + 1), names[current], names[1 - current]))
             current = 1 - current
-    label = ((start + np.cumsum(flips)) % 2).astype(np.int8)
-    return label, events
+    if not events:
+        return start, []
+    return ((start + np.cumsum(flips)) % 2).astype(np.int8), events
 
 
 def _smoother_to_switch(roots, i, before, current, n) -> bool:

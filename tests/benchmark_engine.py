@@ -1,0 +1,77 @@
+"""Benchmark the engine against a hand-written numpy four-bar, in the same run.
+
+Run with ``python tests/benchmark_engine.py``; it prints a table of times,
+the engine-to-hand-written ratios and the peak memory per sample. The test
+suite does not run it: figures here are measured, never asserted.
+"""
+
+import sys
+import timeit
+import tracemalloc
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).parent))
+from mechanisms import coupler_fourbar, sixbar  # noqa: E402
+
+from geokin import sweep  # noqa: E402
+
+
+def hand_written(theta):
+    """The benchmark four-bar in closed form: the fastest plain numpy we can write."""
+    ax, ay = 10 * np.cos(theta), 10 * np.sin(theta)
+    dx, dy = 40 - ax, -ay
+    d2 = dx * dx + dy * dy
+    d = np.sqrt(d2)
+    m = (d2 + 35**2 - 30**2) / (2 * d)
+    h = np.sqrt(35**2 - m * m)
+    ux, uy = dx / d, dy / d
+    bx, by = ax + m * ux - h * uy, ay + m * uy + h * ux
+    c, s = np.cos(np.radians(30)), np.sin(np.radians(30))
+    k = 20 / 35
+    px = ax + k * (c * (bx - ax) - s * (by - ay))
+    py = ay + k * (s * (bx - ax) + c * (by - ay))
+    return np.stack([px, py], axis=-1)
+
+
+def best_time(function, repeat=7):
+    number, elapsed = timeit.Timer(function).autorange()
+    times = timeit.repeat(function, number=number, repeat=repeat)
+    return min(times) / number
+
+
+def peak_bytes(function):
+    tracemalloc.start()
+    function()
+    peak = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    return peak
+
+
+def main():
+    fourbar = coupler_fourbar()
+    fourbar.compile()
+    check = np.linspace(0, 2 * np.pi, 1000)
+    assert np.allclose(sweep(fourbar, check)["P"], hand_written(check), atol=1e-12)
+    print("four-bar with coupler point: engine (geokin.sweep) vs hand-written closed form")
+    print(f"{'N':>9} {'hand-written':>14} {'engine':>12} {'ratio':>7}")
+    for n in (360, 36_000, 1_000_000):
+        theta = np.linspace(0, 2 * np.pi, n)
+        hand = best_time(lambda theta=theta: hand_written(theta))
+        engine = best_time(lambda theta=theta: sweep(fourbar, theta)["P"])
+        print(f"{n:>9} {hand * 1e3:>11.3f} ms {engine * 1e3:>9.3f} ms {engine / hand:>7.2f}")
+    six = sixbar()
+    six.compile()
+    theta = np.linspace(0, np.radians(1800), 1_000_000)
+    seconds = best_time(lambda: sweep(six, theta)["M"], 3)
+    print(f"seed six-bar, 1,000,000 samples: {seconds:.3f} s")
+    print("peak memory of a four-bar sweep (tracemalloc):")
+    for n in (100_000, 200_000, 400_000):
+        theta = np.linspace(0, 2 * np.pi, n)
+        peak = peak_bytes(lambda theta=theta: sweep(fourbar, theta)["P"])
+        print(f"{n:>9} samples: {peak / 2**20:7.1f} MiB, {peak / n:6.0f} bytes per sample")
+
+
+if __name__ == "__main__":
+    main()
