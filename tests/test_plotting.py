@@ -1,0 +1,284 @@
+"""Tests of geokin.plotting: figures, files and animations, headless (Agg)."""
+
+import io
+import subprocess
+import sys
+
+import matplotlib
+import matplotlib.pyplot as plt
+import numpy as np
+import pytest
+from matplotlib import animation
+from PIL import Image
+
+from geokin import Construction, GeokinError, sweep
+from geokin import plotting as gp
+
+BAR_WIDTH = 5.0  # the line width of a two-point link
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    yield
+    plt.close("all")
+
+
+def four_bar(crank=10.0, links=True):
+    """Ground (0,0)-(40,0), crank 10, coupler 35, rocker 30, coupler point P."""
+    c = Construction("four-bar")
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 40, 0)
+    c.polar("A", "O2", crank, "theta")
+    c.circle_circle("B", ("A", "O4"), (35, 30), branch="left")
+    c.polar("P", "A", 20, np.radians(30), reference=("A", "B"))
+    if links:
+        c.link("crank", "O2", "A")
+        c.link("coupler", "A", "B", "P")
+        c.link("rocker", "B", "O4")
+        c.trace("P")
+    return c
+
+
+def slider_crank():
+    c = Construction("slider-crank")
+    c.input("theta")
+    c.fixed("O", 0, 0)
+    c.fixed("G", 1, 0)
+    c.polar("A", "O", 10, "theta")
+    c.line_circle("B", ("O", "G"), "A", 30, branch="second")
+    c.link("crank", "O", "A")
+    c.link("rod", "A", "B")
+    c.slider("block", "B", ("O", "G"))
+    return c
+
+
+def samples(n):
+    return np.linspace(0, 2 * np.pi, n)
+
+
+def bars(ax):
+    return [line for line in ax.get_lines() if line.get_linewidth() == BAR_WIDTH]
+
+
+def texts(ax):
+    return {t.get_text() for t in ax.texts}
+
+
+def test_four_bar_artists():
+    s = sweep(four_bar(), samples(73))
+    ax = gp.plot_mechanism(s, 6)
+    assert isinstance(ax, matplotlib.axes.Axes)
+    # path of P, crank and rocker bars, two ground lines, joints, loose points, references
+    assert len(ax.get_lines()) == 8
+    assert len(bars(ax)) == 2
+    # two pivot triangles, two hatched grounds, the coupler plate, the input arrow
+    assert len(ax.patches) == 6
+    hatched = [p for p in ax.patches if p.get_hatch()]
+    assert len(hatched) == 2
+    (plate,) = [p for p in ax.patches if 0 < p.get_facecolor()[3] < 0.5]  # translucent
+    np.testing.assert_allclose(plate.get_xy()[:3], [s["A"][6], s["B"][6], s["P"][6]])
+    assert {"O2", "O4", "A", "B", "P", "θ = 30.0°"} <= texts(ax)
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["path of P"]
+    trace = ax.get_lines()[0]
+    np.testing.assert_allclose(trace.get_xydata(), s["P"])
+    assert ax.get_aspect() == 1.0
+    assert ax.get_title() == "four-bar"
+
+
+def test_view_includes_the_whole_motion():
+    s = sweep(four_bar(), samples(73))
+    ax = gp.plot_mechanism(s)
+    ax.figure.canvas.draw()
+    xy = np.concatenate([s[p] for p in ("O2", "O4", "A", "B", "P")])
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    assert x0 < xy[:, 0].min() and xy[:, 0].max() < x1
+    assert y0 < xy[:, 1].min() and xy[:, 1].max() < y1
+
+
+def test_slider_block_sits_on_its_point():
+    s = sweep(slider_crank(), samples(37))
+    fig, ax = gp.figure_mechanism(s, 4, title="")
+    block = [p for p in ax.patches if p.get_facecolor()[:3] == matplotlib.colors.to_rgb(
+        "#f4d58d")]
+    assert len(block) == 1
+    corners = block[0].get_xy()[:4]
+    np.testing.assert_allclose(corners.mean(axis=0), s["B"][4], atol=1e-9)
+    size = gp._Layout(s).size
+    np.testing.assert_allclose(np.ptp(corners, axis=0), [3.2 * size, 2 * size])
+    # the guide's direction point G is shown by the guide line, not labelled
+    assert "G" not in texts(ax) and {"O", "A", "B"} <= texts(ax)
+    assert len(bars(ax)) == 2
+    assert ax.get_title() == ""
+    # paths of every point that is not fixed
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["path of A", "path of B"]
+
+
+def test_without_links_bars_join_each_point_to_what_it_is_built_on():
+    s = sweep(four_bar(links=False), samples(37))
+    ax = gp.plot_mechanism(s)
+    ends = {frozenset(map(tuple, line.get_xydata().round(9))) for line in bars(ax)}
+    expected = {frozenset((tuple(s[a][0].round(9)), tuple(s[b][0].round(9))))
+                for a, b in [("O2", "A"), ("A", "B"), ("O4", "B"), ("A", "P"), ("B", "P")]}
+    assert ends == expected
+    assert len(ax.get_legend().get_texts()) == 3  # A, B and P are traced
+
+
+def test_traces_chosen_and_checked():
+    s = sweep(four_bar(), samples(19))
+    ax = gp.plot_mechanism(s, traces=["A", "B"])
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["path of A", "path of B"]
+    with pytest.raises(GeokinError, match="did you mean 'P'"):
+        gp.plot_mechanism(s, traces=["p"])
+
+
+def test_index_checked():
+    s = sweep(four_bar(), samples(19))
+    assert "θ = 360.0°" in texts(gp.plot_mechanism(s, -1))
+    with pytest.raises(GeokinError, match="out of range"):
+        gp.plot_mechanism(s, 19)
+
+
+def test_save_png_has_the_figure_size_in_pixels(tmp_path):
+    with matplotlib.rc_context({"figure.dpi": 40}):
+        fig, _ = gp.figure_mechanism(sweep(four_bar(), samples(19)))
+    path = gp.save(fig, tmp_path / "four-bar.png")
+    width, height = (fig.get_size_inches() * fig.dpi).round().astype(int)
+    assert (width, height) == (320, 240)
+    assert plt.imread(path).shape[:2] == (height, width)
+
+
+def test_save_svg(tmp_path):
+    fig, _ = gp.figure_mechanism(sweep(four_bar(), samples(19)))
+    path = gp.save(fig, tmp_path / "four-bar.svg")
+    assert "<svg" in path.read_text()
+
+
+def test_save_unknown_extension(tmp_path):
+    fig, _ = gp.figure_mechanism(sweep(four_bar(), samples(5)))
+    with pytest.raises(GeokinError, match=r"\.png or \.svg"):
+        gp.save(fig, tmp_path / "four-bar.jpg")
+    with pytest.raises(GeokinError, match="does not exist"):
+        gp.save(fig, tmp_path / "missing" / "four-bar.png")
+
+
+@pytest.fixture
+def small_frames():
+    with matplotlib.rc_context({"figure.dpi": 25}):
+        yield
+
+
+def test_animate_gif_frame_count(tmp_path, small_frames):
+    path = gp.animate(sweep(four_bar(), samples(37)), tmp_path / "four-bar.gif", frames=5,
+                      progress=False)
+    assert path == tmp_path / "four-bar.gif"
+    with Image.open(path) as gif:
+        assert gif.n_frames == 5
+
+
+def test_animate_html_embeds_its_frames(tmp_path, small_frames):
+    path = gp.animate(sweep(slider_crank(), samples(37)), tmp_path / "slider.html", frames=4,
+                      progress=False)
+    page = path.read_text()
+    assert "<html" in page or "<script" in page
+    assert page.count("data:image/png;base64") == 4
+
+
+def test_animate_mp4_needs_ffmpeg(tmp_path, monkeypatch):
+    monkeypatch.setattr(animation.writers, "is_available", lambda name: False)
+    with pytest.raises(GeokinError, match="ffmpeg") as error:
+        gp.animate(sweep(four_bar(), samples(5)), tmp_path / "four-bar.mp4")
+    assert ".gif" in str(error.value) and ".html" in str(error.value)
+    assert not (tmp_path / "four-bar.mp4").exists()
+
+
+@pytest.mark.parametrize("name", ["four-bar.avi", "four-bar"])
+def test_animate_unknown_extension(tmp_path, name):
+    with pytest.raises(GeokinError, match=r"\.gif, \.html or \.mp4"):
+        gp.animate(sweep(four_bar(), samples(5)), tmp_path / name)
+
+
+def test_frames_checked(tmp_path):
+    with pytest.raises(GeokinError, match="frames"):
+        gp.animate(sweep(four_bar(), samples(5)), tmp_path / "a.gif", frames=0)
+    with pytest.raises(GeokinError, match="fps"):
+        gp.animate(sweep(four_bar(), samples(5)), tmp_path / "a.gif", fps=0)
+
+
+def test_invalid_samples_plot_and_animate(tmp_path, small_frames):
+    s = sweep(four_bar(crank=30.0), samples(37))  # cannot reach around theta = 180°
+    assert s.valid.any() and not s.valid.all()
+    bad = int(np.flatnonzero(~s.valid)[0])
+    ax = gp.plot_mechanism(s, bad)
+    status = ax.texts[-1].get_text()
+    assert "cannot be assembled at 'B'" in status
+    faded = [a for a in ax.patches if a.get_alpha() is not None and a.get_alpha() < 0.5]
+    assert faded  # the last assembled pose, faded
+    path = gp.animate(s, tmp_path / "partial.gif", frames=12, progress=False)
+    with Image.open(path) as gif:
+        assert gif.n_frames == 12
+
+
+def test_sweep_that_never_assembles(tmp_path, small_frames):
+    s = sweep(four_bar(crank=200.0), samples(9))
+    assert not s.valid.any()
+    ax = gp.plot_mechanism(s)
+    assert "cannot be assembled" in ax.texts[-1].get_text()
+    assert not any(p.get_visible() for p in ax.patches)
+    path = gp.animate(s, tmp_path / "never.gif", frames=3, progress=False)
+    assert path.stat().st_size > 0
+
+
+def test_progress_bar_only_on_a_terminal_or_a_slow_job():
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    quiet = io.StringIO()
+    bar = gp._Progress("writing a.gif", True, stream=quiet)
+    for i in range(3):
+        bar(i, 3)
+    bar.close()
+    assert quiet.getvalue() == ""
+
+    slow = io.StringIO()
+    bar = gp._Progress("writing a.gif", True, stream=slow, delay=0.0)
+    bar(0, 2)
+    bar(1, 2)
+    bar.close()
+    assert slow.getvalue().endswith("[" + "#" * 30 + "] 2/2\n")
+
+    terminal = Terminal()
+    bar = gp._Progress("writing a.gif", True, stream=terminal)
+    bar(0, 4)
+    assert "1/4" in terminal.getvalue()
+    off = Terminal()
+    bar = gp._Progress("writing a.gif", False, stream=off)
+    bar(0, 4)
+    assert off.getvalue() == ""
+
+
+def test_plot_input_output():
+    s = sweep(four_bar(crank=30.0), samples(37))
+    angle = np.degrees(np.arctan2(*(s["B"] - s["O4"])[:, ::-1].T))
+    fig, ax = plt.subplots()
+    assert gp.plot_input_output(s, {"rocker angle": angle}, ax=ax) is ax
+    (line,) = ax.get_lines()
+    np.testing.assert_allclose(line.get_xdata(), np.degrees(s.input))
+    assert np.isnan(line.get_ydata()[~s.valid]).all()
+    assert ax.get_xlabel() == "theta (°)"
+    with pytest.raises(GeokinError, match="one value per sample"):
+        gp.plot_input_output(s, angle[:5], ax=ax)
+
+
+def test_import_geokin_does_not_import_matplotlib():
+    code = "import sys, geokin; print('matplotlib' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         check=True)
+    assert out.stdout.strip() == "False"
+
+
+def test_frame_choice_is_even_and_capped():
+    assert gp._frame_indices(5, 10).tolist() == [0, 1, 2, 3, 4]
+    assert gp._frame_indices(361, None).size == 300
+    assert gp._frame_indices(361, 400).size == 361
