@@ -423,7 +423,8 @@ class _Scene:
     def _draw_crank(self, at, pose):
         origin, tip, _ = self.layout.crank
         o, a = at[origin], at[tip]
-        radius = max(0.5 * np.hypot(*(a - o)), 1.2 * self.layout.size)
+        size = self.layout.size
+        radius = min(max(0.5 * np.hypot(*(a - o)), 1.2 * size), 4.0 * size)
         phi = math.atan2(a[1] - o[1], a[0] - o[0])
         sense = self._crank_sense(pose)
         span = math.radians(70)
