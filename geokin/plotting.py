@@ -636,9 +636,12 @@ class _Progress:
             if not (isatty or time.monotonic() - self.start > self.delay):
                 return
             self.shown = True
-        filled = int(self.width * done / max(total, 1))
-        bar = "#" * filled + "-" * (self.width - filled)
-        self.stream.write(f"\r{self.label} [{bar}] {done}/{total}")
+        if total:
+            filled = min(int(self.width * done / total), self.width)
+            bar = "#" * filled + "-" * (self.width - filled)
+            self.stream.write(f"\r{self.label} [{bar}] {done}/{total}")
+        else:
+            self.stream.write(f"\r{self.label}: frame {done}")
         self.stream.flush()
 
     def close(self):

@@ -182,6 +182,7 @@ def test_animate_html_embeds_its_frames(tmp_path, small_frames):
     page = path.read_text()
     assert "<html" in page or "<script" in page
     assert page.count("data:image/png;base64") == 4
+    assert [p.name for p in tmp_path.iterdir()] == ["slider.html"]  # nothing beside it
 
 
 def test_animate_mp4_needs_ffmpeg(tmp_path, monkeypatch):
@@ -248,6 +249,11 @@ def test_progress_bar_only_on_a_terminal_or_a_slow_job():
     bar.close()
     assert slow.getvalue().endswith("[" + "#" * 30 + "] 2/2\n")
 
+    unknown = io.StringIO()
+    bar = gp._Progress("writing a.gif", True, stream=unknown, delay=0.0)
+    bar(6, None)
+    assert unknown.getvalue().endswith("frame 7")
+
     terminal = Terminal()
     bar = gp._Progress("writing a.gif", True, stream=terminal)
     bar(0, 4)
@@ -256,6 +262,35 @@ def test_progress_bar_only_on_a_terminal_or_a_slow_job():
     bar = gp._Progress("writing a.gif", False, stream=off)
     bar(0, 4)
     assert off.getvalue() == ""
+
+
+def test_length_input_and_turning_guide():
+    c = Construction("inverted slider")
+    c.input("s", kind="length", range=(0, 10), samples=11)
+    c.fixed("O", 0, 0)
+    c.fixed("C", 0, -20)
+    c.polar("A", "O", 10, "s / 10")
+    c.along("T", ("C", "A"), 40)
+    c.link("crank", "O", "A")
+    c.link("guide", "C", "T")
+    c.slider("block", "A", ("C", "T"))
+    s = sweep(c)
+    ax = gp.plot_mechanism(s, 5)
+    assert "s = 5" in texts(ax)
+    (block,) = [p for p in ax.patches if p.get_facecolor()[:3] == matplotlib.colors.to_rgb(
+        "#f4d58d")]
+    corners = block.get_xy()[:4]
+    along = (s["T"][5] - s["C"][5]) / 40
+    np.testing.assert_allclose((corners[1] - corners[0]) @ along,
+                               np.hypot(*(corners[1] - corners[0])))
+
+
+@pytest.mark.parametrize("values, sense", [(samples(9), 1.0), (samples(9)[::-1], -1.0)])
+def test_input_arrow_turns_with_the_crank(values, sense):
+    s = sweep(four_bar(), values)
+    ax = gp.plot_mechanism(s, 3)
+    (arrow,) = [p for p in ax.patches if isinstance(p, matplotlib.patches.FancyArrowPatch)]
+    assert np.sign(arrow.get_connectionstyle().rad) == sense  # bulging outwards
 
 
 def test_plot_input_output():
