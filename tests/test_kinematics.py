@@ -1,0 +1,162 @@
+import numpy as np
+import pytest
+
+from geokin import Construction, sweep
+from geokin.kinematics import RELATIVE_STEP, input_derivatives, motion
+
+R1, R2, R3, R4 = 7.0, 5.0, 6.0, 5.0  # seed 000: ground, crank, coupler, follower
+
+
+def triple_rocker(driver, branch="left"):
+    """Seed 000's four-bar with the crank, coupler or follower driving."""
+    c = Construction(f"triple rocker, {driver} driving")
+    c.fixed("A", 0, 0)
+    c.fixed("D", R1, 0)
+    if driver == "crank":
+        c.input("theta2")
+        c.polar("B", "A", R2, "theta2")
+        c.circle_circle("C", ("B", "D"), (R3, R4), branch=branch)
+    elif driver == "coupler":
+        c.input("theta3")
+        # B is r3 behind C along the coupler: it lies on the follower circle shifted back
+        c.polar("Dp", "D", R3, "theta3 + pi")
+        c.circle_circle("B", ("A", "Dp"), (R2, R4), branch=branch)
+        c.polar("C", "B", R3, "theta3")
+    else:
+        c.input("theta4")
+        c.polar("C", "D", R4, "theta4")
+        c.circle_circle("B", ("A", "C"), (R2, R3), branch=branch)
+    c.link("crank", "A", "B")
+    c.link("coupler", "B", "C")
+    c.link("follower", "D", "C")
+    return c
+
+
+def loop_rates(theta, omega_driver, alpha_driver, driver):
+    """Angular velocities and accelerations from the four-bar loop equations.
+
+    r2 e^{i t2} + r3 e^{i t3} - r4 e^{i t4} - r1 = 0, differentiated once and
+    twice; the two unknown rates solve a 2x2 linear system (Cramer's rule).
+    """
+    t2, t3, t4 = theta
+    lengths = {"crank": R2, "coupler": R3, "follower": -R4}
+    angles = {"crank": t2, "coupler": t3, "follower": t4}
+    unknown = [k for k in lengths if k != driver]
+    lk, ak = lengths[driver], angles[driver]
+    (l1, a1), (l2, a2) = [(lengths[u], angles[u]) for u in unknown]
+    det = l1 * l2 * np.sin(a2 - a1)
+    # velocity: l1 w1 i e^{i a1} + l2 w2 i e^{i a2} = -lk wk i e^{i ak}
+    rhs = -lk * omega_driver * np.exp(1j * ak)
+    w1 = (rhs.real * l2 * np.sin(a2) - rhs.imag * l2 * np.cos(a2)) / det
+    w2 = (rhs.imag * l1 * np.cos(a1) - rhs.real * l1 * np.sin(a1)) / det
+    omega = {driver: omega_driver + 0 * t2, unknown[0]: w1, unknown[1]: w2}
+    # acceleration: sum l (alpha i - w^2) e^{i a} = 0
+    known = -lk * (1j * alpha_driver - omega_driver**2) * np.exp(1j * ak)
+    known += l1 * w1**2 * np.exp(1j * a1) + l2 * w2**2 * np.exp(1j * a2)
+    known = -1j * known  # i (l1 al1 e^{i a1} + l2 al2 e^{i a2}) = known
+    al1 = (known.real * l2 * np.sin(a2) - known.imag * l2 * np.cos(a2)) / det
+    al2 = (known.imag * l1 * np.cos(a1) - known.real * l1 * np.sin(a1)) / det
+    alpha = {driver: alpha_driver + 0 * t2, unknown[0]: al1, unknown[1]: al2}
+    return omega, alpha
+
+
+def node_angle(s, node, first, second):
+    u, v = s[first] - s[node], s[second] - s[node]
+    cos = np.einsum("ij,ij->i", u, v) / np.hypot(*u.T) / np.hypot(*v.T)
+    return np.degrees(np.arccos(np.clip(cos, -1, 1)))
+
+
+@pytest.mark.parametrize("driver", ["crank", "coupler", "follower"])
+@pytest.mark.parametrize("branch", ["left", "right"])
+@pytest.mark.parametrize(("speed", "input_acceleration"), [(1.0, 0.0), (3.0, -2.0)])
+def test_rates_match_the_loop_equations(driver, branch, speed, input_acceleration):
+    c = triple_rocker(driver, branch)
+    s = sweep(c, np.linspace(-np.pi, np.pi, 361))
+    m = motion(s, speed=speed, acceleration=input_acceleration)
+    theta = [np.arctan2(*(s[b] - s[a]).T[::-1]) for a, b in [("A", "B"), ("B", "C"), ("D", "C")]]
+    omega, alpha = loop_rates(theta, speed, input_acceleration, driver)
+    node = {"crank": ("C", "B", "D"), "coupler": ("B", "A", "Dp"), "follower": ("B", "A", "C")}
+    mu = node_angle(s, *node[driver])
+    good = s.valid & (mu >= 10) & (mu <= 170)
+    assert good.sum() > 100
+    assert not m.flagged[good].any()
+    # relative to the largest rate of any link, so a link at constant speed counts too
+    scale_w = max(np.max(np.abs(w[good])) for w in omega.values())
+    scale_a = max(np.max(np.abs(a[good])) for a in alpha.values())
+    for link in ("crank", "coupler", "follower"):
+        np.testing.assert_allclose(m.angular_velocity[link][good], omega[link][good],
+                                   rtol=1e-7, atol=1e-7 * scale_w, err_msg=link)
+        np.testing.assert_allclose(m.angular_acceleration[link][good], alpha[link][good],
+                                   rtol=1e-5, atol=1e-5 * scale_a, err_msg=link)
+
+
+def test_derivatives_do_not_depend_on_how_coarse_the_sweep_is():
+    c = triple_rocker("crank")
+    fine = sweep(c, np.linspace(-2, 2, 401))
+    coarse = sweep(c, np.linspace(-2, 2, 5))
+    np.testing.assert_allclose(motion(coarse).velocity["C"], motion(fine).velocity["C"][::100],
+                               rtol=1e-9)
+
+
+def test_samples_next_to_a_toggle_use_one_sided_stencils_and_are_flagged():
+    c = triple_rocker("crank")
+    limit = np.arccos((R2**2 + R1**2 - (R3 + R4) ** 2) / (2 * R2 * R1))
+    h = RELATIVE_STEP
+    theta = np.array([0.0, limit - 1.5 * h, limit - 1e-3 * h, -limit + 1.5 * h])
+    s = sweep(c, theta)
+    assert list(input_derivatives(s).stencil) == [0, -1, -1, 1]
+    # the rates blow up at the toggle: those samples are flagged, not reported as exact
+    assert list(motion(s).flagged) == [False, True, True, True]
+
+
+def test_one_sided_stencils_are_exact_where_a_segment_ends():
+    """P = (s + 4, 0) on the segment O..Q until s = 6: dP/ds = (1, 0) up to the end."""
+    c = Construction()
+    c.input("s", kind="length", range=(0, 6))
+    c.fixed("O", 0, 0)
+    c.fixed("Q", 10, 0)
+    c.fixed("R", 0, 3)
+    c.polar("Cs", "R", "s", 0)
+    c.segment_circle("P", ("O", "Q"), "Cs", 5, branch="second")
+    h = RELATIVE_STEP * 6
+    s = sweep(c, [3.0, 6 - 1.5 * h, 6.0])
+    d = input_derivatives(s)
+    assert list(d.stencil) == [0, -1, -1]
+    np.testing.assert_allclose(d.first["P"], [[1, 0]] * 3, atol=1e-9)
+    np.testing.assert_allclose(d.second["P"], 0, atol=1e-5)
+    assert not motion(s).flagged.any()
+    assert np.isnan(input_derivatives(sweep(c, [6.1])).first["P"]).all()
+
+
+def test_unassemblable_samples_have_no_derivatives():
+    s = sweep(triple_rocker("crank"), np.radians([0, 180]))
+    m = motion(s)
+    assert np.isfinite(m.velocity["C"][0]).all()
+    assert np.isnan(m.velocity["C"][1]).all() and np.isnan(m.acceleration["C"][1]).all()
+
+
+def test_time_follows_the_input_speed():
+    c = triple_rocker("crank")
+    s = sweep(c, np.linspace(0, 1, 11))
+    np.testing.assert_allclose(motion(s, speed=2.0).time, np.linspace(0, 0.5, 11))
+    np.testing.assert_allclose(motion(s).time, np.linspace(0, 1, 11) / (2 * np.pi))
+
+
+def test_slider_crank_against_its_closed_form():
+    """x = r cos t + sqrt(rod^2 - (r sin t - e)^2) for an offset slider-crank."""
+    r, rod, e, w = 3.0, 10.0, 1.0, 5.0
+    c = Construction()
+    c.input("t")
+    c.fixed("O", 0, 0)
+    c.fixed("G", 1, e)
+    c.fixed("H", 0, e)
+    c.polar("A", "O", r, "t")
+    c.ray_circle("P", ("H", "G"), "A", rod, branch="second")
+    t = np.linspace(0, 2 * np.pi, 73)
+    m = motion(sweep(c, t), speed=w)
+    root = np.sqrt(rod**2 - (r * np.sin(t) - e) ** 2)
+    dx = -r * np.sin(t) - (r * np.sin(t) - e) * r * np.cos(t) / root
+    np.testing.assert_allclose(m.velocity["P"][:, 0], dx * w, rtol=1e-8, atol=1e-9)
+    np.testing.assert_allclose(m.velocity["P"][:, 1], 0, atol=1e-9)
+    # crank tip: |a| = r w^2
+    np.testing.assert_allclose(np.hypot(*m.acceleration["A"].T), r * w**2, rtol=1e-7)
