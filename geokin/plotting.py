@@ -36,6 +36,8 @@ Examples
 >>> fig, ax = figure_mechanism(sweep(c, np.linspace(0, 2 * np.pi, 73)))
 >>> [line.get_label() for line in ax.get_legend().get_lines()]
 ['path of A', 'path of B']
+>>> import matplotlib.pyplot as plt
+>>> plt.close(fig)
 """
 
 from __future__ import annotations
