@@ -18,6 +18,7 @@ array([[10.,  0.],
 
 from .construction import Compiled, Construction, Input, Link, Parameter, Slider
 from .errors import AssemblyError, ConstructionError, GeokinError, ScriptError
+from .io import dump, load, loads
 from .sweep import BranchEvent, Sweep, sweep
 
 __all__ = [
@@ -33,6 +34,9 @@ __all__ = [
     "ScriptError",
     "Slider",
     "Sweep",
+    "dump",
+    "load",
+    "loads",
     "sweep",
 ]
 __version__ = "0.1.0"

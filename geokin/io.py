@@ -1,0 +1,848 @@
+"""Construction scripts: plain-data TOML files that describe a linkage.
+
+A script is read with the standard library's :mod:`tomllib`; loading never
+runs code. Every value is a number or a string holding arithmetic of
+numbers, parameter names and input names (``+ - * / **``, parentheses,
+``sqrt sin cos tan atan2 radians degrees`` and ``pi``), parsed by the safe
+parser of :mod:`geokin.expressions`.
+
+Units
+-----
+Angles are **degrees** everywhere in a script: input ranges, steps and
+speeds, and every angle field (the ``angle`` of a ``polar`` point). An angle
+input is handed to expressions in degrees, so ``angle = "theta + 90"`` means
+90 degrees ahead of the input. The trigonometric functions still take
+radians: write ``sin(radians(theta))``. Lengths are in the script's
+``units`` (a label such as ``"mm"``), speeds in degrees (or length units)
+per second. In the Python API the same construction holds its input
+ranges in radians.
+
+An annotated script
+-------------------
+::
+
+    [construction]
+    name = "six-bar"              # for messages and pictures (default: file name)
+    description = "seed 003"      # optional free text
+    units = "mm"                  # label of the length unit (optional)
+    trace = ["M"]                 # points whose paths are traced (coupler points)
+
+    [parameters]                  # named constants: numbers or constant arithmetic
+    l2 = 20
+    l3 = { value = 100, description = "coupler" }   # with a description
+
+    [inputs.theta]                # one table per driving variable
+    kind = "angle"                # "angle" (default) or "length"
+    range = [0, 1800]             # default sweep: degrees for an angle
+    step = 16                     # spacing from range[0]; or samples = 113 (ends included)
+    speed = 360                   # degrees (or length units) per second, for time output
+
+    [points]                      # every point, built on points declared anywhere
+    A0 = { op = "fixed", at = [0, "y + l1"] }
+    A = { op = "polar", origin = "A0", distance = "l2", angle = "theta" }
+    B = { op = "circle_circle", centers = ["A", "B0"], radii = ["l3", "l4"], branch = "left" }
+    Ap = { op = "line_circle", line = ["A0", "A"], center = "A", radius = "l2p", branch = "first" }
+
+    [links]                       # rigid links, for drawing: two or more points
+    crank = ["A0", "A"]
+
+    [sliders]                     # slider blocks: a point sliding on a line
+    block = { point = "C", along = ["Ap", "M"] }
+
+Point kinds (``op``)
+--------------------
+``fixed``           ``at = [x, y]``: a ground pivot.
+``polar``           ``origin``, ``distance``, ``angle`` (degrees, counter-clockwise
+                    from the x axis, or from the direction ``reference = [P, Q]``).
+``along``           ``line = [P, Q]``, ``distance``: signed distance from P towards Q.
+``line_line``       ``first = [P, Q]``, ``second = [R, S]``: two lines' crossing.
+``line_circle``     ``line = [P, Q]``, ``center``, ``radius``: the whole line P-Q.
+``segment_circle``  the same on the segment from P to Q only.
+``ray_circle``      the same on the ray from P through Q only.
+``circle_circle``   ``centers = [P, Q]``, ``radii = [r, s]``.
+
+The two-root kinds take ``branch`` or ``near = [x, y]``: ``"left"`` or
+``"right"`` of the directed line from the first centre to the second for
+``circle_circle``; ``"first"`` or ``"second"`` along the direction P -> Q
+for the line kinds; ``near`` picks the root nearer to a sketched position
+at the first assemblable sample. The sweep then keeps the branch along the
+motion (see :mod:`geokin.sweep`).
+
+Errors
+------
+A script that cannot be read raises :class:`~geokin.errors.ScriptError`
+naming the file, the line when it can be found, the table and the key,
+what is wrong and, for a misspelt name, the closest valid one::
+
+    sixbar.toml:17: [points] B.radii[1]: unknown parameter or input 'l33'; did you mean 'l3'?
+
+Examples
+--------
+>>> c = loads('''
+... [parameters]
+... r = 10
+... [inputs.theta]
+... range = [0, 90]
+... samples = 3
+... [points]
+... O = { op = "fixed", at = [0, 0] }
+... A = { op = "polar", origin = "O", distance = "r", angle = "theta" }
+... ''')
+>>> from geokin import sweep
+>>> sweep(c)["A"].round(9)
+array([[10.        ,  0.        ],
+       [ 7.07106781,  7.07106781],
+       [ 0.        , 10.        ]])
+>>> loads(dump(c)) == c
+True
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import re
+import tomllib
+from collections.abc import Mapping
+
+from .construction import BRANCHES, Construction, Node
+from .errors import ConstructionError, ScriptError, did_you_mean
+from .expressions import BinOp, Call, Expr, Name, Neg, Number
+
+__all__ = ["OPS", "dump", "load", "loads"]
+
+OPS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
+    "fixed": (("at",), ()),
+    "polar": (("origin", "distance", "angle"), ("reference",)),
+    "along": (("line", "distance"), ()),
+    "line_line": (("first", "second"), ()),
+    "line_circle": (("line", "center", "radius"), ("branch", "near")),
+    "segment_circle": (("line", "center", "radius"), ("branch", "near")),
+    "ray_circle": (("line", "center", "radius"), ("branch", "near")),
+    "circle_circle": (("centers", "radii"), ("branch", "near")),
+}
+"""Required and optional keys of each point kind, besides ``op``."""
+
+TABLES = ("construction", "parameters", "inputs", "points", "links", "sliders")
+CONSTRUCTION_KEYS = ("name", "description", "units", "trace")
+INPUT_KEYS = ("kind", "range", "samples", "step", "speed")
+PARAMETER_KEYS = ("value", "description")
+SLIDER_KEYS = ("point", "along")
+
+_POINT_PAIRS = ("reference", "line", "first", "second", "centers")
+_POINT_NAMES = ("origin", "center")
+# construction field names that differ from script keys (a fixed point's x and y)
+_SCRIPT_KEY = {"x": "at[0]", "y": "at[1]"}
+
+
+# -- loading -------------------------------------------------------------------
+
+
+def load(path) -> Construction:
+    r"""Read a construction script from a file.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+        A TOML construction script (see the module documentation).
+
+    Returns
+    -------
+    Construction
+        With ``angle_unit == "deg"``: its expressions keep the script's text.
+
+    Raises
+    ------
+    ScriptError
+        If the script cannot be read; the message names the file, table and key.
+    OSError
+        If the file cannot be opened.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> path = pathlib.Path(tempfile.mkdtemp()) / "crank.toml"
+    >>> _ = path.write_text('[points]\nO = { op = "fixed", at = [0, 0] }\n')
+    >>> load(path)
+    <Construction 'crank': 0 parameters, 0 inputs, 1 points>
+    """
+    path = os.fspath(path)
+    with open(path, "rb") as f:
+        data = f.read()
+    try:
+        text = data.decode("utf-8")
+    except UnicodeDecodeError as exc:
+        raise _error(f"{path}: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+    stem = os.path.splitext(os.path.basename(path))[0]
+    return loads(text, source=path, default_name=stem)
+
+
+def loads(text: str, source: str = "<string>", *, default_name: str | None = None
+          ) -> Construction:
+    r"""Read a construction script from a string.
+
+    Parameters
+    ----------
+    text : str
+        The script.
+    source : str
+        The name used for the script in error messages.
+    default_name : str, optional
+        The construction's name if ``[construction] name`` is not given;
+        ``"construction"`` by default.
+
+    Returns
+    -------
+    Construction
+
+    Raises
+    ------
+    ScriptError
+        If the script cannot be read.
+
+    Examples
+    --------
+    >>> loads('[points]\nO = { op = "fixd", at = [0, 0] }', source="demo.toml")
+    Traceback (most recent call last):
+    ...
+    geokin.errors.ScriptError: demo.toml:2: [points] O.op: unknown op 'fixd'; did you mean ...
+    """
+    return _Reader(text, source, default_name or "construction").read()
+
+
+def _error(message, **attributes) -> ScriptError:
+    err = ScriptError(message)
+    for key, value in attributes.items():
+        setattr(err, key, value)
+    return err
+
+
+def _kind_of(value) -> str:
+    """Describe a TOML value's type for messages."""
+    if isinstance(value, bool):
+        return f"the boolean {str(value).lower()}"
+    if isinstance(value, int):
+        return f"the integer {value}"
+    if isinstance(value, float):
+        return f"the number {value!r}"
+    if isinstance(value, str):
+        return f"the string {value!r}"
+    if isinstance(value, list):
+        return f"an array of {len(value)}"
+    if isinstance(value, dict):
+        return "a table"
+    return f"a {type(value).__name__} ({value})"
+
+
+def _is_number(value) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool)
+
+
+def _strip_where(err: ConstructionError) -> str:
+    """Return a ConstructionError's message without its ``node ..., field ...:`` prefix."""
+    message = str(err)
+    if err.node is not None:
+        prefix = f"node {err.node!r}"
+        if err.field is not None:
+            prefix += f", field {err.field!r}"
+        prefix += ": "
+        if message.startswith(prefix):
+            return message[len(prefix):]
+    return message
+
+
+class _Reader:
+    """Turns the parsed TOML of one script into a Construction, naming places in errors."""
+
+    def __init__(self, text: str, source: str, default_name: str):
+        self.text = text
+        self.source = source
+        self.default_name = default_name
+
+    # -- errors --
+
+    def fail(self, table: str, entry: str | None, message: str, sub: str | None = None):
+        """Return a ScriptError at ``[table] entry.sub``."""
+        key = entry if sub is None else f"{entry}.{sub}" if entry else sub
+        line = self.locate(table, entry, sub)
+        where = f"{self.source}:{line}" if line else self.source
+        place = f"[{table}]" + (f" {key}" if key else "")
+        return _error(f"{where}: {place}: {message}", source=self.source, table=table,
+                      key=key, line=line)
+
+    def locate(self, table: str, entry: str | None, sub: str | None) -> int | None:
+        """Find the line of ``[table] entry`` (or of its ``sub`` key), best effort."""
+        lines = self.text.splitlines()
+        header = re.compile(r"^\s*\[\s*([^\[\]]+?)\s*\]\s*(#.*)?$")
+        table_line = entry_line = sub_line = None
+        current = None
+        base = (sub or "").split("[")[0].split(".")[0]
+        entry = None if entry is None else entry.split("[")[0]
+        for number, line in enumerate(lines, 1):
+            match = header.match(line)
+            if match:
+                current = re.sub(r"\s*\.\s*", ".", match.group(1)).replace('"', "")
+                if current == table and table_line is None:
+                    table_line = number
+                if entry is not None and current == f"{table}.{entry}" and entry_line is None:
+                    entry_line = number
+                continue
+            key_match = re.match(r'^\s*"?([^"=\s]+)"?\s*=', line)
+            if not key_match:
+                continue
+            key = key_match.group(1)
+            if entry is None:
+                if current is None and key == table and table_line is None:
+                    table_line = number
+                continue
+            if current == table and key == entry and entry_line is None:
+                entry_line = number
+                if base and re.search(rf"\b{re.escape(base)}\s*=", line[key_match.end():]):
+                    sub_line = number
+            elif current == f"{table}.{entry}" and base and key == base and sub_line is None:
+                sub_line = number
+        return sub_line or entry_line or (table_line if entry is None else None)
+
+    def construction_error(self, err: ConstructionError, table: str, entry: str,
+                           construction: Construction | None = None) -> ScriptError:
+        """Map an engine error to a ScriptError at its table and key."""
+        message = _strip_where(err)
+        field = err.field
+        if construction is not None and err.node is not None:
+            table, entry = self.table_of(construction, err.node, field)
+        if table == "construction" and entry == "trace":
+            index = (field or "")[len("points"):] if (field or "").startswith("points") else ""
+            return self.fail("construction", "trace" + index, message)
+        sub = None
+        if field not in (None, "name"):
+            if table == "parameters":
+                sub = None
+            elif table == "links":
+                return self.fail(table, entry + field[len("points"):]
+                                 if field.startswith("points") else entry, message)
+            else:
+                sub = _SCRIPT_KEY.get(field, field) if table == "points" else field
+        return self.fail(table, entry, message, sub)
+
+    @staticmethod
+    def table_of(c: Construction, node: str, field: str | None) -> tuple[str, str]:
+        if node == "trace" and (field or "").startswith("points[") and node not in c.links:
+            return "construction", "trace"
+        for table, names in (("parameters", c.parameters), ("inputs", c.inputs),
+                             ("points", c.nodes), ("links", c.links), ("sliders", c.sliders)):
+            if node in names:
+                return table, node
+        return "construction", node
+
+    # -- reading --
+
+    def read(self) -> Construction:
+        try:
+            data = tomllib.loads(self.text)
+        except tomllib.TOMLDecodeError as exc:
+            message = str(exc)
+            match = re.search(r"\(at line (\d+), column (\d+)\)$", message)
+            line = None
+            if match:
+                line = int(match.group(1))
+                message = (message[:match.start()].rstrip()
+                           + f" (column {match.group(2)})")
+            elif message.endswith("(at end of document)"):
+                line = len(self.text.splitlines()) or 1
+                message = message.replace("(at end of document)", "(at the end)")
+            where = f"{self.source}:{line}" if line else self.source
+            raise _error(f"{where}: TOML syntax error: {message}", source=self.source,
+                         table=None, key=None, line=line) from None
+        for table in data:
+            if table not in TABLES:
+                raise self.fail(table, None, f"unknown table{did_you_mean(table, TABLES)} "
+                                f"(tables: {', '.join(TABLES)})")
+            if not isinstance(data[table], dict):
+                raise self.fail(table, None, f"expected a table, got {_kind_of(data[table])}")
+        meta = data.get("construction", {})
+        self.check_keys("construction", None, meta, (), CONSTRUCTION_KEYS)
+        for key in ("name", "description", "units"):
+            if key in meta and not isinstance(meta[key], str):
+                raise self.fail("construction", key,
+                                f"expected a string, got {_kind_of(meta[key])}")
+        c = Construction(meta.get("name", self.default_name), angle_unit="deg",
+                         description=meta.get("description", ""), units=meta.get("units", ""))
+        for name, value in data.get("parameters", {}).items():
+            self.declare(c, "parameters", name, self.parameter, value)
+        for name, value in data.get("inputs", {}).items():
+            self.declare(c, "inputs", name, self.input, value)
+        for name, value in data.get("points", {}).items():
+            self.declare(c, "points", name, self.point, value)
+        for name, value in data.get("links", {}).items():
+            self.declare(c, "links", name, self.link, value)
+        for name, value in data.get("sliders", {}).items():
+            self.declare(c, "sliders", name, self.slider, value)
+        if "trace" in meta:
+            trace = meta["trace"]
+            if isinstance(trace, str):
+                trace = [trace]
+            if not isinstance(trace, list):
+                raise self.fail("construction", "trace",
+                                f"expected an array of point names, got {_kind_of(trace)}")
+            for i, p in enumerate(trace):
+                if not isinstance(p, str):
+                    raise self.fail("construction", f"trace[{i}]",
+                                    f"expected a point name (a string), got {_kind_of(p)}")
+            c.trace(*trace)
+        try:
+            c.compile()
+        except ScriptError:
+            raise
+        except ConstructionError as err:
+            raise self.construction_error(err, "construction", None, c) from None
+        return c
+
+    def declare(self, c, table, name, declare, value):
+        try:
+            declare(c, name, value)
+        except ScriptError:
+            raise
+        except ConstructionError as err:
+            raise self.construction_error(err, table, name) from None
+
+    def check_keys(self, table, entry, value: Mapping, required, optional):
+        allowed = (*required, *optional)
+        for key in value:
+            if key not in allowed:
+                message = (f"unknown key {key!r}{did_you_mean(key, allowed)} "
+                           f"(keys: {', '.join(allowed)})")
+                if entry is None:
+                    raise self.fail(table, key, message)
+                raise self.fail(table, entry, message, sub=key)
+        for key in required:
+            if key not in value:
+                raise self.fail(table, entry, f"missing key {key!r} "
+                                f"(required: {', '.join(required)})", sub=key)
+
+    def table_value(self, table, name, value, example):
+        if not isinstance(value, dict):
+            raise self.fail(table, name, f"expected a table such as {example}, "
+                            f"got {_kind_of(value)}")
+        return value
+
+    def parameter(self, c, name, value):
+        description = ""
+        if isinstance(value, dict):
+            self.check_keys("parameters", name, value, ("value",), ("description",))
+            description = value.get("description", "")
+            if not isinstance(description, str):
+                raise self.fail("parameters", name, f"expected a string, got "
+                                f"{_kind_of(description)}", sub="description")
+            value = value["value"]
+        if not (_is_number(value) or isinstance(value, str)):
+            raise self.fail("parameters", name, f"expected a number, got {_kind_of(value)}")
+        c.parameter(name, value, description)
+
+    def input(self, c, name, spec):
+        spec = self.table_value("inputs", name, spec, '{ kind = "angle", range = [0, 360] }')
+        self.check_keys("inputs", name, spec, (), INPUT_KEYS)
+        kind = spec.get("kind", "angle")
+        if not isinstance(kind, str):
+            raise self.fail("inputs", name, f"expected \"angle\" or \"length\", got "
+                            f"{_kind_of(kind)}", sub="kind")
+        scale = math.radians if kind == "angle" else float
+        options = {}
+        if "range" in spec:
+            lo_hi = spec["range"]
+            if not (isinstance(lo_hi, list) and len(lo_hi) == 2 and all(map(_is_number, lo_hi))):
+                raise self.fail("inputs", name, f"expected two numbers [start, end], got "
+                                f"{_kind_of(lo_hi)}", sub="range")
+            options["range"] = tuple(scale(v) for v in lo_hi)
+        if "samples" in spec and "step" in spec:
+            raise self.fail("inputs", name, "give either samples or step, not both", sub="step")
+        if "samples" in spec:
+            samples = spec["samples"]
+            if not isinstance(samples, int) or isinstance(samples, bool):
+                raise self.fail("inputs", name, f"expected an integer, got {_kind_of(samples)}",
+                                sub="samples")
+            options["samples"] = samples
+        for key in ("step", "speed"):
+            if key in spec:
+                if not _is_number(spec[key]):
+                    raise self.fail("inputs", name, f"expected a number, got "
+                                    f"{_kind_of(spec[key])}", sub=key)
+                options[key] = scale(spec[key])
+        c.input(name, kind, **options)
+
+    def point(self, c, name, spec):
+        spec = self.table_value("points", name, spec, '{ op = "fixed", at = [0, 0] }')
+        if "op" not in spec:
+            raise self.fail("points", name, f"missing key 'op' (ops: {', '.join(OPS)})",
+                            sub="op")
+        op = spec["op"]
+        if not isinstance(op, str):
+            raise self.fail("points", name, f"expected an op name (a string), got "
+                            f"{_kind_of(op)}", sub="op")
+        if op not in OPS:
+            raise self.fail("points", name, f"unknown op {op!r}{did_you_mean(op, OPS)} "
+                            f"(ops: {', '.join(OPS)})", sub="op")
+        required, optional = OPS[op]
+        fields = {k: v for k, v in spec.items() if k != "op"}
+        self.check_keys("points", name, fields, required, optional)
+        for key, value in fields.items():
+            self.check_type(name, key, value)
+        if op == "fixed":
+            c.fixed(name, *fields["at"])
+        elif op == "polar":
+            c.polar(name, fields["origin"], fields["distance"], fields["angle"],
+                    reference=fields.get("reference"))
+        elif op == "along":
+            c.along(name, fields["line"], fields["distance"])
+        elif op == "line_line":
+            c.line_line(name, fields["first"], fields["second"])
+        elif op == "circle_circle":
+            c.circle_circle(name, fields["centers"], fields["radii"],
+                            branch=fields.get("branch"), near=fields.get("near"))
+        else:
+            getattr(c, op)(name, fields["line"], fields["center"], fields["radius"],
+                           branch=fields.get("branch"), near=fields.get("near"))
+
+    def check_type(self, name, key, value):
+        """Check the TOML type of one point field; the engine checks the rest."""
+        def wrong(expected, sub=key):
+            return self.fail("points", name, f"expected {expected}, got {_kind_of(value)}",
+                             sub=sub)
+        if key in _POINT_NAMES and not isinstance(value, str):
+            raise wrong("a point name (a string)")
+        if key in _POINT_PAIRS:
+            if not (isinstance(value, list) and len(value) == 2):
+                raise wrong("two point names such as [\"A\", \"B\"]")
+            for i, p in enumerate(value):
+                if not isinstance(p, str):
+                    value = p
+                    raise wrong("a point name (a string)", f"{key}[{i}]")
+        if key in ("at", "radii") and not (isinstance(value, list) and len(value) == 2):
+            raise wrong("two values such as [0, \"l1\"]")
+        if key == "branch" and not isinstance(value, str):
+            raise wrong("a branch name (a string)")
+        if key == "near" and not (isinstance(value, list) and len(value) == 2
+                                  and all(map(_is_number, value))):
+            raise wrong("two numbers [x, y]")
+
+    def link(self, c, name, points):
+        if not isinstance(points, list):
+            raise self.fail("links", name, f"expected an array of point names, got "
+                            f"{_kind_of(points)}")
+        for i, p in enumerate(points):
+            if not isinstance(p, str):
+                raise self.fail("links", f"{name}[{i}]",
+                                f"expected a point name (a string), got {_kind_of(p)}")
+        c.link(name, *points)
+
+    def slider(self, c, name, spec):
+        spec = self.table_value("sliders", name, spec, '{ point = "C", along = ["A", "B"] }')
+        self.check_keys("sliders", name, spec, SLIDER_KEYS, ())
+        if not isinstance(spec["point"], str):
+            raise self.fail("sliders", name, f"expected a point name (a string), got "
+                            f"{_kind_of(spec['point'])}", sub="point")
+        along = spec["along"]
+        if not (isinstance(along, list) and len(along) == 2
+                and all(isinstance(p, str) for p in along)):
+            raise self.fail("sliders", name, f"expected two point names such as [\"A\", \"B\"], "
+                            f"got {_kind_of(along)}", sub="along")
+        c.slider(name, spec["point"], along)
+
+
+# -- dumping -------------------------------------------------------------------
+
+
+def dump(construction: Construction) -> str:
+    """Write a construction as a script that :func:`loads` reads back.
+
+    A construction read from a script (``angle_unit == "deg"``) is written
+    back as the same construction. One built in Python (radians) becomes an
+    equivalent script in degrees: angle inputs appear in degrees, and each
+    angle field is rewritten, for example ``theta + pi / 2`` as
+    ``theta + 90``, or wrapped in ``degrees(...)`` with the angle inputs
+    referenced as ``radians(name)`` where no simpler form is known.
+
+    Parameters
+    ----------
+    construction : Construction
+
+    Returns
+    -------
+    str
+        The script's text.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from geokin import Construction
+    >>> c = Construction("crank")
+    >>> c.input("theta", range=(0, np.pi), samples=5)
+    >>> c.fixed("O", 0, 0)
+    >>> c.polar("A", "O", 10, "theta + pi / 2")
+    >>> print(dump(c))
+    [construction]
+    name = "crank"
+    <BLANKLINE>
+    [inputs.theta]
+    kind = "angle"
+    range = [0, 180]
+    samples = 5
+    speed = 360
+    <BLANKLINE>
+    [points]
+    O = { op = "fixed", at = [0, 0] }
+    A = { op = "polar", origin = "O", distance = 10, angle = "theta + 90" }
+    <BLANKLINE>
+    """
+    if not isinstance(construction, Construction):
+        raise TypeError(f"expected a Construction, got {type(construction).__name__}")
+    c = construction
+    convert = _Converter(c) if c.angle_unit == "rad" else None
+    out = ["[construction]", f"name = {_toml_string(c.name)}"]
+    if c.description:
+        out.append(f"description = {_toml_string(c.description)}")
+    if c.units:
+        out.append(f"units = {_toml_string(c.units)}")
+    if c.traced:
+        out.append(f"trace = {_toml_list(c.traced)}")
+    if c.parameters:
+        out += ["", "[parameters]"]
+        for p in c.parameters.values():
+            if p.description:
+                out.append(f"{p.name} = {{ value = {_toml_number(p.value)}, "
+                           f"description = {_toml_string(p.description)} }}")
+            else:
+                out.append(f"{p.name} = {_toml_number(p.value)}")
+    for i in c.inputs.values():
+        scale = _script_degrees if i.kind == "angle" else float
+        out += ["", f"[inputs.{i.name}]", f"kind = {_toml_string(i.kind)}",
+                f"range = [{_toml_number(scale(i.range[0]))}, {_toml_number(scale(i.range[1]))}]"]
+        if i.step is not None:
+            out.append(f"step = {_toml_number(scale(i.step))}")
+        else:
+            out.append(f"samples = {i.samples}")
+        out.append(f"speed = {_toml_number(scale(i.speed))}")
+    if c.nodes:
+        out += ["", "[points]"]
+        for node in c.nodes.values():
+            out.append(f"{node.name} = {_inline_table(_node_entries(node, convert))}")
+    if c.links:
+        out += ["", "[links]"]
+        for link in c.links.values():
+            out.append(f"{link.name} = {_toml_list(link.points)}")
+    if c.sliders:
+        out += ["", "[sliders]"]
+        for s in c.sliders.values():
+            out.append(f"{s.name} = {{ point = {_toml_string(s.point)}, "
+                       f"along = {_toml_list(s.along)} }}")
+    return "\n".join(out) + "\n"
+
+
+def _node_entries(node: Node, convert) -> list[tuple[str, str]]:
+    """Return the ``key = value`` pairs of a node's inline table, as TOML text."""
+    values = node.value_fields()
+    angles = node.angle_fields()
+
+    def value(field):
+        expr = values[field]
+        if convert is not None:
+            expr = convert.angle(expr) if field in angles else convert.plain(expr)
+        return _toml_expr(expr)
+
+    entries = [("op", _toml_string(node.kind))]
+    if node.kind == "fixed":
+        entries.append(("at", f"[{value('x')}, {value('y')}]"))
+    elif node.kind == "polar":
+        entries += [("origin", _toml_string(node.origin)), ("distance", value("distance")),
+                    ("angle", value("angle"))]
+        if node.reference is not None:
+            entries.append(("reference", _toml_list(node.reference)))
+    elif node.kind == "along":
+        entries += [("line", _toml_list(node.line)), ("distance", value("distance"))]
+    elif node.kind == "line_line":
+        entries += [("first", _toml_list(node.first)), ("second", _toml_list(node.second))]
+    elif node.kind == "circle_circle":
+        entries += [("centers", _toml_list(node.centers)),
+                    ("radii", f"[{value('radii[0]')}, {value('radii[1]')}]")]
+    elif node.kind in BRANCHES:
+        entries += [("line", _toml_list(node.line)), ("center", _toml_string(node.center)),
+                    ("radius", value("radius"))]
+    else:  # pragma: no cover - every kind is listed above
+        raise TypeError(f"cannot write a {node.kind} node")
+    if node.roots == 2:
+        if node.near is not None:
+            entries.append(("near", f"[{_toml_number(node.near[0])}, "
+                                    f"{_toml_number(node.near[1])}]"))
+        else:
+            entries.append(("branch", _toml_string(node.branch)))
+    return entries
+
+
+def _inline_table(entries) -> str:
+    return "{ " + ", ".join(f"{k} = {v}" for k, v in entries) + " }"
+
+
+def _toml_string(text: str) -> str:
+    escapes = {'"': '\\"', "\\": "\\\\", "\n": "\\n", "\t": "\\t", "\r": "\\r", "\b": "\\b",
+               "\f": "\\f"}
+    body = "".join(escapes.get(ch, ch if ch.isprintable() or ch == " " else f"\\u{ord(ch):04x}")
+                   for ch in text)
+    return f'"{body}"'
+
+
+def _toml_list(names) -> str:
+    return "[" + ", ".join(_toml_string(n) for n in names) + "]"
+
+
+def _toml_number(value: float) -> str:
+    value = float(value)
+    if math.isnan(value):
+        return "nan"
+    if math.isinf(value):
+        return "inf" if value > 0 else "-inf"
+    if value == int(value) and abs(value) < 1e15:
+        return str(int(value))
+    return repr(value)
+
+
+def _toml_expr(expr: Expr) -> str:
+    if isinstance(expr, Number):
+        return _toml_number(expr.value)
+    return _toml_string(_format(expr))
+
+
+def _script_degrees(radians: float) -> float:
+    """Return the shortest degree value that reads back as exactly ``radians``."""
+    degrees = math.degrees(radians)
+    for digits in range(1, 18):
+        candidate = float(f"{degrees:.{digits}g}")
+        if math.radians(candidate) == radians:
+            return candidate
+    return degrees
+
+
+_PRECEDENCE = {"+": 1, "-": 1, "*": 2, "/": 2, "**": 4}
+
+
+def _precedence(expr: Expr) -> int:
+    if isinstance(expr, BinOp):
+        return _PRECEDENCE[expr.op]
+    if isinstance(expr, Neg) or (isinstance(expr, Number) and expr.value < 0):
+        return 3
+    return 5
+
+
+def _format(expr: Expr) -> str:
+    """Write an expression so that parsing gives back the same tree.
+
+    Unlike ``str(expr)``, a right operand of equal precedence is always
+    parenthesised, so ``a + (b + c)`` stays grouped as written.
+    """
+    if isinstance(expr, Number):
+        return _toml_number(expr.value) if math.isfinite(expr.value) else repr(expr.value)
+    if isinstance(expr, Name):
+        return expr.name
+    if isinstance(expr, Neg):
+        inner = _format(expr.operand)
+        if _precedence(expr.operand) < 3 or (isinstance(expr.operand, Number)):
+            inner = f"({inner})"
+        return "-" + inner
+    if isinstance(expr, BinOp):
+        mine = _PRECEDENCE[expr.op]
+        left, right = _format(expr.left), _format(expr.right)
+        if _precedence(expr.left) < mine or (expr.op == "**" and _precedence(expr.left) <= mine):
+            left = f"({left})"
+        if _precedence(expr.right) < mine or (expr.op != "**"
+                                              and _precedence(expr.right) == mine):
+            right = f"({right})"
+        return f"{left} {expr.op} {right}"
+    if isinstance(expr, Call):
+        return f"{expr.function}({', '.join(_format(a) for a in expr.args)})"
+    return str(expr)
+
+
+class _Converter:
+    """Rewrite the expressions of a radians construction for a degrees script.
+
+    In the script every angle input holds degrees, so each use of one in an
+    expression becomes ``radians(name)``; an angle field ``e`` becomes
+    ``degrees(e)``, simplified where the rewriting is exact and obvious.
+    """
+
+    def __init__(self, construction: Construction):
+        self.angles = frozenset(n for n, i in construction.inputs.items() if i.kind == "angle")
+
+    def angular(self, expr: Expr) -> bool:
+        """Whether an expression involves an angle input, pi or radians()."""
+        if isinstance(expr, Name):
+            return expr.name in self.angles or expr.name == "pi"
+        if isinstance(expr, Neg):
+            return self.angular(expr.operand)
+        if isinstance(expr, BinOp):
+            return self.angular(expr.left) or self.angular(expr.right)
+        if isinstance(expr, Call):
+            return expr.function == "radians" or any(self.angular(a) for a in expr.args)
+        return False
+
+    def plain(self, expr: Expr) -> Expr:
+        """Return ``expr`` with each angle input ``t`` read as ``radians(t)``."""
+        if isinstance(expr, Name) and expr.name in self.angles:
+            return Call("radians", (expr,))
+        if isinstance(expr, Neg):
+            return Neg(self.plain(expr.operand))
+        if isinstance(expr, BinOp):
+            return BinOp(expr.op, self.plain(expr.left), self.plain(expr.right))
+        if isinstance(expr, Call):
+            (first, *_) = expr.args
+            if (expr.function == "degrees" and isinstance(first, Name)
+                    and first.name in self.angles):
+                return first
+            return Call(expr.function, tuple(self.plain(a) for a in expr.args))
+        return expr
+
+    def angle(self, expr: Expr) -> Expr:
+        """Return an expression of the script equal to ``degrees(expr)``."""
+        if isinstance(expr, Number):
+            return Number(_nice_degrees(expr.value))
+        if isinstance(expr, Name):
+            if expr.name in self.angles:
+                return expr
+            if expr.name == "pi":
+                return Number(180.0)
+            return Call("degrees", (expr,))
+        if isinstance(expr, Call) and expr.function == "radians":
+            return self.plain(expr.args[0])
+        if isinstance(expr, Neg):
+            inner = self.angle(expr.operand)
+            return Number(-inner.value) if isinstance(inner, Number) else Neg(inner)
+        if isinstance(expr, BinOp):
+            if expr.op in "+-":
+                return _fold(expr.op, self.angle(expr.left), self.angle(expr.right))
+            if expr.op == "*":
+                if self.angular(expr.right) and not self.angular(expr.left):
+                    return _fold("*", self.plain(expr.left), self.angle(expr.right))
+                return _fold("*", self.angle(expr.left), self.plain(expr.right))
+            if expr.op == "/":
+                return _fold("/", self.angle(expr.left), self.plain(expr.right))
+        return Call("degrees", (self.plain(expr),))
+
+
+def _nice_degrees(radians: float) -> float:
+    degrees = math.degrees(radians)
+    nice = float(f"{degrees:.12g}")
+    return nice if abs(nice - degrees) <= 1e-12 * max(1.0, abs(degrees)) else degrees
+
+
+def _fold(op: str, left: Expr, right: Expr) -> Expr:
+    """Return ``left op right``, computed when both are numbers."""
+    if isinstance(left, Number) and isinstance(right, Number):
+        if op == "+":
+            return Number(left.value + right.value)
+        if op == "-":
+            return Number(left.value - right.value)
+        if op == "*":
+            return Number(left.value * right.value)
+        if op == "/" and right.value != 0:
+            return Number(left.value / right.value)
+    if op in "+-" and isinstance(right, Number) and right.value == 0:
+        return left
+    return BinOp(op, left, right)

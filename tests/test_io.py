@@ -1,0 +1,432 @@
+"""Construction scripts: every shipped file, the round trip, units and every error path."""
+
+import math
+import pathlib
+
+import numpy as np
+import pytest
+from mechanisms import coupler_fourbar, fourbar, sixbar
+
+import geokin
+from geokin import Construction, ConstructionError, GeokinError, ScriptError, sweep
+from geokin.construction import NODE_KINDS
+from geokin.expressions import parse
+from geokin.io import OPS, dump, load, loads
+
+CONSTRUCTIONS = pathlib.Path(__file__).resolve().parent.parent / "constructions"
+SCRIPTS = sorted(CONSTRUCTIONS.glob("*.toml"))
+
+
+def same_sweep(a, b):
+    assert a.valid.tolist() == b.valid.tolist()
+    for name in a.points:
+        np.testing.assert_array_equal(a[name], b[name])
+    for name in a.inputs:
+        np.testing.assert_array_equal(a.inputs[name], b.inputs[name])
+
+
+# -- the shipped constructions ---------------------------------------------------
+
+
+def test_the_library_is_complete():
+    names = {p.stem for p in SCRIPTS}
+    assert {"sixbar", "quick_return", "triple_rocker_crank", "triple_rocker_coupler",
+            "triple_rocker_follower", "fourbar_open", "fourbar_crossed", "crank_rocker",
+            "slider_crank_offset"} <= names
+
+
+@pytest.mark.parametrize("path", SCRIPTS, ids=lambda p: p.name)
+def test_shipped_construction_loads_and_sweeps_its_range(path):
+    c = load(path)
+    assert c.angle_unit == "deg"
+    assert c.traced, "every shipped construction names its traced points"
+    assert c.links
+    s = sweep(c)
+    assert len(s) >= 100
+    assert s.valid.all(), s.explain(int(np.flatnonzero(~s.valid)[0]))
+    assert s.events == []
+
+
+@pytest.mark.parametrize("path", SCRIPTS, ids=lambda p: p.name)
+def test_shipped_construction_has_a_header_naming_its_source_and_figures(path):
+    header = path.read_text().split("[construction]")[0]
+    assert header.startswith("# ")
+    assert "Source:" in header or "not from a seed document" in header
+    assert "Figures:" in header
+
+
+@pytest.mark.parametrize("path", SCRIPTS, ids=lambda p: p.name)
+def test_shipped_construction_round_trips(path):
+    c = load(path)
+    text = dump(c)
+    again = loads(text, source="dumped.toml")
+    assert again == c
+    assert again.description == c.description and again.units == c.units
+    assert [p.description for p in again.parameters.values()] == \
+        [p.description for p in c.parameters.values()]
+    same_sweep(sweep(c), sweep(again))
+    assert dump(again) == text
+
+
+def test_load_accepts_str_and_pathlike_and_names_after_the_file(tmp_path):
+    path = tmp_path / "my_linkage.toml"
+    path.write_text('[points]\nO = { op = "fixed", at = [0, 0] }\n')
+    assert load(str(path)).name == "my_linkage"
+    assert load(path) == load(str(path))
+    assert loads('[points]\nO = { op = "fixed", at = [0, 0] }').name == "construction"
+
+
+def test_package_exports_io():
+    assert geokin.load is load and geokin.loads is loads and geokin.dump is dump
+    assert {"load", "loads", "dump"} <= set(geokin.__all__)
+
+
+def test_every_node_kind_has_a_script_op():
+    assert set(OPS) == set(NODE_KINDS)
+
+
+# -- units -----------------------------------------------------------------------
+
+ONE_INPUT = """
+[inputs.theta]
+range = [-30, 90]
+step = 15
+speed = 180
+[inputs.s]
+kind = "length"
+range = [0, 2]
+samples = 5
+speed = 0.5
+[points]
+O = { op = "fixed", at = [0, 0] }
+A = { op = "polar", origin = "O", distance = "10 + s", angle = "theta + 90" }
+"""
+
+
+def test_angles_are_degrees_in_scripts_and_radians_in_the_construction():
+    c = loads(ONE_INPUT)
+    theta, s = c.inputs["theta"], c.inputs["s"]
+    assert theta.kind == "angle" and s.kind == "length"
+    assert theta.range == (math.radians(-30), math.radians(90))
+    assert theta.step == math.radians(15) and theta.speed == math.radians(180)
+    assert s.range == (0.0, 2.0) and s.samples == 5 and s.speed == 0.5
+    np.testing.assert_allclose(np.degrees(theta.values()), np.arange(-30, 91, 15))
+    # angle expressions see the input in degrees; the angle field is converted
+    result = sweep(c, {"theta": np.radians([0.0, 90.0]), "s": 0.0})
+    np.testing.assert_allclose(result["A"], [[0, 10], [-10, 0]], atol=1e-12)
+
+
+def test_defaults_of_an_input():
+    c = loads('[inputs.t]\n[points]\nO = { op = "fixed", at = [0, 0] }')
+    t = c.inputs["t"]
+    assert t.kind == "angle" and t.range == (0.0, 2 * math.pi) and t.speed == 2 * math.pi
+
+
+def test_trigonometry_inside_expressions_takes_radians():
+    c = loads("""
+    [inputs.theta]
+    [points]
+    O = { op = "fixed", at = [0, 0] }
+    P = { op = "fixed", at = ["10 * cos(radians(theta))", "10 * sin(radians(theta))"] }
+    """)
+    np.testing.assert_allclose(sweep(c, np.radians([30.0]))["P"],
+                               [[10 * np.cos(np.pi / 6), 5]], atol=1e-12)
+
+
+# -- dump of Python constructions (radians) ---------------------------------------
+
+
+def python_constructions():
+    yield sixbar()
+    yield coupler_fourbar()
+    yield fourbar(branch="right", range=(-1.0, 2.5), samples=50, speed=3.0)
+    c = Construction("expressions", description='quotes " and \\ and\nnewline, µm', units="µm")
+    c.parameter("alpha", 0.3, "an angle in radians")
+    c.parameter("r", 12.5)
+    c.input("theta", range=(0.1, 6.0), step=0.05)
+    c.input("s", kind="length", range=(0, 3), samples=119)
+    c.fixed("O", 0, 0)
+    c.fixed("Q", "r * 3", "-r / 2")
+    c.polar("A", "O", "r", "theta")
+    c.polar("B", "A", 5, "theta + pi / 2")
+    c.polar("C", "A", 5, "2 * theta - alpha")
+    c.polar("D", "B", "4 + s", "radians(30) + theta / 3", reference=("A", "B"))
+    c.polar("E", "C", "2 + sin(theta)", "atan2(1, 2) * -theta")
+    c.polar("F", "C", 3, "-theta")
+    c.polar("G", "C", 3, "degrees(theta) / 57")
+    c.polar("H", "C", 3, -0.25)
+    c.along("I", ("A", "B"), "s - 1")
+    c.circle_circle("J", ("A", "Q"), (30, "r + 20"), near=(20.0, 25.0))
+    c.line_circle("K", ("O", "A"), "Q", 40, branch="second")
+    c.segment_circle("L", ("Q", "A"), "Q", 3, branch="first")
+    c.ray_circle("M", ("A", "J"), "A", "4 * s + 1", branch="second")
+    c.line_line("N", ("O", "A"), ("Q", "J"))
+    c.link("body", "A", "B", "C")
+    c.slider("block", "I", ("A", "B"))
+    c.trace("C", "N")
+    yield c
+
+
+@pytest.mark.parametrize("c", list(python_constructions()), ids=lambda c: c.name)
+def test_dump_of_a_python_construction_is_an_equivalent_degree_script(c):
+    text = dump(c)
+    script = loads(text)
+    assert script.angle_unit == "deg"
+    assert list(script.nodes) == list(c.nodes)
+    assert script.traced == c.traced and script.links == c.links and script.sliders == c.sliders
+    assert script.description == c.description and script.units == c.units
+    for name, i in c.inputs.items():
+        j = script.inputs[name]
+        assert (j.kind, j.samples, j.step is None) == (i.kind, i.samples, i.step is None)
+        np.testing.assert_allclose(j.range, i.range, rtol=1e-13)
+        np.testing.assert_allclose(j.speed, i.speed, rtol=1e-13)
+    a, b = sweep(c), sweep(script)
+    assert a.valid.tolist() == b.valid.tolist()
+    for name in a.points:
+        np.testing.assert_allclose(b[name], a[name], atol=1e-9, rtol=0)
+    # and the script is stable under a second round trip
+    assert loads(dump(script)) == script
+
+
+def test_dump_simplifies_obvious_angle_expressions():
+    c = next(p for p in python_constructions() if p.name == "expressions")
+    text = dump(c)
+    for expected in ['angle = "theta"', 'angle = "theta + 90"',
+                     'angle = "2 * theta - degrees(alpha)"',
+                     'angle = "30 + theta / 3"', 'angle = "-theta"', 'angle = -14.3239',
+                     'angle = "degrees(theta) / 57"', 'distance = "2 + sin(radians(theta))"',
+                     "range = [0, 3]", "samples = 119"]:
+        assert expected in text, expected
+    assert 'angle = "atan2(1, 2) * -theta"' in text
+    assert 'angle = "degrees(theta) / 57"' in text
+
+
+def test_dump_keeps_grouping_as_written():
+    c = loads("""
+    [parameters]
+    a = 1
+    b = 2
+    [points]
+    P = { op = "fixed", at = ["a - (b - a)", "a / (b * a) + (a + b) ** 2 ** a - (-a) ** 2"] }
+    Q = { op = "fixed", at = ["a + (b + a)", "(a ** b) ** a * -3 + a * (b * a) + -a ** 2"] }
+    """)
+    again = loads(dump(c))
+    assert again == c
+    same_sweep(sweep(c), sweep(again))
+
+
+def test_dump_refuses_what_is_not_a_construction():
+    with pytest.raises(TypeError):
+        dump("sixbar.toml")
+
+
+# -- errors ----------------------------------------------------------------------
+
+GOOD = """\
+[construction]
+name = "test"
+trace = ["B"]
+
+[parameters]
+l2 = 20
+l3 = 100
+l4 = 100
+
+[inputs.theta]
+kind = "angle"
+range = [0, 360]
+samples = 37
+
+[points]
+A0 = { op = "fixed", at = [0, 30] }
+B0 = { op = "fixed", at = [168, 10] }
+A = { op = "polar", origin = "A0", distance = "l2", angle = "theta" }
+B = { op = "circle_circle", centers = ["A", "B0"], radii = ["l3", "l4"], branch = "left" }
+
+[links]
+crank = ["A0", "A"]
+
+[sliders]
+block = { point = "B", along = ["A", "B0"] }
+"""
+
+
+def test_the_good_script_is_good():
+    assert sweep(loads(GOOD)).valid.all()
+
+
+def error_of(text, source="sixbar.toml") -> str:
+    with pytest.raises(ScriptError) as info:
+        loads(text, source=source)
+    message = str(info.value)
+    assert "Traceback" not in message
+    return message
+
+
+def edited(old, new):
+    assert old in GOOD
+    return GOOD.replace(old, new, 1)
+
+
+ERRORS = [
+    # (old, new, expected substrings of the message)
+    ('radii = ["l3", "l4"]', 'radii = ["l3", "l33"]',
+     ["sixbar.toml:19: [points] B.radii[1]: unknown parameter or input 'l33'; did you mean 'l3'?"]),
+    ('origin = "A0"', 'origin = "A00"',
+     ["sixbar.toml:18: [points] A.origin: unknown point 'A00'; did you mean 'A0'?"]),
+    ('distance = "l2"', 'distance = "A0"',
+     ["[points] A.distance: unknown parameter or input 'A0'; 'A0' is a point"]),
+    ('op = "circle_circle"', 'op = "circle_circel"',
+     ["sixbar.toml:19: [points] B.op: unknown op 'circle_circel'; did you mean 'circle_circle'?"]),
+    ('{ op = "fixed", at = [0, 30] }', '{ at = [0, 30] }',
+     ["sixbar.toml:16: [points] A0.op: missing key 'op'"]),
+    (', radii = ["l3", "l4"]', "", ["[points] B.radii: missing key 'radii'"]),
+    ('radii = ["l3", "l4"]', 'radius = ["l3", "l4"]',
+     ["[points] B.radius: unknown key 'radius'; did you mean 'radii'?"]),
+    ('branch = "left"', 'branch = "lefft"',
+     ["[points] B.branch: unknown branch 'lefft'", "did you mean 'left'?"]),
+    (', branch = "left"', "", ["[points] B.branch: a circle_circle node has two roots"]),
+    ('branch = "left"', 'branch = "left", near = [1, 2]',
+     ["[points] B.branch: give either branch or near, not both"]),
+    ('branch = "left"', 'branch = 1', ["[points] B.branch: expected a branch name (a string), "
+                                       "got the integer 1"]),
+    ('branch = "left"', 'near = "10, 20"', ["[points] B.near: expected two numbers [x, y]"]),
+    ('at = [0, 30]', 'at = 30', ["sixbar.toml:16: [points] A0.at: expected two values"]),
+    ('at = [0, 30]', 'at = [0, true]', ["[points] A0.at[1]: expected a number or an expression"]),
+    ('at = [0, 30]', 'at = [0, "30 +"]', ["[points] A0.at[1]: expression '30 +': not a valid"]),
+    ('centers = ["A", "B0"]', 'centers = "A"',
+     ['[points] B.centers: expected two point names such as ["A", "B"], got the string \'A\'']),
+    ('centers = ["A", "B0"]', 'centers = ["A", 3]',
+     ["[points] B.centers[1]: expected a point name (a string), got the integer 3"]),
+    ('origin = "A0"', 'origin = ["A0"]',
+     ["[points] A.origin: expected a point name (a string), got an array of 1"]),
+    ('A = { op = "polar"', 'l2 = { op = "polar"',
+     ["sixbar.toml:18: [points] l2: duplicate name: a parameter 'l2' is already declared"]),
+    ('A0 = { op = "fixed", at = [0, 30] }', 'A0 = { op = "polar", origin = "A", distance = 1, '
+     'angle = 0 }',
+     ["sixbar.toml:18: [points] A.origin: cycle: A -> A0 -> A (each is built on the next)"]),
+    ('A0 = { op = "fixed", at = [0, 30] }', 'A0 = 5',
+     ['sixbar.toml:16: [points] A0: expected a table such as { op = "fixed", at = [0, 0] }, '
+      "got the integer 5"]),
+    ('kind = "angle"', 'kind = "angel"',
+     ["sixbar.toml:11: [inputs] theta.kind: unknown input kind 'angel'", "did you mean 'angle'?"]),
+    ('kind = "angle"\nrange = [0, 360]\n', 'kind = "length"\n',
+     ["[inputs] theta.range: a length input needs a range"]),
+    ('range = [0, 360]', 'range = "0..360"',
+     ["sixbar.toml:12: [inputs] theta.range: expected two numbers [start, end], "
+      "got the string '0..360'"]),
+    ('samples = 37', 'samples = 1.5', ["[inputs] theta.samples: expected an integer"]),
+    ('samples = 37', 'samples = 1', ["[inputs] theta.samples: samples must be an integer of "
+                                     "at least 2"]),
+    ('samples = 37', 'samples = 37\nstep = 10', ["[inputs] theta.step: give either samples or "
+                                                 "step, not both"]),
+    ('samples = 37', 'step = -10', ["[inputs] theta.step: step must be a non-zero number"]),
+    ('samples = 37', 'samples = 37\nsped = 1', ["[inputs] theta.sped: unknown key 'sped'; "
+                                                "did you mean 'speed'?"]),
+    ('samples = 37', 'samples = 37\nspeed = "fast"', ["[inputs] theta.speed: expected a number"]),
+    ("l3 = 100", "l3 = [100]", ["sixbar.toml:7: [parameters] l3: expected a number, got an array"]),
+    ("l3 = 100", 'l3 = "l2 * 5"', ["[parameters] l3: a parameter's value must be a number"]),
+    ("l3 = 100", 'l3 = { value = 100, descr = "x" }',
+     ["[parameters] l3.descr: unknown key 'descr'; did you mean 'description'?"]),
+    ("l3 = 100", "3l = 100", ["[parameters] 3l: a parameter name must be an identifier"]),
+    ("l3 = 100", "pi = 3", ["[parameters] pi: 'pi' is reserved for the built-in constant"]),
+    ('name = "test"', "name = 5", ["sixbar.toml:2: [construction] name: expected a string, "
+                                   "got the integer 5"]),
+    ('name = "test"', 'nmae = "test"', ["sixbar.toml:2: [construction] nmae: unknown key "
+                                        "'nmae'; did you mean 'name'?"]),
+    ('trace = ["B"]', 'trace = ["BB"]', ["sixbar.toml:3: [construction] trace[0]: unknown point "
+                                         "'BB'; did you mean 'B'?"]),
+    ('trace = ["B"]', "trace = 5", ["[construction] trace: expected an array of point names"]),
+    ('trace = ["B"]', 'trace = ["B", 5]', ["[construction] trace[1]: expected a point name"]),
+    ("[points]", "[point]", ["sixbar.toml:15: [point]: unknown table; did you mean 'points'?"]),
+    ('crank = ["A0", "A"]', 'crank = ["A0", "AA"]',
+     ["sixbar.toml:22: [links] crank[1]: unknown point 'AA'; did you mean 'A'?"]),
+    ('crank = ["A0", "A"]', 'crank = ["A0"]', ["[links] crank: a link joins at least 2 points"]),
+    ('crank = ["A0", "A"]', 'crank = "A0 A"', ["[links] crank: expected an array of point names"]),
+    ('crank = ["A0", "A"]', 'crank = ["A0", 1]', ["[links] crank[1]: expected a point name"]),
+    ('crank = ["A0", "A"]', 'l2 = ["A0", "A"]', ["[links] l2: duplicate name"]),
+    ('block = { point = "B", along = ["A", "B0"] }', 'block = { point = "B" }',
+     ["sixbar.toml:25: [sliders] block.along: missing key 'along'"]),
+    ('block = { point = "B", along = ["A", "B0"] }',
+     'block = { point = "B", along = ["A", "B0"], alng = 1 }',
+     ["[sliders] block.alng: unknown key 'alng'; did you mean 'along'?"]),
+    ('along = ["A", "B0"]', 'along = ["A", "B00"]',
+     ["[sliders] block.along[1]: unknown point 'B00'; did you mean 'B0'?"]),
+    ('point = "B"', 'point = 2', ["[sliders] block.point: expected a point name"]),
+    ('along = ["A", "B0"]', 'along = "A"', ["[sliders] block.along: expected two point names"]),
+    ('block = { point = "B", along = ["A", "B0"] }', "block = 1",
+     ["[sliders] block: expected a table"]),
+]
+
+
+@pytest.mark.parametrize("old, new, expected", ERRORS, ids=[e[1][:30] for e in ERRORS])
+def test_script_error_names_file_table_key_and_suggestion(old, new, expected):
+    message = error_of(edited(old, new))
+    assert message.startswith("sixbar.toml")
+    for part in expected:
+        assert part in message, message
+
+
+def test_a_table_that_is_not_a_table():
+    message = error_of("points = 3\n")
+    assert message == "sixbar.toml:1: [points]: expected a table, got the integer 3"
+
+
+def test_the_example_message_of_the_format_documentation():
+    text = (CONSTRUCTIONS / "sixbar.toml").read_text().replace('"l3", "l4"', '"l3", "l33"')
+    message = error_of(text)
+    assert message.startswith("sixbar.toml:")
+    assert message.endswith(
+        ": [points] B.radii[1]: unknown parameter or input 'l33'; did you mean 'l3'?")
+
+
+def test_script_error_carries_its_place():
+    with pytest.raises(ScriptError) as info:
+        loads(edited('radii = ["l3", "l4"]', 'radii = ["l3", "l33"]'), source="s.toml")
+    err = info.value
+    assert (err.source, err.table, err.key, err.line) == ("s.toml", "points", "B.radii[1]", 19)
+    assert isinstance(err, ConstructionError) and isinstance(err, GeokinError)
+
+
+def test_toml_syntax_error_names_the_line():
+    message = error_of(GOOD.replace("l4 = 100", "l4 = "))
+    assert message.startswith("sixbar.toml:8: TOML syntax error: Invalid value")
+    message = error_of('[points]\nA = { op = "fixed", at = [0, 0]\n')
+    assert message.startswith("sixbar.toml:2: TOML syntax error")
+
+
+def test_a_full_table_point_is_located(tmp_path):
+    text = '[points.A0]\nop = "fixed"\nat = [0, "q"]\n'
+    assert error_of(text).startswith("sixbar.toml:3: [points] A0.at[1]: unknown parameter")
+
+
+def test_load_names_the_file(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text(edited('radii = ["l3", "l4"]', 'radii = ["l3", "l33"]'))
+    with pytest.raises(ScriptError, match=r"bad\.toml:19: \[points\] B\.radii\[1\]"):
+        load(path)
+    path.write_bytes(b"name = '\xff'\n")
+    with pytest.raises(ScriptError, match="bad.toml: not UTF-8 text"):
+        load(path)
+    with pytest.raises(FileNotFoundError):
+        load(tmp_path / "missing.toml")
+
+
+@pytest.mark.parametrize("expression", [
+    "l2.real", "l2.__class__", "l2[0]", "(lambda: 1)()", "lambda: 1", "__import__('os')",
+    "exec('1')", "eval('1')", "open('/etc/passwd')", "sqrt(x=2)", "[l2 for l2 in l2]",
+    "l2 if l2 else 1", "'text'", "l2 == 1", "(l2, 1)", "f'{l2}'", "sin.__globals__",
+    "(1).__class__", "getattr(l2, 'real')", "l2 @ l2", "not l2",
+])
+def test_the_safe_parser_refuses_anything_but_arithmetic(expression):
+    with pytest.raises(ConstructionError):
+        parse(expression)
+    message = error_of(GOOD.replace('distance = "l2"', f'distance = "{expression}"'))
+    assert "[points] A.distance: expression" in message
+
+
+@pytest.mark.parametrize("expression", ["sqrt(l2 ** 2 + 1)", "atan2(l2, 1) * 2", "-pi + l2",
+                                        "degrees(radians(l2))", "cos(0) * (l2 - 1) / 2"])
+def test_the_safe_parser_accepts_arithmetic_and_the_listed_functions(expression):
+    c = loads(GOOD.replace('distance = "l2"', f'distance = "{expression}"'))
+    assert sweep(c).valid.any()
