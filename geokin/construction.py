@@ -171,13 +171,18 @@ class Candidates:
         Distance from tangency of a two-root node (positive: two roots,
         zero: tangent, negative: none), smooth in the inputs.
     on_line : tuple of ndarray or None
-        For a ray or a segment: whether each root lies on it.
+        For a ray or a segment: whether each root lies on it (with the
+        tolerance of :data:`~geokin.primitives.PARAMETER_RTOL`).
+    t : tuple of ndarray or None
+        For a ray or a segment: each root's parameter along it, which lies
+        within the node's ``low``..``high`` exactly on it.
     """
 
     x: tuple
     y: tuple
     margin: np.ndarray | None = None
     on_line: tuple | None = None
+    t: tuple | None = None
 
 
 def failure_reasons(cand: Candidates, values: Mapping, root) -> np.ndarray:
@@ -437,7 +442,8 @@ class _LineCircle(_TwoRoot):
             # off-line roots keep their positions: branch tracking follows them
             low, high = self.low - prim.PARAMETER_RTOL, self.high + prim.PARAMETER_RTOL
             on_line = ((ta >= low) & (ta <= high), (tb >= low) & (tb <= high))
-        return Candidates((xa, xb), (ya, yb), margin, on_line)
+            return Candidates((xa, xb), (ya, yb), margin, on_line, (ta, tb))
+        return Candidates((xa, xb), (ya, yb), margin)
 
 
 @dataclass(frozen=True)

@@ -82,7 +82,7 @@ class Sweep:
     """
 
     def __init__(self, construction, inputs, coords, valid, failed_step, reason_code,
-                 labels, events, margins):
+                 labels, events, margins, parameters=None):
         self.construction: Compiled = construction
         self.inputs = inputs
         self.points = _PointTable(coords, valid)
@@ -92,6 +92,8 @@ class Sweep:
         self.events = events
         self._labels = labels
         self._margins = margins
+        # the chosen root's parameter along each ray or segment node
+        self._parameters = parameters or {}
 
     def __len__(self):
         return len(self.valid)
@@ -311,7 +313,7 @@ def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
     compiled = _compiled(construction)
     plan = _plan(compiled)
     env = _environment(compiled, inputs)
-    coords, labels, margins, events, results = {}, {}, {}, [], []
+    coords, labels, margins, parameters, events, results = {}, {}, {}, {}, [], []
     with np.errstate(all="ignore"):
         for step in plan:
             node = step.node
@@ -334,6 +336,9 @@ def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
                 x, y = _choose(cand, label)
                 labels[node.name] = label
                 margins[node.name] = cand.margin
+                if cand.t is not None:
+                    parameters[node.name] = (cand.t[label] if np.ndim(label) == 0
+                                             else np.where(label, cand.t[1], cand.t[0]))
             coords[node.name] = (x, y)
             results.append((step, cand, values, label, x))
         valid = np.ones(n, dtype=bool)
@@ -344,7 +349,7 @@ def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
     if not valid.all():
         _record_failures(results, n, failed_step, reason_code)
     return Sweep(compiled, dict(inputs), coords, valid, failed_step, reason_code, labels,
-                 events, margins)
+                 events, margins, parameters)
 
 
 def _choose(cand, label):

@@ -1,0 +1,395 @@
+"""Motion limits of an input, and sweeps around a whole circuit.
+
+:func:`limits` finds where a construction stops being assemblable as one
+input moves: it samples the input, brackets every change between assemblable
+and not, and narrows each bracket by bisection on the failing node's margin
+(or on assemblability where the node leaves a ray or segment) to
+:data:`LIMIT_TOLERANCE`. Each limit records the node that reaches it and
+whether it is a tangency (a toggle the mechanism can pass through by changing
+branch) or an end (of a ray, a segment, or the input's range).
+
+:func:`circuit` is the second sweep mode. In the default mode (:func:`~geokin.sweep`,
+"clip"), unreachable samples are invalid. In circuit mode the input runs from
+a start to one limit of its interval, reverses, and the node that became
+tangent changes branch, as the physical mechanism does when it passes the
+toggle, and so on until the configuration returns to the start: the sweep
+holds the whole closed coupler curve of that circuit with its input history.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .construction import NO_INTERSECTION, OFF_LINE, REASONS
+from .errors import AssemblyError, ConstructionError, did_you_mean
+from .sweep import BranchEvent, Sweep, _compiled, evaluate
+
+__all__ = ["LIMIT_TOLERANCE", "Limit", "Limits", "circuit", "limits"]
+
+LIMIT_TOLERANCE = 1e-12
+"""Width (radians or length units) to which every limit's bracket is narrowed."""
+
+SEARCH_SAMPLES = 7201
+"""Samples of the input used to find brackets (every 0.05 degrees for a turn)."""
+
+
+@dataclass(frozen=True)
+class Limit:
+    """One end of an assemblable interval.
+
+    Attributes
+    ----------
+    value : float
+        The input value (radians or length units) at the limit, on the
+        assemblable side within :data:`LIMIT_TOLERANCE`.
+    node : str or None
+        The node that cannot be assembled beyond it; None at the end of the
+        searched range.
+    kind : {"tangent", "end", "range"}
+        "tangent": the node's two roots meet there (a toggle or dead centre);
+        "end": the chosen root leaves its ray or segment, or the node degenerates;
+        "range": the end of the searched range, not a limit of the mechanism.
+    """
+
+    value: float
+    node: str | None
+    kind: str
+
+
+@dataclass(frozen=True)
+class Limits:
+    """The assemblable intervals of one input.
+
+    Attributes
+    ----------
+    input : str
+    intervals : list of (Limit, Limit)
+        Each assemblable interval as its lower and upper limit, in order.
+    full_turn : bool
+        For an angle input: the input turns fully without any limit.
+    branches : dict of str to int
+        The branches the search held (those of the construction's first
+        assemblable sample).
+    """
+
+    input: str
+    intervals: list
+    full_turn: bool
+    branches: dict
+
+    def as_values(self) -> list[tuple[float, float]]:
+        """Return the intervals as (low, high) pairs of input values."""
+        return [(lo.value, hi.value) for lo, hi in self.intervals]
+
+
+def _input_name(compiled, input):
+    names = list(compiled.inputs)
+    if input is None:
+        if len(names) != 1:
+            raise ConstructionError(f"this construction has {len(names)} inputs; name one")
+        return names[0]
+    if input not in compiled.inputs:
+        raise ConstructionError(f"unknown input {input!r}{did_you_mean(input, names)}",
+                                node=input)
+    return input
+
+
+def _evaluate_at(compiled, name, values, held, branches):
+    """Evaluate at input values with fixed branches; other inputs held at ``held``."""
+    values = np.asarray(values, dtype=float)
+    inputs = {k: np.full(values.shape, v) for k, v in held.items()}
+    inputs[name] = values
+    return evaluate(compiled, inputs, len(values), branches, track=False)
+
+
+def _steps_by_name(compiled):
+    return {step.node.name: step for step in compiled.steps}
+
+
+def _strictly_valid(result: Sweep) -> np.ndarray:
+    """Assemblable without the tangency and end tolerances of the primitives.
+
+    Limits are narrowed on this, so that a limit lies where the roots truly
+    meet or the root truly reaches the end of its ray or segment.
+    """
+    ok = result.valid.copy()
+    n = len(ok)
+    with np.errstate(invalid="ignore"):
+        for margin in result._margins.values():
+            ok &= np.broadcast_to(margin >= 0, (n,))
+        steps = _steps_by_name(result.construction)
+        for node, t in result._parameters.items():
+            kind = steps[node].node
+            ok &= np.broadcast_to((t >= kind.low) & (t <= kind.high), (n,))
+    return ok
+
+
+def _what_stops(result: Sweep, i: int) -> tuple[str, str]:
+    """Return the first node that is not strictly assembled at sample i, and how."""
+    for step in result.construction.steps:
+        node = step.node.name
+        if not result.valid[i] and result.failed_step[i] == step.index:
+            return node, "tangent" if result.reason_code[i] == NO_INTERSECTION else "end"
+        margin = result._margins.get(node)
+        if margin is not None and np.broadcast_to(margin, result.valid.shape)[i] < 0:
+            return node, "tangent"
+        t = result._parameters.get(node)
+        if t is not None:
+            t = np.broadcast_to(t, result.valid.shape)[i]
+            if not step.node.low <= t <= step.node.high:
+                return node, "end"
+    return "", "end"
+
+
+def _refine(compiled, name, held, branches, inside, outside):
+    """Bisect brackets [inside, outside] (arrays) down to LIMIT_TOLERANCE.
+
+    Returns the refined inside ends and the sweep at the outside ends.
+    """
+    inside = np.array(inside, dtype=float)
+    outside = np.array(outside, dtype=float)
+    while True:
+        width = np.abs(outside - inside)
+        if not (width > LIMIT_TOLERANCE).any():
+            break
+        middle = 0.5 * (inside + outside)
+        ok = _strictly_valid(_evaluate_at(compiled, name, middle, held, branches))
+        inside = np.where(ok, middle, inside)
+        outside = np.where(ok, outside, middle)
+    return inside, _evaluate_at(compiled, name, outside, held, branches)
+
+
+def limits(construction, input: str | None = None, *, range=None,
+           samples: int = SEARCH_SAMPLES, branches=None, at=None) -> Limits:
+    """Find every limit of an input's motion and the assemblable intervals.
+
+    Parameters
+    ----------
+    construction : Construction or Compiled
+    input : str, optional
+        The input to move; the only input by default. Other inputs are held
+        at ``at`` or at the start of their range.
+    range : (float, float), optional
+        Where to search, radians for an angle. By default one whole turn
+        centred on the middle of the declared range for an angle input, and
+        the declared range for a length input.
+    samples : int
+        Samples used to bracket the limits; a stretch shorter than the
+        spacing can be missed.
+    branches : mapping of str to int, optional
+        Branches to hold (0 or 1); by default the construction's own choice
+        at its first assemblable sample in the range.
+    at : mapping of str to float, optional
+        Values of the other inputs.
+
+    Returns
+    -------
+    Limits
+
+    Examples
+    --------
+    Seed 000's triple rocker (ground 7, crank 5, coupler 6, follower 5):
+    the crank rocks between -132.1774 and 132.1774 degrees.
+
+    >>> import numpy as np
+    >>> from geokin import Construction
+    >>> c = Construction()
+    >>> c.input("theta2", range=(-np.pi, np.pi))
+    >>> c.fixed("A", 0, 0)
+    >>> c.fixed("D", 7, 0)
+    >>> c.polar("B", "A", 5, "theta2")
+    >>> c.circle_circle("C", ("B", "D"), (6, 5), branch="left")
+    >>> found = limits(c)
+    >>> [tuple(np.degrees(v).round(4)) for v in found.as_values()]
+    [(np.float64(-132.1774), np.float64(132.1774))]
+    >>> found.intervals[0][1].node, found.intervals[0][1].kind
+    ('C', 'tangent')
+    """
+    compiled = _compiled(construction)
+    name = _input_name(compiled, input)
+    declared = compiled.inputs[name]
+    held = {k: float((at or {}).get(k, v.range[0])) for k, v in compiled.inputs.items()
+            if k != name}
+    turn = declared.kind == "angle" and range is None
+    if range is None:
+        lo, hi = declared.range
+        if declared.kind == "angle":
+            middle = 0.5 * (lo + hi)
+            lo, hi = middle - np.pi, middle + np.pi
+    else:
+        lo, hi = map(float, range)
+    grid = np.linspace(lo, hi, samples)
+    inputs = {k: np.full(samples, v) for k, v in held.items()}
+    inputs[name] = grid
+    probe = evaluate(compiled, inputs, samples, track=False,
+                     initial=None if branches is None else dict(branches))
+    first_valid = np.flatnonzero(probe.valid)
+    if first_valid.size == 0:
+        raise AssemblyError(f"the construction cannot be assembled anywhere in "
+                            f"[{lo:g}, {hi:g}] of input {name!r}: "
+                            f"{probe.explain(samples // 2)}",
+                            node=probe.failed_node[samples // 2] or None)
+    held_branches = {k: int(np.broadcast_to(v, (samples,))[first_valid[0]])
+                     for k, v in probe._labels.items()}
+    probe = _evaluate_at(compiled, name, grid, held, held_branches)
+    ok = _strictly_valid(probe)
+    if ok.all() and turn:
+        ends = (Limit(lo, None, "range"), Limit(hi, None, "range"))
+        return Limits(name, [ends], True, held_branches)
+    change = np.flatnonzero(ok[1:] != ok[:-1])
+    inside = np.where(ok[change], grid[change], grid[change + 1])
+    outside = np.where(ok[change], grid[change + 1], grid[change])
+    refined, beyond = _refine(compiled, name, held, held_branches, inside, outside)
+    found = [Limit(float(value), *_what_stops(beyond, i)) for i, value in enumerate(refined)]
+    # pair the limits into intervals, with the range ends where the motion reaches them
+    bounds = list(found)
+    if ok[0]:
+        bounds.insert(0, Limit(lo, None, "range"))
+    if ok[-1]:
+        bounds.append(Limit(hi, None, "range"))
+    intervals = [(bounds[i], bounds[i + 1]) for i in np.arange(0, len(bounds), 2)]
+    if turn and ok[0] and ok[-1] and len(intervals) > 1:
+        # the stretches through both ends of the turn are one interval
+        last_lo, first_hi = intervals[-1][0], intervals[0][1]
+        wrapped = (Limit(last_lo.value - 2 * np.pi, last_lo.node, last_lo.kind), first_hi)
+        intervals = [wrapped, *intervals[1:-1]]
+    return Limits(name, intervals, False, held_branches)
+
+
+def circuit(construction, input: str | None = None, *, start: float | None = None,
+            samples_per_pass: int = 361, at=None, branches=None) -> Sweep:
+    """Sweep a whole circuit: to a limit, through the toggle, and back round.
+
+    Starting at ``start``, the input runs up to the upper limit of its
+    assemblable interval. At a tangent limit the tangent node changes branch
+    and the input runs back down to the lower limit, where the same happens,
+    until the configuration returns to the start. At an end that is not a
+    tangency (a slider at the end of its guide) the input reverses on the
+    same branches. An input that turns fully makes one turn.
+
+    Parameters
+    ----------
+    construction : Construction or Compiled
+    input : str, optional
+        The input to move; the only input by default.
+    start : float, optional
+        Where to start (radians or length units); by default the middle of
+        the assemblable interval that contains the declared range's start, or
+        of the first interval.
+    samples_per_pass : int
+        Samples on each pass from one limit to the other.
+    at, branches : mapping, optional
+        As for :func:`limits`.
+
+    Returns
+    -------
+    Sweep
+        Over the input's history; its ``events`` list each branch change at a
+        toggle, and ``branches`` the branch of every node at every sample.
+
+    Examples
+    --------
+    The triple rocker passes its toggles and traces both branches of the
+    coupler curve: the follower joint C comes back to where it started.
+
+    >>> import numpy as np
+    >>> from geokin import Construction
+    >>> c = Construction()
+    >>> c.input("theta2", range=(-np.pi, np.pi))
+    >>> c.fixed("A", 0, 0)
+    >>> c.fixed("D", 7, 0)
+    >>> c.polar("B", "A", 5, "theta2")
+    >>> c.circle_circle("C", ("B", "D"), (6, 5), branch="left")
+    >>> s = circuit(c, start=0.0)
+    >>> bool(s.valid.all()), [str(e.before) + "->" + str(e.after) for e in s.events]
+    (True, ['left->right', 'right->left'])
+    >>> bool(np.allclose(s["C"][0], s["C"][-1]))
+    True
+    """
+    compiled = _compiled(construction)
+    name = _input_name(compiled, input)
+    found = limits(compiled, name, at=at, branches=branches)
+    declared = compiled.inputs[name]
+    held = {k: float((at or {}).get(k, v.range[0])) for k, v in compiled.inputs.items()
+            if k != name}
+    if start is None:
+        start = declared.range[0]
+        if not any(lo.value <= start <= hi.value for lo, hi in found.intervals):
+            lo, hi = found.intervals[0]
+            start = 0.5 * (lo.value + hi.value)
+    interval = _containing(found, start, declared.kind == "angle")
+    if interval is None:
+        raise AssemblyError(f"input {name!r} = {start:g} is outside every assemblable "
+                            f"interval: {found.as_values()}")
+    lo, hi, shift = interval
+    start = start + shift
+    labels = dict(found.branches)
+    passes = []
+    if found.full_turn:
+        passes.append((np.linspace(start, start + 2 * np.pi, samples_per_pass), dict(labels)))
+    else:
+        # samples evenly spaced along the motion: first a fine sampling evenly spaced in
+        # phi, where input = centre + radius * sin(phi), which crowds towards the limits
+        # where the motion runs fastest; then resampled to equal steps of the motion
+        centre, radius = 0.5 * (lo.value + hi.value), 0.5 * (hi.value - lo.value)
+
+        def stretch(a, b, labels):
+            pa, pb = (np.arcsin(np.clip((v - centre) / radius, -1, 1)) for v in (a, b))
+            count = max(2, int(np.ceil(abs(pb - pa) / np.pi * samples_per_pass)) + 1)
+            fine = centre + radius * np.sin(np.linspace(pa, pb, 8 * count))
+            fine[[0, -1]] = a, b
+            motion = _evaluate_at(compiled, name, fine, held, labels)
+            steps = sum(np.nan_to_num(np.hypot(*np.diff(motion.points[p], axis=0).T))
+                        for p in compiled.point_names)
+            travelled = np.concatenate([[0.0], np.cumsum(steps)])
+            if travelled[-1] == 0:
+                return np.linspace(a, b, count)
+            values = np.interp(np.linspace(0, travelled[-1], count), travelled, fine)
+            values[[0, -1]] = a, b
+            return values
+
+        initial = dict(labels)
+        position, target = start, hi
+        for _ in range(8):  # four toggles at most bring any branches back to the start
+            passes.append((stretch(position, target.value, labels), dict(labels)))
+            if target.kind == "tangent":
+                labels[target.node] ^= 1
+            position, target = target.value, (lo if target is hi else hi)
+            if labels == initial:
+                # back on the starting branches: run on to the start and stop
+                passes.append((stretch(position, start, labels), dict(labels)))
+                break
+    values = np.concatenate([p[0] if i == 0 else p[0][1:] for i, p in enumerate(passes)])
+    per_sample = {k: np.concatenate([np.full(len(p[0]) - (i > 0), p[1][k], dtype=np.int8)
+                                     for i, p in enumerate(passes)]) for k in labels}
+    inputs = {k: np.full(len(values), v) for k, v in held.items()}
+    inputs[name] = values
+    result = evaluate(compiled, inputs, len(values), per_sample, track=False)
+    steps = _steps_by_name(compiled)
+    for node, label in per_sample.items():
+        names = steps[node].node.branch_names()
+        for i in np.flatnonzero(np.diff(label)) + 1:
+            result.events.append(BranchEvent(node, int(i), names[label[i - 1]], names[label[i]]))
+    result.events.sort(key=lambda e: e.index)
+    return result
+
+
+def _containing(found: Limits, value: float, angle: bool):
+    """Return (low, high, shift) of the interval containing ``value`` (shifted by turns)."""
+    shifts = (0.0, 2 * np.pi, -2 * np.pi) if angle else (0.0,)
+    for lo, hi in found.intervals:
+        for shift in shifts:
+            if lo.value <= value + shift <= hi.value:
+                return lo, hi, shift
+    return None
+
+
+def describe_limit(limit: Limit) -> str:
+    """Say in words what stops the motion at a limit."""
+    if limit.kind == "range":
+        return "end of the searched range"
+    if limit.kind == "tangent":
+        return f"node {limit.node!r} becomes tangent (toggle)"
+    return f"node {limit.node!r}: {REASONS[OFF_LINE]} or degenerates"

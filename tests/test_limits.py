@@ -1,0 +1,101 @@
+import numpy as np
+import pytest
+
+from geokin import AssemblyError, Construction
+from geokin.limits import circuit, limits
+from mechanisms import coupler_fourbar
+from test_kinematics import R1, R2, R3, R4, triple_rocker
+
+# closed forms of seed 000's triple rocker limits (see test_kinematics for the constructions)
+CRANK = np.arccos((R1**2 + R2**2 - (R3 + R4) ** 2) / (2 * R1 * R2))
+FOLLOWER = np.arccos(((R2 + R3) ** 2 - R1**2 - R4**2) / (2 * R1 * R4))
+COUPLER = np.arccos((R1**2 + R3**2 - (R2 + R4) ** 2) / (2 * R1 * R3))
+EXPECTED = {
+    "crank": (-CRANK, CRANK, "C"),
+    "follower": (FOLLOWER, 2 * np.pi - FOLLOWER, "B"),
+    "coupler": (-COUPLER, COUPLER, "B"),
+}
+
+
+def test_seed_000_crank_range_is_plus_minus_132_1774_degrees():
+    found = limits(triple_rocker("crank"))
+    [(lo, hi)] = found.as_values()
+    assert np.degrees(hi).round(4) == 132.1774 and np.degrees(lo).round(4) == -132.1774
+
+
+@pytest.mark.parametrize("driver", ["crank", "coupler", "follower"])
+@pytest.mark.parametrize("branch", ["left", "right"])
+def test_limits_match_the_closed_form_to_1e_9(driver, branch):
+    c = triple_rocker(driver, branch)
+    if driver == "follower":
+        c.inputs["theta4"] = c.inputs["theta4"].__class__("theta4", range=(0, 2 * np.pi))
+        c._compiled = None
+    found = limits(c)
+    assert not found.full_turn
+    [(lo, hi)] = found.intervals
+    expected_lo, expected_hi, node = EXPECTED[driver]
+    assert abs(lo.value - expected_lo) < 1e-9 and abs(hi.value - expected_hi) < 1e-9
+    assert (lo.node, lo.kind, hi.node, hi.kind) == (node, "tangent", node, "tangent")
+
+
+def test_a_crank_that_turns_fully_has_no_limits():
+    found = limits(coupler_fourbar())
+    assert found.full_turn and len(found.intervals) == 1
+
+
+def test_limits_where_a_slider_leaves_its_segment_are_ends():
+    c = Construction()
+    c.input("s", kind="length", range=(0, 10))
+    c.fixed("O", 0, 0)
+    c.fixed("Q", 10, 0)
+    c.fixed("R", 0, 3)
+    c.polar("Cs", "R", "s", 0)
+    c.segment_circle("P", ("O", "Q"), "Cs", 5, branch="second")
+    [(lo, hi)] = limits(c).intervals
+    assert lo.kind == "range" and lo.value == 0
+    assert hi.kind == "end" and hi.node == "P" and abs(hi.value - 6) < 1e-9
+
+
+def test_an_unassemblable_construction_says_so():
+    c = Construction()
+    c.input("t")
+    c.fixed("O", 0, 0)
+    c.fixed("Q", 100, 0)
+    c.polar("A", "O", 1, "t")
+    c.circle_circle("B", ("A", "Q"), (2, 2), branch="left")
+    with pytest.raises(AssemblyError, match="cannot be assembled anywhere"):
+        limits(c)
+
+
+@pytest.mark.parametrize("driver", ["crank", "coupler", "follower"])
+def test_a_circuit_passes_both_toggles_and_closes(driver):
+    c = triple_rocker(driver)
+    s = circuit(c, samples_per_pass=721)
+    assert s.valid.all()
+    # it closes: the same configuration at the start and the end
+    for point in ("B", "C"):
+        np.testing.assert_allclose(s[point][0], s[point][-1], atol=1e-9)
+    # the link lengths hold all the way round
+    for a, b, length in [("A", "B", R2), ("B", "C", R3), ("D", "C", R4)]:
+        np.testing.assert_allclose(np.hypot(*(s[a] - s[b]).T), length, rtol=1e-12)
+    # both toggles are passed on the node that becomes tangent, and the motion is continuous
+    node = EXPECTED[driver][2]
+    assert [e.node for e in s.events] == [node, node]
+    assert len(set(s.branches[node])) == 2
+    jumps = np.hypot(*np.diff(s["C"], axis=0).T)
+    assert jumps.max() < 3 * np.median(jumps)
+    lo, hi, _ = EXPECTED[driver]
+    history = s.input
+    assert abs(history.max() - hi) < 1e-9 and abs(history.min() - lo) < 1e-9
+
+
+def test_a_circuit_of_a_crank_that_turns_fully_is_one_turn():
+    s = circuit(coupler_fourbar(), start=0.3)
+    assert s.valid.all() and s.events == []
+    np.testing.assert_allclose(s.input[-1] - s.input[0], 2 * np.pi)
+    np.testing.assert_allclose(s["P"][0], s["P"][-1], atol=1e-9)
+
+
+def test_a_circuit_start_outside_every_interval_is_an_error():
+    with pytest.raises(AssemblyError, match="outside every assemblable interval"):
+        circuit(triple_rocker("crank"), start=np.pi)
