@@ -1,10 +1,10 @@
 import numpy as np
 import pytest
+from mechanisms import coupler_fourbar
+from test_kinematics import R1, R2, R3, R4, triple_rocker
 
 from geokin import AssemblyError, Construction
 from geokin.limits import circuit, limits
-from mechanisms import coupler_fourbar
-from test_kinematics import R1, R2, R3, R4, triple_rocker
 
 # closed forms of seed 000's triple rocker limits (see test_kinematics for the constructions)
 CRANK = np.arccos((R1**2 + R2**2 - (R3 + R4) ** 2) / (2 * R1 * R2))
