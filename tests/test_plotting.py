@@ -317,3 +317,26 @@ def test_frame_choice_is_even_and_capped():
     assert gp._frame_indices(5, 10).tolist() == [0, 1, 2, 3, 4]
     assert gp._frame_indices(361, None).size == 300
     assert gp._frame_indices(361, 400).size == 361
+
+
+def test_kinematics_figure_has_angle_velocity_and_acceleration_against_time():
+    from geokin.kinematics import motion
+    from geokin.plotting import figure_kinematics
+
+    c = Construction("four-bar")
+    c.input("theta", samples=73)
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 40, 0)
+    c.polar("A", "O2", 10, "theta")
+    c.circle_circle("B", ("A", "O4"), (35, 30), branch="left")
+    c.link("crank", "O2", "A")
+    c.link("coupler", "A", "B")
+    c.link("rocker", "O4", "B")
+    m = motion(sweep(c))
+    fig, axes = figure_kinematics(m)
+    assert len(axes) == 3 and axes[-1].get_xlabel() == "time (s)"
+    assert all(len(ax.get_lines()) == 3 for ax in axes)
+    np.testing.assert_allclose(axes[1].get_lines()[0].get_ydata(), 2 * np.pi)
+    plt.close(fig)
+    with pytest.raises(GeokinError, match="did you mean 'rocker'"):
+        figure_kinematics(m, links=["roker"])
