@@ -409,3 +409,16 @@ def test_curve_measures_gaps_and_errors():
     # a figure crossing itself between two open pieces
     m = curve_measures([(0, 0), (2, 2), (np.nan, np.nan), (0, 2), (2, 0)])
     np.testing.assert_allclose(m.double_points, [[1, 1]])
+
+
+def test_transmission_chart_example(tmp_path):
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    script = Path(__file__).parents[1] / "examples" / "transmission_chart.py"
+    out = tmp_path / "chart.png"
+    run = subprocess.run([sys.executable, str(script), str(out)], capture_output=True,
+                         text=True, check=True)
+    assert "mu_min = 34.92 deg, mu_max = 180.00 deg" in run.stdout
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"

@@ -164,3 +164,19 @@ def test_newton_continues_after_a_gap():
                               [1.0, 4.0, -1.0, 9.0], [1.0], names=("root",), on_failure="mask")
     np.testing.assert_allclose(sol["root"], [1, 2, np.nan, 3])
     assert sol.valid.tolist() == [True, True, False, True]
+
+
+def test_quick_return_three_ways_example():
+    import subprocess
+    import sys
+    from pathlib import Path
+
+    script = Path(__file__).parents[1] / "examples" / "quick_return_three_ways.py"
+    run = subprocess.run([sys.executable, str(script)], capture_output=True, text=True,
+                         check=True)
+    rows = {line.split()[0]: line.split() for line in run.stdout.splitlines()
+            if len(line.split()) == 8}
+    assert rows["r4"][3:6] == ["130.7669683062"] * 3
+    assert float(rows["theta3"][3]) == pytest.approx(66.5867755536)
+    for row in rows.values():
+        assert abs(float(row[6])) < 1e-9 and abs(float(row[7])) < 1e-9
