@@ -53,6 +53,10 @@ PARAMETER_RTOL = 1e-9
 PARALLEL_RTOL = 1e-12
 """Lines whose directions' cross product is below this (relative) are parallel."""
 
+DEGENERATE_RTOL = 1e-12
+"""Centres closer than this times the scale count as coincident, and a line
+through two points closer than this times the scale has no direction."""
+
 
 def _xy(points):
     points = np.asarray(points, dtype=float)
@@ -94,7 +98,7 @@ def circle_circle_xy(x1, y1, r1, x2, y2, r2):
     m = k * d
     half_chord_sq = (r1 - m) * (r1 + m)
     scale = np.maximum(d, np.maximum(np.abs(r1), np.abs(r2)))
-    margin = half_chord_sq / (scale * scale)
+    margin = np.where(d > DEGENERATE_RTOL * scale, half_chord_sq / (scale * scale), np.nan)
     if not (_nonnegative(r1) and _nonnegative(r2)):
         margin = np.where((r1 >= 0) & (r2 >= 0), margin, np.nan)
     h_over_d = np.sqrt(np.where(margin >= -TANGENCY_RTOL, np.maximum(half_chord_sq, 0.0),
@@ -137,7 +141,7 @@ def line_circle_xy(x1, y1, x2, y2, cx, cy, r):
     r_sq = r * r
     half_chord_sq = r_sq - offset_sq
     scale_sq = np.maximum(np.maximum(r_sq, offset_sq), np.maximum(t_foot * t_foot, 1.0) * length_sq)
-    margin = half_chord_sq / scale_sq
+    margin = np.where(length_sq > DEGENERATE_RTOL**2 * scale_sq, half_chord_sq / scale_sq, np.nan)
     if not _nonnegative(r):
         margin = np.where(r >= 0, margin, np.nan)
     # a zero-length line gives NaN through t_foot

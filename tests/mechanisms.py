@@ -23,7 +23,7 @@ def sixbar():
     c.line_circle("Ap", ("A0", "A"), "A", "l2p", branch="first")
     c.line_circle("C", ("A", "B"), "Ap", "l3p", branch="second")
     c.ray_circle("M", ("Ap", "C"), "Ap", "l5", branch="second")
-    c.link("crank", "A0", "A")
+    c.link("crank", "A0", "Ap", "A")
     c.link("coupler", "A", "B", "C")
     c.link("rocker", "B", "B0")
     c.link("output", "Ap", "M")

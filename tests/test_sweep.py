@@ -235,3 +235,15 @@ def test_every_branch_is_recorded_at_every_sample():
     assert set(s.branches) == {"B", "Ap", "C", "M"}
     assert all(b.shape == (len(s),) for b in s.branches.values())
     assert set(s.margins) == set(s.branches)
+
+
+def test_nearly_coincident_centres_are_degenerate_not_an_arbitrary_root():
+    c = Construction()
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 1, 0)
+    c.polar("A", "O2", 1.0000000000000002, "theta")
+    c.circle_circle("B", ("A", "O4"), (2, 2), branch="right")
+    s = sweep(c, [0.0, 0.5])
+    assert list(s.valid) == [False, True]
+    assert s.failure_reason[0].startswith("degenerate")
