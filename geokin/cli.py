@@ -1,0 +1,540 @@
+"""The ``geokin`` command line: check, trace, plot and animate construction scripts.
+
+Every command takes a construction script (see :mod:`geokin.io`). Values on
+the command line are in the script's units: degrees for an angle input,
+the script's length unit for a length input.
+
+Commands
+--------
+``geokin check SCRIPT...``
+    Validate scripts; print the compiled steps, the inputs, the degrees of
+    freedom and whether the default sweep can be assembled.
+``geokin trace SCRIPT [-o FILE.csv|.json|.npz] [--samples N | --step S] [--range A B]
+[--points M,B] [--derivatives]``
+    The motion as data: the input (named as in the script, in its units),
+    ``valid``, and ``<point>.x``, ``<point>.y`` for each point; with
+    ``--derivatives`` also ``<point>.vx .vy .ax .ay`` per second at the
+    input's declared speed. CSV on standard output without ``-o``.
+``geokin plot SCRIPT [-o FILE.png|.svg] [--at VALUE]``
+    The mechanism drawn at one input value with the paths of its traced
+    points over the whole range.
+``geokin animate SCRIPT -o FILE.gif|.html|.mp4 [--fps F] [--frames N]``
+    An animation of the motion with the paths growing.
+
+``trace``, ``plot`` and ``animate`` take the sweep options ``--range A B``
+and ``--samples N`` or ``--step S`` for the first input (other inputs are
+swept over their own ranges with as many samples). Errors are printed on
+standard error without a traceback, and the exit status is 2.
+
+Adding a command takes a function ``run_<name>(args) -> int`` and a
+function ``add_<name>(subparsers)`` that declares its arguments and sets
+``run``; list the latter in :data:`COMMANDS`.
+
+Examples
+--------
+>>> main(["check", "no-such-file.toml"])
+2
+"""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+import json
+import math
+import os
+import pathlib
+import sys
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import __version__
+from .errors import GeokinError, did_you_mean
+from .io import _script_degrees, load
+from .sweep import sweep as run_sweep
+
+__all__ = ["COMMANDS", "build_parser", "main"]
+
+MAX_SAMPLES = 1_000_000
+TRACE_FORMATS = (".csv", ".json", ".npz")
+
+
+class UsageError(GeokinError):
+    """A command-line argument that cannot be used."""
+
+
+# -- sweeping from the command line -----------------------------------------------
+
+
+@dataclass
+class Motion:
+    """A sweep with its input values in script units."""
+
+    construction: object
+    sweep: object
+    inputs: dict  # name -> values in script units
+
+
+def _unit(inp) -> str:
+    return "deg" if inp.kind == "angle" else "length"
+
+
+def _to_script(inp, value: float) -> float:
+    return _script_degrees(value) if inp.kind == "angle" else float(value)
+
+
+def _from_script(inp, values):
+    return np.radians(values) if inp.kind == "angle" else np.asarray(values, dtype=float)
+
+
+def _sample(lo, hi, samples=None, step=None) -> np.ndarray:
+    if step is not None:
+        if not (math.isfinite(step) and step != 0):
+            raise UsageError(f"--step must be a non-zero number, got {step:g}")
+        step = math.copysign(step, hi - lo)  # the range gives the direction
+        count = int(np.floor((hi - lo) / step * (1 + 1e-12) + 1e-9)) + 1
+        if count > MAX_SAMPLES:
+            raise UsageError(f"--step {step:g} makes {count} samples; at most {MAX_SAMPLES}")
+        return lo + step * np.arange(count)
+    return np.linspace(lo, hi, samples)
+
+
+def sweep_values(construction, args) -> dict:
+    """Return the input values, in script units, asked for by the sweep options."""
+    inputs = list(construction.inputs.values())
+    given = any(getattr(args, k, None) is not None for k in ("samples", "step", "range"))
+    if not inputs:
+        if given:
+            raise UsageError("this construction has no input to sweep")
+        return {}
+    first, *others = inputs
+    lo, hi = (args.range if args.range is not None
+              else (_to_script(first, first.range[0]), _to_script(first, first.range[1])))
+    if args.samples is not None:
+        values = _sample(lo, hi, samples=args.samples)
+    elif args.step is not None:
+        values = _sample(lo, hi, step=args.step)
+    elif first.step is not None:
+        values = _sample(lo, hi, step=_to_script(first, first.step))
+    else:
+        values = _sample(lo, hi, samples=first.samples)
+    result = {first.name: values}
+    for inp in others:
+        result[inp.name] = np.linspace(_to_script(inp, inp.range[0]),
+                                       _to_script(inp, inp.range[1]), len(values))
+    return result
+
+
+def motion_of(path, args, at=None) -> tuple[Motion, int | None]:
+    """Load a script and sweep it; with ``at``, make sure the first input takes that value.
+
+    Returns the motion and the index of the sample at ``at`` (None without it).
+    """
+    construction = load(path)
+    values = sweep_values(construction, args)
+    index = None
+    if at is not None:
+        if not values:
+            raise UsageError("--at needs a construction with an input")
+        name = next(iter(values))
+        values, index = _insert(values, name, at)
+    radians = {name: _from_script(construction.inputs[name], v) for name, v in values.items()}
+    result = run_sweep(construction, radians or None)
+    return Motion(construction, result, values), index
+
+
+def _insert(values: dict, name: str, at: float):
+    """Insert ``at`` into the first input's path where the path passes it."""
+    path = values[name]
+    close = np.flatnonzero(np.abs(path - at) <= 1e-9 * max(1.0, abs(at)))
+    if close.size:
+        return values, int(close[0])
+    increasing = path.size < 2 or path[-1] >= path[0]
+    ordered = path if increasing else path[::-1]
+    k = int(np.searchsorted(ordered, at))
+    if not increasing:
+        k = path.size - k
+    out = {}
+    for key, v in values.items():
+        extra = at if key == name else (v[min(k, v.size - 1)] if v.size else at)
+        out[key] = np.insert(v, k, extra)
+    return out, k
+
+
+def _format_value(inp, value) -> str:
+    if inp.kind == "angle":
+        return f"{value:g} deg"
+    return f"{value:g}"
+
+
+# -- check -------------------------------------------------------------------------
+
+
+def add_check(subparsers):
+    p = subparsers.add_parser(
+        "check", help="validate scripts; print steps, inputs and degrees of freedom",
+        description="Validate construction scripts and print their compiled steps, inputs, "
+                    "degrees of freedom and whether the default sweep can be assembled.")
+    p.add_argument("scripts", nargs="+", metavar="SCRIPT", help="construction script (.toml)")
+    p.set_defaults(run=run_check)
+
+
+def run_check(args) -> int:
+    status = 0
+    for i, path in enumerate(args.scripts):
+        if i:
+            print()
+        try:
+            _check_one(path)
+        except (GeokinError, OSError) as err:
+            _print_error(err)
+            status = 2
+    return status
+
+
+def _degrees_of_freedom(construction) -> str:
+    try:
+        from .analysis import degrees_of_freedom
+    except ImportError:
+        n = len(construction.inputs)
+        return f"{n} (the number of inputs)"
+    return str(degrees_of_freedom(construction))
+
+
+def _check_one(path):
+    c = load(path)
+    compiled = c.compile()
+    print(f"{path}: {c.name}")
+    if c.description:
+        print(f"  {c.description}")
+    if c.units:
+        print(f"  lengths in {c.units}, angles in degrees")
+    if c.parameters:
+        print("parameters: " + ", ".join(f"{p.name} = {p.value:g}" for p in c.parameters.values()))
+    print("inputs:" if c.inputs else "inputs: none")
+    for inp in c.inputs.values():
+        unit = " deg" if inp.kind == "angle" else ""
+        lo, hi = (_to_script(inp, v) for v in inp.range)
+        if inp.step is not None:
+            count = len(inp.values())
+            spacing = f"step {_to_script(inp, inp.step):g}{unit} ({count} samples)"
+        else:
+            spacing = f"{inp.samples} samples"
+        rate = f"{_to_script(inp, inp.speed):g}{unit or ' units'}/s"
+        print(f"  {inp.name} ({inp.kind}): {lo:g} to {hi:g}{unit}, {spacing}, {rate}")
+    print(compiled)
+    if c.traced:
+        print("traced: " + ", ".join(c.traced))
+    print(f"degrees of freedom: {_degrees_of_freedom(c)}")
+    s = run_sweep(c)
+    bad = np.flatnonzero(~s.valid)
+    summary = f"sweep: {len(s)} samples, "
+    if bad.size == 0:
+        summary += "all assembled"
+    else:
+        i = int(bad[0])
+        summary += (f"{len(s) - bad.size} assembled, {bad.size} cannot be: first at "
+                    f"{_sample_text(c, s, i)}: node {s.failed_node[i]!r}: "
+                    f"{s.failure_reason[i]}")
+    summary += f"; {len(s.events)} branch change{'s' if len(s.events) != 1 else ''}"
+    print(summary)
+    for event in s.events:
+        print(f"  at {_sample_text(c, s, event.index)}: node {event.node!r} changes branch "
+              f"from {event.before} to {event.after}")
+
+
+def _sample_text(c, s, i) -> str:
+    parts = []
+    for name, values in s.inputs.items():
+        inp = c.inputs[name]
+        value = math.degrees(values[i]) if inp.kind == "angle" else values[i]
+        parts.append(f"{name} = {_format_value(inp, round(float(value), 9))}")
+    return ", ".join(parts) or f"sample {i}"
+
+
+# -- trace -------------------------------------------------------------------------
+
+
+def _positive_int(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+    if value < 2:
+        raise argparse.ArgumentTypeError(f"expected at least 2, got {value}")
+    if value > MAX_SAMPLES:
+        raise argparse.ArgumentTypeError(f"at most {MAX_SAMPLES}, got {value}")
+    return value
+
+
+def _finite(text):
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+    return value
+
+
+def _add_sweep_options(p):
+    group = p.add_argument_group("sweep", "of the first input, in script units "
+                                          "(degrees for an angle)")
+    group.add_argument("--range", nargs=2, type=_finite, metavar=("A", "B"),
+                       help="sweep from A to B instead of the declared range")
+    spacing = group.add_mutually_exclusive_group()
+    spacing.add_argument("--samples", type=_positive_int, metavar="N",
+                         help="N samples, both ends included")
+    spacing.add_argument("--step", type=_finite, metavar="S",
+                         help="samples S apart from the start of the range towards its end")
+
+
+def add_trace(subparsers):
+    p = subparsers.add_parser(
+        "trace", help="the motion as data (CSV, JSON or NPZ)",
+        description="Sweep a construction and write the motion: the input (script units), "
+                    "valid, and <point>.x, <point>.y for each point; with --derivatives "
+                    "also <point>.vx, .vy, .ax, .ay per second at the input's speed. "
+                    "NaN where a sample cannot be assembled.")
+    p.add_argument("script", metavar="SCRIPT", help="construction script (.toml)")
+    p.add_argument("-o", "--output", metavar="FILE",
+                   help="write FILE.csv, FILE.json or FILE.npz (default: CSV on standard output)")
+    p.add_argument("--points", metavar="NAMES",
+                   help="comma-separated points to write (default: all)")
+    p.add_argument("--derivatives", action="store_true",
+                   help="add velocities and accelerations per second")
+    _add_sweep_options(p)
+    p.set_defaults(run=run_trace)
+
+
+def _output_kind(path, formats, what) -> str:
+    suffix = pathlib.Path(path).suffix.lower()
+    if suffix not in formats:
+        raise UsageError(f"cannot write {what} to {path!r}: use a "
+                         f"{', '.join(formats[:-1])} or {formats[-1]} file")
+    return suffix
+
+
+def _selected_points(construction, text):
+    names = list(construction.nodes)
+    if text is None:
+        return names
+    chosen = [p.strip() for p in text.split(",") if p.strip()]
+    if not chosen:
+        raise UsageError("--points names no point")
+    for p in chosen:
+        if p not in construction.nodes:
+            raise UsageError(f"--points: no point {p!r}{did_you_mean(p, names)} "
+                             f"(points: {', '.join(names)})")
+    return chosen
+
+
+def trace_columns(m: Motion, points, derivatives=False) -> dict:
+    """Return the columns of ``geokin trace`` as a dict of name to array."""
+    columns = dict(m.inputs)
+    columns["valid"] = m.sweep.valid.copy()
+    rates = None
+    if derivatives:
+        try:
+            from .kinematics import motion
+        except ImportError as exc:
+            raise UsageError(f"--derivatives is not available: geokin.kinematics cannot be "
+                             f"imported ({exc})") from None
+        rates = motion(m.sweep)
+    for p in points:
+        xy = m.sweep[p]
+        columns[f"{p}.x"], columns[f"{p}.y"] = xy[:, 0], xy[:, 1]
+        if rates is not None:
+            v, a = rates.velocity[p], rates.acceleration[p]
+            columns[f"{p}.vx"], columns[f"{p}.vy"] = v[:, 0], v[:, 1]
+            columns[f"{p}.ax"], columns[f"{p}.ay"] = a[:, 0], a[:, 1]
+    return columns
+
+
+def _csv_number(value) -> str:
+    value = float(value)
+    if math.isnan(value):
+        return "nan"
+    if value.is_integer() and abs(value) < 1e15:
+        return str(int(value))
+    return repr(value)
+
+
+def write_csv(columns: dict, stream):
+    """Write trace columns as CSV: a header, then one row per sample."""
+    names = list(columns)
+    stream.write(",".join(names) + "\n")
+    arrays = [columns[n] for n in names]
+    rows = len(arrays[0]) if arrays else 0
+    for i in range(rows):
+        cells = []
+        for name, array in zip(names, arrays, strict=True):
+            cells.append(("1" if array[i] else "0") if name == "valid" else _csv_number(array[i]))
+        stream.write(",".join(cells) + "\n")
+
+
+def write_json(columns: dict, stream):
+    """Write trace columns as one JSON object of arrays (null where not a number)."""
+    data = {}
+    for name, array in columns.items():
+        if name == "valid":
+            data[name] = [bool(v) for v in array]
+        else:
+            data[name] = [None if math.isnan(v) else float(v) for v in np.asarray(array, float)]
+    json.dump(data, stream, allow_nan=False)
+    stream.write("\n")
+
+
+def run_trace(args) -> int:
+    kind = ".csv" if args.output is None else _output_kind(args.output, TRACE_FORMATS,
+                                                           "a trace")
+    m, _ = motion_of(args.script, args)
+    points = _selected_points(m.construction, args.points)
+    columns = trace_columns(m, points, args.derivatives)
+    if args.output is None:
+        write_csv(columns, sys.stdout)
+        sys.stdout.flush()
+        return 0
+    path = pathlib.Path(args.output)
+    if kind == ".npz":
+        np.savez(path, **{name: np.asarray(v) for name, v in columns.items()})
+    else:
+        with open(path, "w", encoding="utf-8", newline="") as f:
+            (write_csv if kind == ".csv" else write_json)(columns, f)
+    print(f"wrote {path}: {len(m.sweep)} samples, {len(columns)} columns", file=sys.stderr)
+    return 0
+
+
+# -- plot and animate --------------------------------------------------------------
+
+
+def _plotting():
+    try:
+        plotting = importlib.import_module("geokin.plotting")
+    except ImportError as exc:
+        raise UsageError(f"plotting is not available: geokin.plotting cannot be imported "
+                         f"({exc})") from None
+    return plotting
+
+
+def add_plot(subparsers):
+    p = subparsers.add_parser(
+        "plot", help="draw the mechanism at one input value, with its traced paths",
+        description="Draw the mechanism at one input value (ground pivots, links, sliders, "
+                    "the input) with the paths of its traced points over the whole sweep.")
+    p.add_argument("script", metavar="SCRIPT", help="construction script (.toml)")
+    p.add_argument("-o", "--output", metavar="FILE",
+                   help="FILE.png or FILE.svg (default: the script's name with .png, here)")
+    p.add_argument("--at", type=_finite, metavar="VALUE",
+                   help="the first input's value to draw, in script units (default: the "
+                        "first sample that can be assembled)")
+    p.add_argument("--title", help="the figure's title (default: the construction's name)")
+    _add_sweep_options(p)
+    p.set_defaults(run=run_plot)
+
+
+def run_plot(args) -> int:
+    output = args.output or pathlib.Path(args.script).with_suffix(".png").name
+    _output_kind(output, (".png", ".svg"), "a picture")
+    plotting = _plotting()
+    m, index = motion_of(args.script, args, at=args.at)
+    if index is not None and not m.sweep.valid[index]:
+        s = m.sweep
+        print(f"geokin: warning: {_sample_text(m.construction, s, index)}: node "
+              f"{s.failed_node[index]!r} cannot be assembled: {s.failure_reason[index]}; "
+              "the nearest assembled pose is drawn", file=sys.stderr)
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(8, 6), layout="constrained")
+    ax = fig.add_subplot()
+    plotting.plot_mechanism(m.sweep, index, ax=ax, title=args.title)
+    path = plotting.save(fig, output)
+    print(f"wrote {path}", file=sys.stderr)
+    return 0
+
+
+def add_animate(subparsers):
+    p = subparsers.add_parser(
+        "animate", help="write an animation (GIF, HTML or MP4)",
+        description="Animate the motion with the traced paths growing: .gif (Pillow), "
+                    ".html (a self-contained page) or .mp4 (needs ffmpeg).")
+    p.add_argument("script", metavar="SCRIPT", help="construction script (.toml)")
+    p.add_argument("-o", "--output", metavar="FILE", required=True,
+                   help="FILE.gif, FILE.html or FILE.mp4")
+    p.add_argument("--fps", type=_finite, default=25.0, help="frames per second (default 25)")
+    p.add_argument("--frames", type=_positive_int, metavar="N",
+                   help="number of frames, evenly chosen among the samples "
+                        "(default: every sample, at most 300)")
+    p.add_argument("--no-progress", action="store_true", help="do not show a progress bar")
+    _add_sweep_options(p)
+    p.set_defaults(run=run_animate)
+
+
+def run_animate(args) -> int:
+    _output_kind(args.output, (".gif", ".html", ".mp4"), "an animation")
+    if args.fps <= 0:
+        raise UsageError(f"--fps must be positive, got {args.fps:g}")
+    plotting = _plotting()
+    m, _ = motion_of(args.script, args)
+    path = plotting.animate(m.sweep, args.output, fps=args.fps, frames=args.frames,
+                            progress=not args.no_progress)
+    print(f"wrote {path}", file=sys.stderr)
+    return 0
+
+
+# -- the program ---------------------------------------------------------------------
+
+COMMANDS = [add_check, add_trace, add_plot, add_animate]
+"""The functions that declare each command, in the order ``geokin --help`` lists them."""
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the argument parser of the ``geokin`` command."""
+    parser = argparse.ArgumentParser(
+        prog="geokin",
+        description="Kinematics of planar linkages described as construction scripts. "
+                    "Angles are in degrees on the command line and in scripts.")
+    parser.add_argument("--version", action="version", version=f"geokin {__version__}")
+    subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for add in COMMANDS:
+        add(subparsers)
+    return parser
+
+
+def _print_error(err):
+    if isinstance(err, OSError) and not isinstance(err, GeokinError):
+        name = err.filename if err.filename is not None else ""
+        message = f"cannot open {str(name)!r}: {err.strerror or err}"
+    else:
+        message = str(err)
+    print(f"geokin: error: {message}", file=sys.stderr)
+
+
+def main(argv=None) -> int:
+    """Run the ``geokin`` command with ``argv`` (the process arguments by default).
+
+    Returns
+    -------
+    int
+        The exit status: 0 on success, 2 for any error (printed on standard
+        error, without a traceback).
+    """
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+    except SystemExit as exc:  # --help, --version, or a usage error already printed
+        return exc.code if isinstance(exc.code, int) else 2
+    try:
+        return args.run(args)
+    except BrokenPipeError:  # pragma: no cover - e.g. `geokin trace ... | head`
+        # the reader has gone: stop quietly, and keep Python from complaining at exit
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
+    except (GeokinError, OSError) as err:
+        _print_error(err)
+        return 2
+
+
+if __name__ == "__main__":  # pragma: no cover
+    sys.exit(main())

@@ -1,0 +1,303 @@
+"""The geokin command line, end to end."""
+
+import csv
+import io
+import json
+import pathlib
+import shutil
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+import geokin
+from geokin.cli import COMMANDS, build_parser, main
+
+CONSTRUCTIONS = pathlib.Path(__file__).resolve().parent.parent / "constructions"
+SIXBAR = str(CONSTRUCTIONS / "sixbar.toml")
+CRANK = str(CONSTRUCTIONS / "triple_rocker_crank.toml")
+
+
+def run(capsys, *argv):
+    status = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    assert "Traceback" not in out + err
+    return status, out, err
+
+
+def read_csv(text):
+    rows = list(csv.reader(io.StringIO(text)))
+    return rows[0], np.array(rows[1:], dtype=float)
+
+
+# -- check -------------------------------------------------------------------------
+
+
+def test_check_prints_steps_inputs_and_degrees_of_freedom(capsys):
+    status, out, err = run(capsys, "check", SIXBAR)
+    assert status == 0 and err == ""
+    assert "construction 'six-bar': 9 steps" in out
+    assert "B   = circle_circle(A, l3; B0, l4)  [left]" in out
+    assert "theta (angle): 0 to 1800 deg, step 16 deg (113 samples), 360 deg/s" in out
+    assert "degrees of freedom: DOF = 3(5) - 2(7) - 0 = 1; 1 input" in out
+    assert "sweep: 113 samples, all assembled; 0 branch changes" in out
+
+
+def test_check_every_shipped_construction(capsys):
+    scripts = sorted(CONSTRUCTIONS.glob("*.toml"))
+    status, out, _ = run(capsys, "check", *scripts)
+    assert status == 0
+    assert out.count("all assembled") == len(scripts)
+
+
+def test_check_reports_samples_that_cannot_be_assembled(capsys, tmp_path):
+    script = tmp_path / "wide.toml"
+    script.write_text(pathlib.Path(CRANK).read_text().replace("range = [-132, 132]",
+                                                              "range = [-140, 140]"))
+    status, out, _ = run(capsys, "check", script)
+    assert status == 0
+    assert "sweep: 281 samples, 265 assembled, 16 cannot be: first at theta2 = -140 deg: " \
+           "node 'C': no intersection" in out
+
+
+def test_check_without_analysis_counts_inputs(capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "geokin.analysis", None)
+    status, out, _ = run(capsys, "check", SIXBAR)
+    assert status == 0
+    assert "degrees of freedom: 1 (the number of inputs)" in out
+
+
+def test_check_a_bad_script_exits_2_with_the_place_of_the_error(capsys, tmp_path):
+    script = tmp_path / "sixbar.toml"
+    script.write_text(pathlib.Path(SIXBAR).read_text().replace('"l3", "l4"', '"l3", "l33"'))
+    status, out, err = run(capsys, "check", script, SIXBAR)
+    assert status == 2
+    assert err.startswith(f"geokin: error: {script}:")
+    assert "[points] B.radii[1]: unknown parameter or input 'l33'; did you mean 'l3'?" in err
+    assert "construction 'six-bar'" in out  # the good script is still checked
+
+
+# -- trace -------------------------------------------------------------------------
+
+
+def test_trace_writes_csv_to_standard_output(capsys):
+    status, out, err = run(capsys, "trace", SIXBAR)
+    assert status == 0 and err == ""
+    header, data = read_csv(out)
+    points = ["D", "mid", "A0", "B0", "A", "B", "Ap", "C", "M"]
+    assert header == ["theta", "valid"] + [f"{p}.{xy}" for p in points for xy in "xy"]
+    assert data.shape == (113, 2 + 18)
+    np.testing.assert_array_equal(data[:, 0], np.arange(0, 1800, 16))
+    assert (data[:, 1] == 1).all()
+    s = geokin.sweep(geokin.load(SIXBAR))
+    np.testing.assert_allclose(data[:, -2:], s["M"], rtol=1e-15)
+
+
+def test_trace_options_select_points_and_samples(capsys):
+    status, out, _ = run(capsys, "trace", SIXBAR, "--points", "M, B", "--samples", 5,
+                         "--range", 0, 360)
+    assert status == 0
+    header, data = read_csv(out)
+    assert header == ["theta", "valid", "M.x", "M.y", "B.x", "B.y"]
+    np.testing.assert_array_equal(data[:, 0], [0, 90, 180, 270, 360])
+    for step in (7.5, -7.5):
+        status, out, _ = run(capsys, "trace", SIXBAR, "--points", "M", "--step", step,
+                             "--range", 30, 0)
+        header, data = read_csv(out)
+        np.testing.assert_array_equal(data[:, 0], [30, 22.5, 15, 7.5, 0])
+
+
+def test_trace_marks_samples_that_cannot_be_assembled(capsys, tmp_path):
+    status, out, _ = run(capsys, "trace", CRANK, "--range", 130, 134, "--step", 1,
+                         "--points", "C")
+    assert status == 0
+    header, data = read_csv(out)
+    np.testing.assert_array_equal(data[:, 1], [1, 1, 1, 0, 0])
+    assert np.isnan(data[3:, 2:]).all() and np.isfinite(data[:3, 2:]).all()
+    path = tmp_path / "crank.json"
+    assert main(["trace", CRANK, "--range", "130", "134", "--step", "1", "--points", "C",
+                 "-o", str(path)]) == 0
+    data = json.loads(path.read_text())
+    assert list(data) == ["theta2", "valid", "C.x", "C.y"]
+    assert data["valid"] == [True, True, True, False, False]
+    assert data["C.x"][3] is None and isinstance(data["C.x"][0], float)
+
+
+def test_trace_json_and_npz_carry_the_csv_fields(capsys, tmp_path):
+    status, out, _ = run(capsys, "trace", SIXBAR, "--derivatives")
+    header, table = read_csv(out)
+    assert status == 0
+    for suffix in (".json", ".npz", ".csv"):
+        path = tmp_path / f"six{suffix}"
+        status, out, err = run(capsys, "trace", SIXBAR, "--derivatives", "-o", path)
+        assert status == 0 and out == "" and "wrote" in err
+        if suffix == ".json":
+            data = json.loads(path.read_text())
+        elif suffix == ".npz":
+            data = dict(np.load(path))
+            assert data["valid"].dtype == bool
+        else:
+            names, rows = read_csv(path.read_text())
+            data = dict(zip(names, rows.T, strict=True))
+        assert list(data) == header
+        for i, name in enumerate(header):
+            np.testing.assert_allclose(np.asarray(data[name], dtype=float), table[:, i],
+                                       rtol=1e-15)
+
+
+def test_trace_derivatives_are_per_second_at_the_declared_speed(capsys):
+    status, out, _ = run(capsys, "trace", SIXBAR, "--derivatives", "--points", "A")
+    assert status == 0
+    header, data = read_csv(out)
+    assert header == ["theta", "valid", "A.x", "A.y", "A.vx", "A.vy", "A.ax", "A.ay"]
+    # the crank tip: radius 20 at one turn per second
+    np.testing.assert_allclose(np.hypot(data[:, 4], data[:, 5]), 20 * 2 * np.pi, rtol=1e-6)
+    np.testing.assert_allclose(np.hypot(data[:, 6], data[:, 7]), 20 * (2 * np.pi) ** 2,
+                               rtol=1e-5)
+
+
+def test_trace_derivatives_say_when_kinematics_is_not_available(capsys, monkeypatch):
+    monkeypatch.setitem(sys.modules, "geokin.kinematics", None)
+    status, out, err = run(capsys, "trace", SIXBAR, "--derivatives")
+    assert status == 2 and out == ""
+    assert "geokin: error: --derivatives is not available" in err
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["trace", "missing.toml"], "geokin: error: cannot open 'missing.toml': No such file"),
+    (["trace", SIXBAR, "-o", "out.txt"], "cannot write a trace to 'out.txt': use a .csv, "
+                                         ".json or .npz file"),
+    (["trace", SIXBAR, "--points", "MM"], "--points: no point 'MM'; did you mean 'M'?"),
+    (["trace", SIXBAR, "--points", ","], "--points names no point"),
+    (["trace", SIXBAR, "--samples", "x"], "argument --samples: expected an integer"),
+    (["trace", SIXBAR, "--samples", "1"], "argument --samples: expected at least 2"),
+    (["trace", SIXBAR, "--samples", "5", "--step", "1"], "not allowed with argument"),
+    (["trace", SIXBAR, "--range", "0"], "argument --range: expected 2 arguments"),
+    (["trace", SIXBAR, "--range", "0", "nan"], "expected a finite number"),
+    (["trace", SIXBAR, "--step", "0"], "--step must be a non-zero number, got 0"),
+    (["trace", SIXBAR, "--step", "1e-6"], "samples; at most 1000000"),
+    (["trace"], "the following arguments are required: SCRIPT"),
+    (["trace", SIXBAR, "-o", "/no/such/folder/out.csv"], "cannot open '/no/such/folder"),
+    (["frobnicate"], "invalid choice: 'frobnicate'"),
+    ([], "the following arguments are required: COMMAND"),
+    (["plot", SIXBAR, "-o", "out.jpg"], "cannot write a picture to 'out.jpg': use a .png or "
+                                        ".svg file"),
+    (["animate", SIXBAR], "the following arguments are required: -o/--output"),
+    (["animate", SIXBAR, "-o", "out.avi"], "cannot write an animation to 'out.avi'"),
+    (["animate", SIXBAR, "-o", "out.gif", "--fps", "0"], "--fps must be positive"),
+])
+def test_errors_exit_2_without_a_traceback(capsys, argv, message):
+    status, out, err = run(capsys, *argv)
+    assert status == 2
+    assert message in err, err
+    assert out == ""
+
+
+def test_help_and_version_exit_0(capsys):
+    status, out, _ = run(capsys, "--help")
+    assert status == 0
+    for command in ("check", "trace", "plot", "animate"):
+        assert command in out
+    status, out, _ = run(capsys, "--version")
+    assert status == 0 and out.strip() == f"geokin {geokin.__version__}"
+    status, out, _ = run(capsys, "trace", "--help")
+    assert status == 0 and "--derivatives" in out and "degrees for an angle" in out
+
+
+def test_a_command_is_one_function_and_a_parser_entry(capsys, monkeypatch):
+    def add_hello(subparsers):
+        p = subparsers.add_parser("hello", help="print the construction's name")
+        p.add_argument("script")
+        p.set_defaults(run=lambda args: print(geokin.load(args.script).name) or 0)
+
+    monkeypatch.setattr("geokin.cli.COMMANDS", [*COMMANDS, add_hello])
+    assert "hello" in build_parser().format_help()
+    status, out, _ = run(capsys, "hello", SIXBAR)
+    assert (status, out) == (0, "six-bar\n")
+
+
+# -- plot and animate ----------------------------------------------------------------
+
+
+def test_plot_writes_a_png_of_the_figure_size(capsys, tmp_path):
+    from PIL import Image
+
+    path = tmp_path / "six.png"
+    status, out, err = run(capsys, "plot", SIXBAR, "-o", path, "--at", 100)
+    assert status == 0 and f"wrote {path}" in err
+    with Image.open(path) as image:
+        assert image.size == (800, 600)
+
+
+def test_plot_defaults_to_a_png_named_after_the_script(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    status, _, _ = run(capsys, "plot", SIXBAR)
+    assert status == 0 and (tmp_path / "sixbar.png").stat().st_size > 1000
+
+
+def test_plot_svg_and_a_value_between_samples(capsys, tmp_path):
+    path = tmp_path / "crank.svg"
+    status, _, err = run(capsys, "plot", CRANK, "-o", path, "--at", 10.5, "--title", "T")
+    assert status == 0
+    text = path.read_text()
+    assert text.lstrip().startswith("<?xml") and "10.5" in text
+
+
+def test_plot_where_it_cannot_be_assembled_warns(capsys, tmp_path):
+    status, _, err = run(capsys, "plot", CRANK, "-o", tmp_path / "x.png", "--at", 140)
+    assert status == 0
+    assert "warning: theta2 = 140 deg: node 'C' cannot be assembled" in err
+
+
+def test_animate_gif_has_the_frames_asked_for(capsys, tmp_path):
+    from PIL import Image
+
+    path = tmp_path / "fourbar.gif"
+    status, _, err = run(capsys, "animate", CONSTRUCTIONS / "fourbar_open.toml", "-o", path,
+                         "--frames", 6, "--fps", 10, "--no-progress")
+    assert status == 0 and f"wrote {path}" in err
+    with Image.open(path) as image:
+        assert image.n_frames == 6
+
+
+def test_animate_html_is_one_page(capsys, tmp_path):
+    path = tmp_path / "crank.html"
+    status, _, _ = run(capsys, "animate", CRANK, "-o", path, "--frames", 3, "--samples", 10)
+    assert status == 0
+    text = path.read_text()
+    assert "<script" in text and "data:image/png;base64" in text
+
+
+@pytest.mark.skipif(shutil.which("ffmpeg") is not None, reason="ffmpeg is installed")
+def test_animate_mp4_without_ffmpeg_says_so(capsys, tmp_path):
+    status, _, err = run(capsys, "animate", CRANK, "-o", tmp_path / "x.mp4", "--frames", 3)
+    assert status == 2 and "needs ffmpeg" in err
+
+
+def test_plot_says_when_plotting_is_not_available(capsys, monkeypatch, tmp_path):
+    monkeypatch.setitem(sys.modules, "geokin.plotting", None)
+    status, _, err = run(capsys, "plot", SIXBAR, "-o", tmp_path / "x.png")
+    assert status == 2 and "plotting is not available" in err
+
+
+# -- the installed console script ----------------------------------------------------
+
+
+@pytest.mark.skipif(shutil.which("geokin") is None, reason="the console script is not installed")
+def test_the_installed_console_script(tmp_path):
+    done = subprocess.run(["geokin", "check", SIXBAR], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 0, done.stderr
+    assert "degrees of freedom" in done.stdout
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[points]\nA = { op = "fixd", at = [0, 0] }\n')
+    done = subprocess.run(["geokin", "trace", str(bad)], capture_output=True, text=True,
+                          timeout=120)
+    assert done.returncode == 2
+    assert done.stderr == (f"geokin: error: {bad}:2: [points] A.op: unknown op 'fixd'; did you "
+                           "mean 'fixed'? (ops: fixed, polar, along, line_line, line_circle, "
+                           "segment_circle, ray_circle, circle_circle)\n")
+    done = subprocess.run(["geokin", "trace", SIXBAR, "--points", "M"], capture_output=True,
+                          text=True, timeout=120)
+    assert done.returncode == 0 and len(done.stdout.splitlines()) == 114
