@@ -324,3 +324,39 @@ def test_offset_slider_crank_stroke():
     exact = math.sqrt((rod + r) ** 2 - e**2) - math.sqrt((rod - r) ** 2 - e**2)
     assert stroke == pytest.approx(exact, abs=1e-6)
     assert stroke > 2 * r
+
+
+# -- the examples that use the shipped scripts ------------------------------------------
+
+EXAMPLES = pathlib.Path(__file__).resolve().parent.parent / "examples"
+
+
+def run_example(name, *argv, monkeypatch, capsys):
+    import runpy
+    import sys
+
+    monkeypatch.setattr(sys, "argv", [name, *map(str, argv)])
+    runpy.run_path(str(EXAMPLES / name), run_name="__main__")
+    return capsys.readouterr().out
+
+
+def test_example_quick_return_table(monkeypatch, capsys):
+    out = run_example("quick_return_table.py", monkeypatch=monkeypatch, capsys=capsys)
+    assert "     30    87.18   130.77    51.96   66.59" in out
+    assert len(out.splitlines()) == 14
+
+
+def test_example_sixbar_trace(monkeypatch, capsys, tmp_path):
+    from PIL import Image
+
+    path = tmp_path / "six.png"
+    out = run_example("sixbar_trace.py", path, monkeypatch=monkeypatch, capsys=capsys)
+    assert "113 samples, all assembled: True" in out
+    with Image.open(path) as image:
+        assert image.size == (800, 600)
+
+
+def test_example_script_from_python(monkeypatch, capsys):
+    out = run_example("script_from_python.py", monkeypatch=monkeypatch, capsys=capsys)
+    assert 'angle = 30, reference = ["A", "B"]' in out
+    assert float(out.split("between the two: ")[1].split()[0]) < 1e-9
