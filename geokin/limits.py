@@ -236,6 +236,8 @@ def limits(construction, input: str | None = None, *, range=None,
     probe = _evaluate_at(compiled, name, grid, held, held_branches)
     ok = _strictly_valid(probe)
     if ok.all() and turn:
+        # it turns fully: every value is assemblable, the declared range included
+        lo, hi = min(lo, *declared.range), max(hi, *declared.range)
         ends = (Limit(lo, None, "range"), Limit(hi, None, "range"))
         return Limits(name, [ends], True, held_branches)
     change = np.flatnonzero(ok[1:] != ok[:-1])

@@ -1,0 +1,171 @@
+"""One report of everything geokin can say about a construction.
+
+:func:`analyze` gathers the degrees of freedom, the motion limits of each
+input, the Grashof class of every four-bar loop it recognises, the
+transmission angle at every circle-circle node, strokes and time ratios of
+the traced points and the declared links, and measures of the traced
+curves. It is what ``geokin analyze`` prints.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .analysis import curve_measures, degrees_of_freedom, grashof, stroke, transmission_angles
+from .construction import CircleCircle, Fixed, Polar
+from .limits import circuit, describe_limit, limits
+from .sweep import Sweep, _compiled, sweep
+
+__all__ = ["analyze"]
+
+
+def _four_bars(compiled, motion: Sweep):
+    """Find circle-circle nodes closing a four-bar on a driven crank and a fixed pivot."""
+    nodes = {step.node.name: step.node for step in compiled.steps}
+    found = []
+    for node in nodes.values():
+        if not isinstance(node, CircleCircle):
+            continue
+        for crank_pin, pivot in (node.centers, node.centers[::-1]):
+            crank, fixed = nodes[crank_pin], nodes[pivot]
+            if not (isinstance(crank, Polar) and isinstance(fixed, Fixed)
+                    and isinstance(nodes[crank.origin], Fixed) and crank.reference is None
+                    and crank.angle.names() & compiled.inputs.keys()):
+                continue
+            i = int(np.flatnonzero(motion.valid)[0])
+            p = {name: motion[name][i] for name in (crank.origin, crank_pin, node.name, pivot)}
+            lengths = {
+                "ground": float(np.hypot(*(p[pivot] - p[crank.origin]))),
+                "input": float(np.hypot(*(p[crank_pin] - p[crank.origin]))),
+                "coupler": float(np.hypot(*(p[node.name] - p[crank_pin]))),
+                "output": float(np.hypot(*(p[node.name] - p[pivot]))),
+            }
+            found.append((node.name, (crank.origin, crank_pin, node.name, pivot), lengths))
+            break
+    return found
+
+
+def analyze(construction, *, degrees: bool = False) -> dict:
+    """Analyse a construction and return a report as plain data (JSON-ready).
+
+    The motion analysed is the whole circuit of the first input (one turn if
+    it turns fully; otherwise from limit to limit on both sides of each
+    toggle, see :func:`geokin.limits.circuit`).
+
+    Parameters
+    ----------
+    construction : Construction or Compiled
+    degrees : bool
+        Give angles (input values of angle inputs, transmission angles, link
+        swings) in degrees instead of radians.
+
+    Returns
+    -------
+    dict
+        ``dof``, ``mobility``, ``inputs.<name>.intervals`` (each ``[low, high]``)
+        with ``full_turn`` and ``limits``, ``four_bars``,
+        ``transmission_angles``, ``strokes`` and ``curves``.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from geokin import Construction
+    >>> c = Construction("triple rocker")
+    >>> c.input("theta2", range=(-np.pi, np.pi))
+    >>> c.fixed("A", 0, 0)
+    >>> c.fixed("D", 7, 0)
+    >>> c.polar("B", "A", 5, "theta2")
+    >>> c.circle_circle("C", ("B", "D"), (6, 5), branch="left")
+    >>> report = analyze(c, degrees=True)
+    >>> [round(v, 4) for v in report["inputs"]["theta2"]["intervals"][0]]
+    [-132.1774, 132.1774]
+    >>> report["four_bars"][0]["class"]
+    'triple-rocker RRR1'
+    """
+    compiled = _compiled(construction)
+    angle = np.degrees if degrees else (lambda v: v)
+    mobility = degrees_of_freedom(compiled)
+    report = {
+        "construction": compiled.name,
+        "angle_unit": "deg" if degrees else "rad",
+        "dof": mobility.dof,
+        "mobility": {
+            "moving_links": mobility.moving_links, "revolute_joints": mobility.revolute_joints,
+            "prismatic_pairs": mobility.prismatic_pairs, "lower_pairs": mobility.lower_pairs,
+            "higher_pairs": mobility.higher_pairs, "inputs": mobility.inputs,
+            "matches_inputs": mobility.matches_inputs, "formula": str(mobility),
+        },
+        "inputs": {},
+    }
+    for name, declared in compiled.inputs.items():
+        convert = angle if declared.kind == "angle" else (lambda v: v)
+        found = limits(compiled, name)
+        report["inputs"][name] = {
+            "kind": declared.kind,
+            "full_turn": found.full_turn,
+            "intervals": [[float(convert(lo)), float(convert(hi))]
+                          for lo, hi in found.as_values()],
+            "limits": [{"value": float(convert(end.value)), "node": end.node, "kind": end.kind,
+                        "meaning": describe_limit(end)}
+                       for pair in found.intervals for end in pair if end.kind != "range"],
+        }
+    if len(compiled.inputs) == 1:
+        motion = circuit(compiled)
+    else:
+        motion = sweep(compiled)
+    if not motion.valid.any():
+        return report
+    report["four_bars"] = [
+        {"node": node, "points": list(points), **lengths,
+         "class": (g := grashof(**lengths)).kind, "code": g.code, "grashof": g.grashof,
+         "turning": list(g.turning)}
+        for node, points, lengths in _four_bars(compiled, motion)]
+    def inputs_at(values):
+        return {k: float(angle(v) if compiled.inputs[k].kind == "angle" else v)
+                for k, v in values.items()}
+
+    report["transmission_angles"] = {
+        node: {"min": float(angle(t.minimum)), "max": float(angle(t.maximum)),
+               "at_min": inputs_at(t.at_minimum), "at_max": inputs_at(t.at_maximum)}
+        for node, t in transmission_angles(motion).items()}
+    report["strokes"] = _strokes(compiled, motion, angle)
+    report["curves"] = {}
+    for point in compiled.traced:
+        curve = curve_measures(motion[point])
+        report["curves"][point] = {
+            "length": curve.length, "closed": curve.closed,
+            "area": None if np.isnan(curve.area) else curve.area,
+            "bounds": list(curve.bounds),
+            "double_points": curve.double_points.tolist()}
+    return report
+
+
+def _strokes(compiled, motion: Sweep, angle) -> dict:
+    """Extremes and time ratios of traced coordinates and link angles over one turn."""
+    if len(compiled.inputs) != 1:
+        return {}
+    name, declared = next(iter(compiled.inputs.items()))
+    turns = declared.kind == "angle" and not motion.events and motion.valid.all()
+    outputs = {}
+    for point in compiled.traced:
+        outputs[f"{point}.x"] = (motion[point][:, 0], False)
+        outputs[f"{point}.y"] = (motion[point][:, 1], False)
+    for link in compiled.links:
+        a, b = link.points[:2]
+        direction = motion[b] - motion[a]
+        outputs[f"{link.name}.angle"] = (np.unwrap(np.arctan2(direction[:, 1],
+                                                              direction[:, 0])), True)
+    strokes = {}
+    for label, (values, is_angle) in outputs.items():
+        convert = angle if is_angle else (lambda v: v)
+        if turns:
+            s = stroke(values[:-1], motion.inputs[name][:-1])
+            strokes[label] = {"min": float(convert(s.minimum)), "max": float(convert(s.maximum)),
+                              "stroke": float(convert(s.stroke)),
+                              "time_ratio": float(s.time_ratio)}
+        else:
+            strokes[label] = {"min": float(convert(np.nanmin(values))),
+                              "max": float(convert(np.nanmax(values))),
+                              "stroke": float(convert(np.nanmax(values) - np.nanmin(values))),
+                              "time_ratio": None}
+    return strokes

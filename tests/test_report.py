@@ -1,0 +1,62 @@
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from geokin import Construction, load
+from geokin.report import analyze
+
+CONSTRUCTIONS = Path(__file__).parents[1] / "constructions"
+
+
+def fourbar(ground, crank, coupler, follower):
+    c = Construction(f"four-bar {ground}, {crank}, {coupler}, {follower}")
+    c.input("theta2", range=(-np.pi, np.pi))
+    c.fixed("A", 0, 0)
+    c.fixed("D", ground, 0)
+    c.polar("B", "A", crank, "theta2")
+    c.circle_circle("C", ("B", "D"), (coupler, follower), branch="left")
+    c.link("crank", "A", "B")
+    c.link("coupler", "B", "C")
+    c.link("follower", "D", "C")
+    c.trace("C")
+    return c
+
+
+def test_seed_000_transmission_angle_extremes_for_7_4_5_5():
+    report = analyze(fourbar(7, 4, 5, 5), degrees=True)
+    mu = report["transmission_angles"]["C"]
+    assert round(mu["min"], 2) == 34.92 and round(mu["max"], 2) == 180.0
+    assert report["four_bars"][0]["class"].startswith("triple-rocker")
+
+
+def test_triple_rocker_report_has_its_limits_dof_and_class():
+    report = analyze(fourbar(7, 5, 6, 5), degrees=True)
+    assert report["dof"] == 1 and report["mobility"]["matches_inputs"]
+    [[lo, hi]] = report["inputs"]["theta2"]["intervals"]
+    assert (round(lo, 4), round(hi, 4)) == (-132.1774, 132.1774)
+    assert [limit["kind"] for limit in report["inputs"]["theta2"]["limits"]] == ["tangent"] * 2
+    assert report["four_bars"][0]["code"] == "RRR1"
+    # the circuit's coupler curve is closed
+    assert report["curves"]["C"]["closed"]
+
+
+def test_crank_rocker_turns_fully_and_has_a_time_ratio():
+    report = analyze(fourbar(40, 10, 35, 30))
+    assert report["inputs"]["theta2"]["full_turn"]
+    assert report["four_bars"][0]["class"] == "crank-rocker"
+    follower = report["strokes"]["follower.angle"]
+    assert follower["time_ratio"] is not None and follower["stroke"] > 0
+
+
+def test_quick_return_time_ratio_matches_the_closed_form():
+    report = analyze(load(CONSTRUCTIONS / "quick_return.toml"), degrees=True)
+    alpha = 2 * np.degrees(np.arcsin(40 / 60))
+    ratio = report["strokes"]["lever.angle"]["time_ratio"]
+    assert max(ratio, 1 / ratio) == pytest.approx((180 + alpha) / (180 - alpha), rel=1e-6)
+
+
+def test_the_shipped_sixbar_has_one_degree_of_freedom():
+    report = analyze(load(CONSTRUCTIONS / "sixbar.toml"))
+    assert report["dof"] == 1
+    assert report["mobility"]["moving_links"] == 5 and report["mobility"]["lower_pairs"] == 7
