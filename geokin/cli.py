@@ -227,7 +227,9 @@ def _check_one(path):
     if c.traced:
         print("traced: " + ", ".join(c.traced))
     print(f"degrees of freedom: {_degrees_of_freedom(c)}")
-    s = run_sweep(c)
+    defaults = argparse.Namespace(range=None, samples=None, step=None)
+    values = sweep_values(c, defaults)
+    s = run_sweep(c, {k: _from_script(c.inputs[k], v) for k, v in values.items()} or None)
     bad = np.flatnonzero(~s.valid)
     summary = f"sweep: {len(s)} samples, "
     if bad.size == 0:

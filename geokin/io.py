@@ -354,6 +354,10 @@ class _Reader:
             raise _error(f"{where}: TOML syntax error: {message}", source=self.source,
                          table=None, key=None, line=line) from None
         for table in data:
+            if table not in TABLES and not isinstance(data[table], dict):
+                where = ("it belongs in the [construction] table" if table in CONSTRUCTION_KEYS
+                         else f"tables are {', '.join(TABLES)}")
+                raise self.fail(table, None, f"a key outside any table; {where}")
             if table not in TABLES:
                 raise self.fail(table, None, f"unknown table{did_you_mean(table, TABLES)} "
                                 f"(tables: {', '.join(TABLES)})")
@@ -608,13 +612,13 @@ def dump(construction: Construction) -> str:
         out += ["", "[parameters]"]
         for p in c.parameters.values():
             if p.description:
-                out.append(f"{p.name} = {{ value = {_toml_number(p.value)}, "
+                out.append(f"{_toml_key(p.name)} = {{ value = {_toml_number(p.value)}, "
                            f"description = {_toml_string(p.description)} }}")
             else:
-                out.append(f"{p.name} = {_toml_number(p.value)}")
+                out.append(f"{_toml_key(p.name)} = {_toml_number(p.value)}")
     for i in c.inputs.values():
         scale = _script_degrees if i.kind == "angle" else float
-        out += ["", f"[inputs.{i.name}]", f"kind = {_toml_string(i.kind)}",
+        out += ["", f"[inputs.{_toml_key(i.name)}]", f"kind = {_toml_string(i.kind)}",
                 f"range = [{_toml_number(scale(i.range[0]))}, {_toml_number(scale(i.range[1]))}]"]
         if i.step is not None:
             out.append(f"step = {_toml_number(scale(i.step))}")
@@ -624,15 +628,15 @@ def dump(construction: Construction) -> str:
     if c.nodes:
         out += ["", "[points]"]
         for node in c.nodes.values():
-            out.append(f"{node.name} = {_inline_table(_node_entries(node, convert))}")
+            out.append(f"{_toml_key(node.name)} = {_inline_table(_node_entries(node, convert))}")
     if c.links:
         out += ["", "[links]"]
         for link in c.links.values():
-            out.append(f"{link.name} = {_toml_list(link.points)}")
+            out.append(f"{_toml_key(link.name)} = {_toml_list(link.points)}")
     if c.sliders:
         out += ["", "[sliders]"]
         for s in c.sliders.values():
-            out.append(f"{s.name} = {{ point = {_toml_string(s.point)}, "
+            out.append(f"{_toml_key(s.name)} = {{ point = {_toml_string(s.point)}, "
                        f"along = {_toml_list(s.along)} }}")
     return "\n".join(out) + "\n"
 
@@ -691,6 +695,11 @@ def _toml_string(text: str) -> str:
 
 def _toml_list(names) -> str:
     return "[" + ", ".join(_toml_string(n) for n in names) + "]"
+
+
+def _toml_key(name: str) -> str:
+    """Return a name as a TOML key: bare when it can be, quoted otherwise."""
+    return name if re.fullmatch(r"[A-Za-z0-9_-]+", name) else _toml_string(name)
 
 
 def _toml_number(value: float) -> str:

@@ -430,3 +430,27 @@ def test_the_safe_parser_refuses_anything_but_arithmetic(expression):
 def test_the_safe_parser_accepts_arithmetic_and_the_listed_functions(expression):
     c = loads(GOOD.replace('distance = "l2"', f'distance = "{expression}"'))
     assert sweep(c).valid.any()
+
+
+def test_names_that_are_not_bare_toml_keys_are_quoted():
+    c = Construction("greek")
+    c.parameter("λ", 3)
+    c.input("θ", samples=9)
+    c.fixed("O", 0, 0)
+    c.polar("Ä", "O", "λ", "θ")
+    c.link("bar_1", "O", "Ä")
+    text = dump(c)
+    assert '[inputs."θ"]' in text and '"λ" = 3' in text and '"Ä" = {' in text
+    assert "bar_1 = " in text
+    script = loads(text)
+    np.testing.assert_allclose(sweep(script)["Ä"], sweep(c)["Ä"], atol=1e-12)
+    assert loads(dump(script)) == script
+
+
+@pytest.mark.parametrize("text, message", [
+    ('name = "x"\n', "sixbar.toml:1: [name]: a key outside any table; it belongs in the "
+                     "[construction] table"),
+    ("l2 = 20\n", "sixbar.toml:1: [l2]: a key outside any table; tables are construction, "),
+])
+def test_a_key_outside_any_table(text, message):
+    assert error_of(text).startswith(message)
