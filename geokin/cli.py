@@ -214,14 +214,14 @@ def _check_one(path):
         print("parameters: " + ", ".join(f"{p.name} = {p.value:g}" for p in c.parameters.values()))
     print("inputs:" if c.inputs else "inputs: none")
     for inp in c.inputs.values():
-        unit = " deg" if inp.kind == "angle" else ""
+        unit = " deg" if inp.kind == "angle" else f" {c.units}" if c.units else ""
         lo, hi = (_to_script(inp, v) for v in inp.range)
         if inp.step is not None:
             count = len(inp.values())
             spacing = f"step {_to_script(inp, inp.step):g}{unit} ({count} samples)"
         else:
             spacing = f"{inp.samples} samples"
-        rate = f"{_to_script(inp, inp.speed):g}{unit or ' units'}/s"
+        rate = f"{_to_script(inp, inp.speed):g}{unit or ' length units'}/s"
         print(f"  {inp.name} ({inp.kind}): {lo:g} to {hi:g}{unit}, {spacing}, {rate}")
     print(compiled)
     if c.traced:

@@ -76,6 +76,9 @@ what is wrong and, for a misspelt name, the closest valid one::
 
     sixbar.toml:17: [points] B.radii[1]: unknown parameter or input 'l33'; did you mean 'l3'?
 
+The error's attributes ``source``, ``table``, ``key`` and ``line`` hold the
+same places (``line`` is None where it cannot be found).
+
 Examples
 --------
 >>> c = loads('''
