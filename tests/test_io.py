@@ -5,13 +5,15 @@ import pathlib
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 from mechanisms import coupler_fourbar, fourbar, sixbar
 
 import geokin
 from geokin import Construction, ConstructionError, GeokinError, ScriptError, sweep
 from geokin.construction import NODE_KINDS
-from geokin.expressions import parse
-from geokin.io import OPS, dump, load, loads
+from geokin.expressions import BinOp, Call, Name, Neg, Number, parse
+from geokin.io import OPS, _format, dump, load, loads
 
 CONSTRUCTIONS = pathlib.Path(__file__).resolve().parent.parent / "constructions"
 SCRIPTS = sorted(CONSTRUCTIONS.glob("*.toml"))
@@ -454,3 +456,26 @@ def test_names_that_are_not_bare_toml_keys_are_quoted():
 ])
 def test_a_key_outside_any_table(text, message):
     assert error_of(text).startswith(message)
+
+
+# -- expressions survive the round trip exactly --------------------------------------
+
+def _expressions():
+    numbers = st.floats(min_value=-1e20, max_value=1e20, allow_nan=False).map(Number)
+    names = st.sampled_from(["a", "b", "theta", "pi"]).map(Name)
+
+    def extend(inner):
+        return st.one_of(
+            inner.filter(lambda e: not isinstance(e, Number)).map(Neg),
+            st.tuples(st.sampled_from(["+", "-", "*", "/", "**"]), inner, inner)
+            .map(lambda t: BinOp(*t)),
+            inner.map(lambda e: Call("sin", (e,))),
+            st.tuples(inner, inner).map(lambda t: Call("atan2", t)),
+        )
+
+    return st.recursive(st.one_of(numbers, names), extend, max_leaves=12)
+
+
+@given(_expressions())
+def test_written_expressions_parse_back_to_the_same_tree(expr):
+    assert parse(_format(expr)) == expr
