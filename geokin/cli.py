@@ -231,7 +231,7 @@ def _check_one(path):
     values = sweep_values(c, defaults)
     s = run_sweep(c, {k: _from_script(c.inputs[k], v) for k, v in values.items()} or None)
     bad = np.flatnonzero(~s.valid)
-    summary = f"sweep: {len(s)} samples, "
+    summary = f"sweep: {len(s)} sample{'s' if len(s) != 1 else ''}, "
     if bad.size == 0:
         summary += "all assembled"
     else:
@@ -536,6 +536,9 @@ def main(argv=None) -> int:
     except (GeokinError, OSError) as err:
         _print_error(err)
         return 2
+    except KeyboardInterrupt:
+        print("geokin: interrupted", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":  # pragma: no cover
