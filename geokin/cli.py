@@ -39,7 +39,6 @@ Examples
 from __future__ import annotations
 
 import argparse
-import importlib
 import json
 import math
 import os
@@ -50,8 +49,12 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import __version__
+from .analysis import degrees_of_freedom
 from .errors import GeokinError, did_you_mean
 from .io import _script_degrees, load
+from .kinematics import motion
+from .limits import circuit
+from .report import analyze
 from .sweep import sweep as run_sweep
 
 __all__ = ["COMMANDS", "build_parser", "main"]
@@ -68,8 +71,8 @@ class UsageError(GeokinError):
 
 
 @dataclass
-class Motion:
-    """A sweep with its input values in script units."""
+class ScriptSweep:
+    """A sweep of a script's construction, with its input values in script units."""
 
     construction: object
     sweep: object
@@ -126,12 +129,14 @@ def sweep_values(construction, args) -> dict:
     return result
 
 
-def motion_of(path, args, at=None) -> tuple[Motion, int | None]:
+def motion_of(path, args, at=None) -> tuple[ScriptSweep, int | None]:
     """Load a script and sweep it; with ``at``, make sure the first input takes that value.
 
     Returns the motion and the index of the sample at ``at`` (None without it).
     """
     construction = load(path)
+    if getattr(args, "circuit", False):
+        return _circuit_of(construction, args, at)
     values = sweep_values(construction, args)
     index = None
     if at is not None:
@@ -141,7 +146,28 @@ def motion_of(path, args, at=None) -> tuple[Motion, int | None]:
         values, index = _insert(values, name, at)
     radians = {name: _from_script(construction.inputs[name], v) for name, v in values.items()}
     result = run_sweep(construction, radians or None)
-    return Motion(construction, result, values), index
+    return ScriptSweep(construction, result, values), index
+
+
+def _circuit_of(construction, args, at):
+    """Sweep the whole circuit of the first input (``--circuit``)."""
+    if not construction.inputs:
+        raise UsageError("--circuit needs a construction with an input")
+    if args.range is not None or args.step is not None:
+        raise UsageError("--circuit runs between the limits of the motion: it takes "
+                         "--samples (per pass) but not --range or --step")
+    result = circuit(construction, samples_per_pass=args.samples or 361)
+    values = {name: _to_script_array(construction.inputs[name], v)
+              for name, v in result.inputs.items()}
+    index = None
+    if at is not None:
+        first = next(iter(values.values()))
+        index = int(np.argmin(np.abs(first - at)))
+    return ScriptSweep(construction, result, values), index
+
+
+def _to_script_array(inp, values):
+    return np.degrees(values) if inp.kind == "angle" else np.asarray(values, dtype=float)
 
 
 def _insert(values: dict, name: str, at: float):
@@ -194,11 +220,6 @@ def run_check(args) -> int:
 
 
 def _degrees_of_freedom(construction) -> str:
-    try:
-        from .analysis import degrees_of_freedom
-    except ImportError:
-        n = len(construction.inputs)
-        return f"{n} (the number of inputs)"
     return str(degrees_of_freedom(construction))
 
 
@@ -290,6 +311,10 @@ def _add_sweep_options(p):
                          help="N samples, both ends included")
     spacing.add_argument("--step", type=_finite, metavar="S",
                          help="samples S apart from the start of the range towards its end")
+    group.add_argument("--circuit", action="store_true",
+                       help="sweep the whole circuit instead: the input runs to each limit of "
+                            "its motion and the mechanism passes the toggle onto the other "
+                            "branch, until it returns (--samples then counts per pass)")
 
 
 def add_trace(subparsers):
@@ -332,18 +357,11 @@ def _selected_points(construction, text):
     return chosen
 
 
-def trace_columns(m: Motion, points, derivatives=False) -> dict:
+def trace_columns(m: ScriptSweep, points, derivatives=False) -> dict:
     """Return the columns of ``geokin trace`` as a dict of name to array."""
     columns = dict(m.inputs)
     columns["valid"] = m.sweep.valid.copy()
-    rates = None
-    if derivatives:
-        try:
-            from .kinematics import motion
-        except ImportError as exc:
-            raise UsageError(f"--derivatives is not available: geokin.kinematics cannot be "
-                             f"imported ({exc})") from None
-        rates = motion(m.sweep)
+    rates = motion(m.sweep) if derivatives else None
     for p in points:
         xy = m.sweep[p]
         columns[f"{p}.x"], columns[f"{p}.y"] = xy[:, 0], xy[:, 1]
@@ -412,11 +430,9 @@ def run_trace(args) -> int:
 
 
 def _plotting():
-    try:
-        plotting = importlib.import_module("geokin.plotting")
-    except ImportError as exc:
-        raise UsageError(f"plotting is not available: geokin.plotting cannot be imported "
-                         f"({exc})") from None
+    # matplotlib is imported only by the commands that draw
+    from . import plotting
+
     return plotting
 
 
@@ -432,6 +448,9 @@ def add_plot(subparsers):
                    help="the first input's value to draw, in script units (default: the "
                         "first sample that can be assembled)")
     p.add_argument("--title", help="the figure's title (default: the construction's name)")
+    p.add_argument("--kinematics", action="store_true",
+                   help="instead of the mechanism, plot the angle, angular velocity and "
+                        "angular acceleration of every declared link against time")
     _add_sweep_options(p)
     p.set_defaults(run=run_plot)
 
@@ -440,6 +459,14 @@ def run_plot(args) -> int:
     output = args.output or pathlib.Path(args.script).with_suffix(".png").name
     _output_kind(output, (".png", ".svg"), "a picture")
     plotting = _plotting()
+    if args.kinematics:
+        if args.at is not None:
+            raise UsageError("--at draws one pose; --kinematics plots against time: "
+                             "give one or the other")
+        m, _ = motion_of(args.script, args)
+        fig, _ = plotting.figure_kinematics(motion(m.sweep), title=args.title)
+        print(f"wrote {plotting.save(fig, output)}", file=sys.stderr)
+        return 0
     m, index = motion_of(args.script, args, at=args.at)
     if index is not None and not m.sweep.valid[index]:
         s = m.sweep
@@ -485,9 +512,74 @@ def run_animate(args) -> int:
     return 0
 
 
+# -- analyze -----------------------------------------------------------------------
+
+
+def add_analyze(subparsers):
+    p = subparsers.add_parser(
+        "analyze", help="degrees of freedom, motion limits, Grashof class, transmission "
+                        "angles, strokes and curve measures",
+        description="Analyse a construction over the whole circuit of its first input: "
+                    "degrees of freedom (Gruebler), the assemblable intervals of each input "
+                    "with the node that limits them, the Grashof class of each four-bar loop, "
+                    "the transmission angle at each circle-circle node, strokes and time "
+                    "ratios, and measures of the traced curves. Angles in degrees.")
+    p.add_argument("script", metavar="SCRIPT", help="construction script (.toml)")
+    p.add_argument("--json", action="store_true", help="print the report as JSON")
+    p.set_defaults(run=run_analyze)
+
+
+def run_analyze(args) -> int:
+    construction = load(args.script)
+    report = analyze(construction, degrees=True)
+    if args.json:
+        json.dump(report, sys.stdout, indent=2, allow_nan=False,
+                  default=lambda value: None)
+        sys.stdout.write("\n")
+    else:
+        sys.stdout.write(_report_text(construction, report))
+    return 0
+
+
+def _report_text(construction, report) -> str:
+    units = f" {construction.units}" if construction.units else ""
+    lines = [f"{report['construction']}", f"degrees of freedom: {report['mobility']['formula']}"]
+    for name, info in report["inputs"].items():
+        unit = " deg" if info["kind"] == "angle" else units
+        if info["full_turn"]:
+            lines.append(f"input {name}: turns fully")
+            continue
+        spans = ", ".join(f"{lo:.6f} to {hi:.6f}{unit}" for lo, hi in info["intervals"])
+        lines.append(f"input {name}: assemblable from {spans}")
+        for limit in info["limits"]:
+            lines.append(f"  limit at {limit['value']:.6f}{unit}: {limit['meaning']}")
+    for bar in report.get("four_bars", []):
+        lengths = ", ".join(f"{k} {bar[k]:g}" for k in ("ground", "input", "coupler", "output"))
+        turning = ", ".join(bar["turning"]) or "no link"
+        lines.append(f"four-bar {'-'.join(bar['points'])} ({lengths}): {bar['class']}"
+                     f"{' (' + bar['code'] + ')' if bar['code'] else ''}; "
+                     f"{turning} turns fully")
+    for node, mu in report.get("transmission_angles", {}).items():
+        lines.append(f"transmission angle at {node}: {mu['min']:.2f} to {mu['max']:.2f} deg")
+    for label, s in report.get("strokes", {}).items():
+        if s["turns"]:
+            lines.append(f"{label}: turns fully")
+            continue
+        unit = " deg" if label.endswith(".angle") else units
+        ratio = "" if s["time_ratio"] is None else f", time ratio {s['time_ratio']:.4f}"
+        lines.append(f"{label}: {s['min']:.4f} to {s['max']:.4f}{unit}, stroke "
+                     f"{s['stroke']:.4f}{unit}{ratio}")
+    for point, curve in report.get("curves", {}).items():
+        area = "" if curve["area"] is None else f", encloses {curve['area']:.4f}"
+        lines.append(f"path of {point}: length {curve['length']:.4f}{units}"
+                     f"{', closed' if curve['closed'] else ', open'}{area}, "
+                     f"{len(curve['double_points'])} double point(s)")
+    return "\n".join(lines) + "\n"
+
+
 # -- the program ---------------------------------------------------------------------
 
-COMMANDS = [add_check, add_trace, add_plot, add_animate]
+COMMANDS = [add_check, add_trace, add_plot, add_animate, add_analyze]
 """The functions that declare each command, in the order ``geokin --help`` lists them."""
 
 

@@ -141,31 +141,42 @@ def analyze(construction, *, degrees: bool = False) -> dict:
 
 
 def _strokes(compiled, motion: Sweep, angle) -> dict:
-    """Extremes and time ratios of traced coordinates and link angles over one turn."""
+    """Extremes and time ratios of traced coordinates and link angles.
+
+    Over one turn of an input that turns fully the time ratio is given too.
+    Constant outputs (a ground link's angle) are left out, and a link that
+    turns fully is reported as turning rather than with extremes.
+    """
     if len(compiled.inputs) != 1:
         return {}
     name, declared = next(iter(compiled.inputs.items()))
     turns = declared.kind == "angle" and not motion.events and motion.valid.all()
+    fixed = {step.node.name for step in compiled.steps if isinstance(step.node, Fixed)}
     outputs = {}
     for point in compiled.traced:
         outputs[f"{point}.x"] = (motion[point][:, 0], False)
         outputs[f"{point}.y"] = (motion[point][:, 1], False)
     for link in compiled.links:
+        if set(link.points[:2]) <= fixed:
+            continue
         a, b = link.points[:2]
         direction = motion[b] - motion[a]
         outputs[f"{link.name}.angle"] = (np.unwrap(np.arctan2(direction[:, 1],
                                                               direction[:, 0])), True)
     strokes = {}
     for label, (values, is_angle) in outputs.items():
+        low, high = np.nanmin(values), np.nanmax(values)
+        if high - low <= 1e-9 * max(1.0, abs(high), abs(low)):
+            continue  # it does not move
+        if is_angle and high - low >= 2 * np.pi - 1e-9:
+            strokes[label] = {"turns": True}
+            continue
         convert = angle if is_angle else (lambda v: v)
+        entry = {"turns": False, "min": float(convert(low)), "max": float(convert(high)),
+                 "stroke": float(convert(high - low)), "time_ratio": None}
         if turns:
             s = stroke(values[:-1], motion.inputs[name][:-1])
-            strokes[label] = {"min": float(convert(s.minimum)), "max": float(convert(s.maximum)),
-                              "stroke": float(convert(s.stroke)),
-                              "time_ratio": float(s.time_ratio)}
-        else:
-            strokes[label] = {"min": float(convert(np.nanmin(values))),
-                              "max": float(convert(np.nanmax(values))),
-                              "stroke": float(convert(np.nanmax(values) - np.nanmin(values))),
-                              "time_ratio": None}
+            entry.update(min=float(convert(s.minimum)), max=float(convert(s.maximum)),
+                         stroke=float(convert(s.stroke)), time_ratio=float(s.time_ratio))
+        strokes[label] = entry
     return strokes

@@ -6,7 +6,6 @@ import json
 import pathlib
 import shutil
 import subprocess
-import sys
 
 import numpy as np
 import pytest
@@ -59,13 +58,6 @@ def test_check_reports_samples_that_cannot_be_assembled(capsys, tmp_path):
     assert status == 0
     assert "sweep: 281 samples, 265 assembled, 16 cannot be: first at theta2 = -140 deg: " \
            "node 'C': no intersection" in out
-
-
-def test_check_without_analysis_counts_inputs(capsys, monkeypatch):
-    monkeypatch.setitem(sys.modules, "geokin.analysis", None)
-    status, out, _ = run(capsys, "check", SIXBAR)
-    assert status == 0
-    assert "degrees of freedom: 1 (the number of inputs)" in out
 
 
 def test_check_a_bad_script_exits_2_with_the_place_of_the_error(capsys, tmp_path):
@@ -155,13 +147,6 @@ def test_trace_derivatives_are_per_second_at_the_declared_speed(capsys):
     np.testing.assert_allclose(np.hypot(data[:, 4], data[:, 5]), 20 * 2 * np.pi, rtol=1e-6)
     np.testing.assert_allclose(np.hypot(data[:, 6], data[:, 7]), 20 * (2 * np.pi) ** 2,
                                rtol=1e-5)
-
-
-def test_trace_derivatives_say_when_kinematics_is_not_available(capsys, monkeypatch):
-    monkeypatch.setitem(sys.modules, "geokin.kinematics", None)
-    status, out, err = run(capsys, "trace", SIXBAR, "--derivatives")
-    assert status == 2 and out == ""
-    assert "geokin: error: --derivatives is not available" in err
 
 
 @pytest.mark.parametrize("argv, message", [
@@ -275,15 +260,6 @@ def test_animate_mp4_without_ffmpeg_says_so(capsys, tmp_path):
     assert status == 2 and "needs ffmpeg" in err
 
 
-def test_plot_says_when_plotting_is_not_available(capsys, monkeypatch, tmp_path):
-    monkeypatch.setitem(sys.modules, "geokin.plotting", None)
-    status, _, err = run(capsys, "plot", SIXBAR, "-o", tmp_path / "x.png")
-    assert status == 2 and "plotting is not available" in err
-
-
-# -- the installed console script ----------------------------------------------------
-
-
 @pytest.mark.skipif(shutil.which("geokin") is None, reason="the console script is not installed")
 def test_the_installed_console_script(tmp_path):
     done = subprocess.run(["geokin", "check", SIXBAR], capture_output=True, text=True,
@@ -301,3 +277,49 @@ def test_the_installed_console_script(tmp_path):
     done = subprocess.run(["geokin", "trace", SIXBAR, "--points", "M"], capture_output=True,
                           text=True, timeout=120)
     assert done.returncode == 0 and len(done.stdout.splitlines()) == 114
+
+
+def test_analyze_prints_limits_class_and_transmission_angle(capsys):
+    status, out, err = run(capsys, "analyze", str(CONSTRUCTIONS / "triple_rocker_crank.toml"))
+    assert status == 0 and err == ""
+    assert "assemblable from -132.177419 to 132.177419 deg" in out
+    assert "node 'C' becomes tangent (toggle)" in out
+    assert "triple-rocker RRR1" in out and "transmission angle at C" in out
+
+
+def test_analyze_json_has_dof_and_intervals_in_script_units(capsys):
+    status, out, _ = run(capsys, "analyze", "--json", str(CONSTRUCTIONS / "sixbar.toml"))
+    report = json.loads(out)
+    assert status == 0 and report["dof"] == 1
+    assert report["inputs"]["theta"]["intervals"] == [[0.0, 1800.0]]
+    status, out, _ = run(capsys, "analyze", "--json",
+                         str(CONSTRUCTIONS / "triple_rocker_follower.toml"))
+    [[lo, hi]] = json.loads(out)["inputs"]["theta4"]["intervals"]
+    assert (round(lo, 4), round(hi, 4)) == (47.8226, 312.1774)
+
+
+def test_trace_circuit_passes_the_toggles_and_closes(capsys):
+    status, out, _ = run(capsys, "trace", "--circuit", "--points", "C", "--samples", "91",
+                         str(CONSTRUCTIONS / "triple_rocker_crank.toml"))
+    header, rows = read_csv(out)
+    assert header == ["theta2", "valid", "C.x", "C.y"]
+    theta, valid, c = rows[:, 0], rows[:, 1], rows[:, 2:]
+    assert status == 0 and (valid == 1).all()
+    assert abs(theta.max() - 132.1774) < 1e-4 and abs(theta.min() + 132.1774) < 1e-4
+    np.testing.assert_allclose(c[0], c[-1], atol=1e-9)
+
+
+def test_circuit_refuses_a_range(capsys):
+    status, _, err = run(capsys, "trace", "--circuit", "--range", "0", "10",
+                         str(CONSTRUCTIONS / "triple_rocker_crank.toml"))
+    assert status == 2 and "--circuit" in err and "Traceback" not in err
+
+
+def test_plot_kinematics_draws_three_axes(capsys, tmp_path):
+    out = tmp_path / "k.png"
+    status, _, _ = run(capsys, "plot", "--kinematics", str(CONSTRUCTIONS / "crank_rocker.toml"),
+                       "-o", str(out))
+    assert status == 0 and out.stat().st_size > 10_000
+    status, _, err = run(capsys, "plot", "--kinematics", "--at", "10",
+                         str(CONSTRUCTIONS / "crank_rocker.toml"), "-o", str(out))
+    assert status == 2 and "one or the other" in err
