@@ -35,6 +35,7 @@ construction 'four-bar': 5 steps
 from __future__ import annotations
 
 import heapq
+import unicodedata
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
 from typing import ClassVar
@@ -621,6 +622,10 @@ class Construction:
             raise ConstructionError(
                 f"a {what} name must be an identifier (letters, digits, _), got {name!r}",
                 node=str(name), field="name")
+        if unicodedata.normalize("NFKC", name) != name:
+            raise ConstructionError(
+                f"{name!r} reads as {unicodedata.normalize('NFKC', name)!r} in expressions; "
+                "use that spelling", node=name, field="name")
         if name in CONSTANTS or name in FUNCTIONS:
             raise ConstructionError(f"{name!r} is reserved for the built-in "
                                     f"{'constant' if name in CONSTANTS else 'function'}",

@@ -236,7 +236,13 @@ def input_arrays(compiled: Compiled, values=None, samples: int | None = None):
             arrays[name] = compiled.inputs[name].values(samples)
     if not arrays:
         return {}, 1
-    shape = np.broadcast_shapes(*(a.shape for a in arrays.values()))
+    try:
+        shape = np.broadcast_shapes(*(a.shape for a in arrays.values()))
+    except ValueError:
+        lengths = ", ".join(f"{k}: {a.shape[0] if a.ndim else 1}" for k, a in arrays.items())
+        raise ConstructionError(f"the inputs' values have different lengths ({lengths}); "
+                                "give every input the same number of samples, or a "
+                                "single value") from None
     if len(shape) > 1:
         raise ConstructionError(f"input values must be one-dimensional, got shape {shape}")
     n = shape[0] if shape else 1

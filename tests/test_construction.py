@@ -193,3 +193,11 @@ def test_expressions_round_trip_through_text_and_evaluate_with_numpy():
         env = dict(a=1.5, b=np.array([2.0, 3.0]), c=0.5, x=1.0, y=2.0)
         assert np.allclose(parse(str(expr)).evaluate(env), eval(text, vars(np), env)), text
     assert (as_expr("l3") + 5) * 2 == parse("(l3 + 5) * 2")
+
+
+def test_names_must_read_the_same_in_expressions():
+    c = Construction()
+    with pytest.raises(ConstructionError, match="reads as 'l' in expressions") as info:
+        c.parameter("ℓ", 3)
+    check(info, "ℓ", "name")
+    c.parameter("θ", 1)  # already in the form expressions read

@@ -247,3 +247,14 @@ def test_nearly_coincident_centres_are_degenerate_not_an_arbitrary_root():
     s = sweep(c, [0.0, 0.5])
     assert list(s.valid) == [False, True]
     assert s.failure_reason[0].startswith("degenerate")
+
+
+def test_inputs_of_different_lengths_are_a_clear_error():
+    c = Construction()
+    c.input("a", samples=5)
+    c.input("b", kind="length", range=(0, 1), samples=7)
+    c.fixed("O", 0, 0)
+    c.polar("A", "O", "b + 1", "a")
+    with pytest.raises(ConstructionError, match=r"different lengths \(a: 5, b: 7\)"):
+        sweep(c)
+    assert len(sweep(c, {"a": np.zeros(3), "b": 0.5})) == 3
