@@ -22,10 +22,15 @@ Root order
 Tangency
 --------
 A pair of curves counts as tangent, giving one double root (both roots
-equal), when the squared half-chord is negative by no more than
-``TANGENCY_RTOL`` times the square of the scale of the inputs (the largest
-of the distances and radii involved). Exactly tangent inputs in floating
-point therefore give the double root rather than NaN.
+equal), when they miss each other by no more than ``TANGENCY_RTOL`` times
+the scale of the inputs (the largest of the distances and radii involved):
+two circles when ``d <= r1 + r2 + tol`` and ``d >= |r1 - r2| - tol`` for
+centres ``d`` apart, a line and a circle when the line passes within
+``r + tol`` of the centre. The miss is measured as a distance, not through
+the squared half-chord, so the tolerance means the same for a small circle
+as for a large one. Exactly tangent inputs in floating point therefore give
+the double root rather than NaN, and every double root lies within
+``TANGENCY_RTOL`` of the scale of both curves.
 """
 
 from __future__ import annotations
@@ -44,8 +49,8 @@ __all__ = [
     "segment_circle",
 ]
 
-TANGENCY_RTOL = 1e-10
-"""Relative tolerance on the squared half-chord below which curves touch."""
+TANGENCY_RTOL = 1e-12
+"""Curves that miss each other by at most this times the scale touch."""
 
 PARAMETER_RTOL = 1e-9
 """Tolerance on the line parameter ``t`` at the ends of rays and segments."""
@@ -101,8 +106,11 @@ def circle_circle_xy(x1, y1, r1, x2, y2, r2):
     margin = np.where(d > DEGENERATE_RTOL * scale, half_chord_sq / (scale * scale), np.nan)
     if not (_nonnegative(r1) and _nonnegative(r2)):
         margin = np.where((r1 >= 0) & (r2 >= 0), margin, np.nan)
-    h_over_d = np.sqrt(np.where(margin >= -TANGENCY_RTOL, np.maximum(half_chord_sq, 0.0),
-                                np.nan)) / d
+    # decide whether the circles meet on the distances themselves: accurate to
+    # rounding of the scale, however small one circle is
+    slack = TANGENCY_RTOL * scale
+    meet = (d <= r1 + r2 + slack) & (d >= np.abs(r1 - r2) - slack) & ~np.isnan(margin)
+    h_over_d = np.sqrt(np.where(meet, np.maximum(half_chord_sq, 0.0), np.nan)) / d
     fx = x1 + k * dx
     fy = y1 + k * dy
     # the left normal of (dx, dy) is (-dy, dx)
@@ -145,8 +153,8 @@ def line_circle_xy(x1, y1, x2, y2, cx, cy, r):
     if not _nonnegative(r):
         margin = np.where(r >= 0, margin, np.nan)
     # a zero-length line gives NaN through t_foot
-    dt = np.sqrt(np.where(margin >= -TANGENCY_RTOL, np.maximum(half_chord_sq, 0.0), np.nan)
-                 / length_sq)
+    meet = (np.sqrt(offset_sq) <= r + TANGENCY_RTOL * np.sqrt(scale_sq)) & ~np.isnan(margin)
+    dt = np.sqrt(np.where(meet, np.maximum(half_chord_sq, 0.0), np.nan) / length_sq)
     ta = t_foot - dt
     tb = t_foot + dt
     return x1 + ta * dx, y1 + ta * dy, x1 + tb * dx, y1 + tb * dy, ta, tb, margin

@@ -10,10 +10,11 @@ Conventions used throughout:
   multiple of ``TANGENCY_RTOL * S**2`` of zero, or where a distance that
   decides existence is within ``1e-6 * S`` of a radius. Inside it the answer
   depends on rounding and on the documented tolerance, so existence is only
-  compared with shapely outside it. Both parts are needed: the documented
-  rule bounds the *squared* half-chord, so next to a circle much smaller than
-  ``S`` a near miss by up to ``sqrt(TANGENCY_RTOL) * S`` (1e-5 of the scale)
-  still counts as touching, which a band of ``1e-6 * S`` alone would not cover.
+  compared with shapely outside it.
+* The documented rule bounds the *miss* between the curves, a distance, by
+  ``TANGENCY_RTOL * S``: a near miss accepted as tangent is checked to be
+  within it, and its double root (the foot of the chord) is off each curve by
+  the clamped squared half-chord, no more.
 """
 
 import warnings
@@ -146,9 +147,13 @@ def test_circle_circle_roots_lie_on_both_circles(pair, k):
     S = max(d, r1, r2)
     C = max(_norm(c1), _norm(c2), S)
     margin = _circle_margin(c1, r1, c2, r2)
-    # an accepted near-miss sits at the foot of the chord, whose residual is
-    # the (negative) squared half-chord: at most TANGENCY_RTOL * S**2
-    bound = 1e-12 * S * C + (TANGENCY_RTOL * S * S if margin < 0 else 0.0)
+    if valid[0] and margin < 0:
+        # an accepted near-miss: the circles miss by no more than the tolerance
+        miss = max(d - (r1 + r2), abs(r1 - r2) - d)
+        assert miss <= TANGENCY_RTOL * S + 1e-15 * C
+    # its double root sits at the foot of the chord, off each circle by the
+    # (negative) squared half-chord that was clamped to zero
+    bound = 1e-12 * S * C + (1.01 * abs(margin) * S * S if margin < 0 else 0.0)
     for p in points[valid]:
         assert abs(np.sum((p - c1) ** 2) - r1 * r1) <= bound
         assert abs(np.sum((p - c2) ** 2) - r2 * r2) <= bound
@@ -168,7 +173,7 @@ def test_line_based_roots_lie_on_line_and_circle(kind, start, through, center, r
     S = max(r, _norm(center - start), _norm(center - through), length)
     C = max(_norm(start), _norm(through), _norm(center), S)
     margin = _line_kernel(start, through, center, r)[-1]
-    bound = 1e-12 * S * C + (TANGENCY_RTOL * S * S if margin < 0 else 0.0)
+    bound = 1e-12 * S * C + (1.01 * abs(margin) * S * S if margin < 0 else 0.0)
     low, high = T_RANGE[kind]
     t_slack = PARAMETER_RTOL + 1e-12 * C / length
     for p in points[valid]:
@@ -836,3 +841,13 @@ def test_polar_point_broadcasts(origins, distances, angles):
     for i, j in np.ndindex(2, 3):
         np.testing.assert_array_equal(p[i, j],
                                       polar_point(origins[i, j], distances[j], angles[i, 0]))
+
+
+@pytest.mark.parametrize("small", [1e-4, 1e-2, 1.0])
+def test_a_small_circle_that_misses_is_not_taken_as_touching(small):
+    """A miss of 1e-9 of the scale is invalid, however small one circle is; touching is valid."""
+    for miss, expected in [(1e-9, False), (0.0, True), (-1e-9, True)]:
+        _, valid = circle_circle([0.0, 0.0], small, [1.0 + small + miss, 0.0], 1.0)
+        assert bool(valid[0]) is expected, (small, miss)
+        _, valid = line_circle([-5.0, small + miss], [5.0, small + miss], [0.0, 0.0], small)
+        assert bool(valid[0]) is expected, (small, miss)
