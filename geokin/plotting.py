@@ -44,6 +44,7 @@ from __future__ import annotations
 
 import math
 import pathlib
+import re
 import sys
 import time
 
@@ -750,7 +751,28 @@ def animate(sweep, path, *, fps=25, frames=None, progress=True):
         movie.save(path, writer=writer, progress_callback=bar)
     finally:
         bar.close()
+    if suffix in (".html", ".htm"):
+        _make_self_contained(path)
     return path
+
+
+# matplotlib's page draws its buttons with icons from a stylesheet on the web;
+# text symbols keep the page whole when it is opened offline
+_BUTTON_ICONS = {
+    "fa fa-fast-backward": "&#x23EE;", "fa fa-step-backward": "&#x23F4;&#x2502;",
+    "fa fa-play fa-flip-horizontal": "&#x25C0;", "fa fa-pause": "&#x23F8;",
+    "fa fa-play": "&#x25B6;", "fa fa-step-forward": "&#x2502;&#x23F5;",
+    "fa fa-fast-forward": "&#x23ED;", "fa fa-minus": "&minus;", "fa fa-plus": "+",
+}
+
+
+def _make_self_contained(path):
+    """Drop the web stylesheet of an HTML animation and draw its buttons as text."""
+    page = path.read_text(encoding="utf-8")
+    page = re.sub(r"<link[^>]*stylesheet[^>]*>", "", page, flags=re.S)
+    for icon, symbol in _BUTTON_ICONS.items():
+        page = page.replace(f'<i class="{icon}"></i>', symbol)
+    path.write_text(page, encoding="utf-8")
 
 
 def plot_input_output(sweep, outputs, *, ax=None):

@@ -183,6 +183,8 @@ def test_animate_html_embeds_its_frames(tmp_path, small_frames):
     assert "<html" in page or "<script" in page
     assert page.count("data:image/png;base64") == 4
     assert [p.name for p in tmp_path.iterdir()] == ["slider.html"]  # nothing beside it
+    # nothing fetched from the web: the buttons are drawn with text symbols
+    assert "stylesheet" not in page and "fa fa-" not in page and "http" not in page
 
 
 def test_animate_mp4_needs_ffmpeg(tmp_path, monkeypatch):
