@@ -855,17 +855,32 @@ def curve_measures(points, *, tol: float | None = None) -> Curve:
     return Curve(length, closed, signed, area, bounds, _double_points(noded))
 
 
+GRAZING_SINE = np.sin(np.radians(2.0))
+"""Pieces meeting at a node within this angle of each other (or of opposite
+directions) do not make a crossing: where a path runs back over itself, as a
+rocker's joint does, two polylines of the same arc cross at such angles."""
+
+
 def _double_points(noded) -> np.ndarray:
-    """Nodes where three or more pieces of the noded curve end.
+    """Nodes where three or more pieces of the noded curve end, crossing each other.
 
     A crossing ends four pieces; an end of an open curve ends one, the
-    joined ends of a closed curve two.
+    joined ends of a closed curve two. Nodes where every piece runs along the
+    same line (a path retraced) are not crossings.
     """
-    degree: dict[tuple[float, float], int] = {}
+    directions: dict[tuple[float, float], list] = {}
     for part in shapely.get_parts(noded):
         coords = shapely.get_coordinates(part)
-        for end in (coords[0], coords[-1]):
+        for end, toward in ((coords[0], coords[1]), (coords[-1], coords[-2])):
             key = (float(end[0]), float(end[1]))
-            degree[key] = degree.get(key, 0) + 1
-    found = sorted(k for k, d in degree.items() if d >= 3)
-    return np.array(found, dtype=float).reshape(-1, 2)
+            step = toward - end
+            directions.setdefault(key, []).append(step / max(np.hypot(*step), 1e-300))
+    found = []
+    for key, units in directions.items():
+        if len(units) < 3:
+            continue
+        u = np.array(units)
+        sines = np.abs(u[:, None, 0] * u[None, :, 1] - u[:, None, 1] * u[None, :, 0])
+        if sines.max() > GRAZING_SINE:
+            found.append(key)
+    return np.array(sorted(found), dtype=float).reshape(-1, 2)

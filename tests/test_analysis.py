@@ -422,3 +422,16 @@ def test_transmission_chart_example(tmp_path):
                          text=True, check=True)
     assert "mu_min = 34.92 deg, mu_max = 180.00 deg" in run.stdout
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+
+
+def test_a_path_run_back_over_itself_has_no_double_points():
+    """A rocker's joint goes out along an arc and back on other samples: no crossing."""
+    out = np.linspace(0, 2, 37)
+    back = np.linspace(2, 0, 53)
+    t = np.r_[out, back[1:]]
+    arc = np.c_[np.cos(t), np.sin(t)]
+    assert curve_measures(arc).simple
+    # a real crossing next to it is still found
+    t = np.linspace(0, 2 * np.pi, 201)
+    eight = np.c_[np.sin(t), np.sin(t) * np.cos(t)]
+    assert len(curve_measures(eight).double_points) == 1
