@@ -852,16 +852,33 @@ def curve_measures(points, *, tol: float | None = None) -> Curve:
     if closed:
         faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(noded)))
         area = float(sum(f.area for f in faces))
-    return Curve(length, closed, signed, area, bounds, _double_points(noded))
+    least_angle = min(max(GRAZING_ANGLE, 3 * _turn_per_sample(runs)), np.radians(20))
+    return Curve(length, closed, signed, area, bounds, _double_points(noded, least_angle))
 
 
-GRAZING_SINE = np.sin(np.radians(2.0))
-"""Pieces meeting at a node within this angle of each other (or of opposite
-directions) do not make a crossing: where a path runs back over itself, as a
-rocker's joint does, two polylines of the same arc cross at such angles."""
+GRAZING_ANGLE = np.radians(2.0)
+"""The least angle between pieces meeting at a node that makes a crossing.
+
+Where a path runs back over itself, as a rocker's joint does, two polylines
+of the same arc sampled differently cross each other at angles up to about
+the turn of the path between samples; so the angle used is the larger of
+this and three times the path's median turn per sample."""
 
 
-def _double_points(noded) -> np.ndarray:
+def _turn_per_sample(runs) -> float:
+    """Return the median angle the polyline turns through from one segment to the next."""
+    turns = []
+    for run in runs:
+        steps = np.diff(run, axis=0)
+        steps = steps[np.hypot(*steps.T) > 0]
+        if len(steps) >= 2:
+            a, b = steps[:-1], steps[1:]
+            turns.append(np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0],
+                                           np.einsum("ij,ij->i", a, b))))
+    return float(np.median(np.concatenate(turns))) if turns else 0.0
+
+
+def _double_points(noded, least_angle=GRAZING_ANGLE) -> np.ndarray:
     """Nodes where three or more pieces of the noded curve end, crossing each other.
 
     A crossing ends four pieces; an end of an open curve ends one, the
@@ -881,6 +898,6 @@ def _double_points(noded) -> np.ndarray:
             continue
         u = np.array(units)
         sines = np.abs(u[:, None, 0] * u[None, :, 1] - u[:, None, 1] * u[None, :, 0])
-        if sines.max() > GRAZING_SINE:
+        if sines.max() > np.sin(least_angle):
             found.append(key)
     return np.array(sorted(found), dtype=float).reshape(-1, 2)
