@@ -19,6 +19,9 @@ array([[10.,  0.],
 from .construction import Compiled, Construction, Input, Link, Parameter, Slider
 from .errors import AssemblyError, ConstructionError, GeokinError, ScriptError
 from .io import dump, load, loads
+from .kinematics import Motion, motion
+from .limits import Limits, circuit, limits
+from .report import analyze
 from .sweep import BranchEvent, Sweep, sweep
 
 __all__ = [
@@ -29,14 +32,20 @@ __all__ = [
     "ConstructionError",
     "GeokinError",
     "Input",
+    "Limits",
     "Link",
+    "Motion",
     "Parameter",
     "ScriptError",
     "Slider",
     "Sweep",
+    "analyze",
+    "circuit",
     "dump",
+    "limits",
     "load",
     "loads",
+    "motion",
     "sweep",
 ]
 __version__ = "0.1.0"

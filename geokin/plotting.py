@@ -848,7 +848,7 @@ def figure_kinematics(motion, *, links=None, title=None):
     motion : Motion
         From :func:`geokin.kinematics.motion`.
     links : list of str, optional
-        The links to draw; every declared link by default.
+        The links to draw; every declared link that moves by default.
     title : str, optional
         The figure's title; the construction's name by default.
 
@@ -874,7 +874,11 @@ def figure_kinematics(motion, *, links=None, title=None):
     ['angle (°)', 'ω (rad/s)', 'α (rad/s²)']
     >>> plt.close(fig)
     """
-    names = list(motion.angle) if links is None else list(links)
+    if links is None:
+        # the ground does not move: leave it out
+        names = [n for n, a in motion.angle.items() if np.nanmax(a) - np.nanmin(a) > 0]
+    else:
+        names = list(links)
     unknown = [n for n in names if n not in motion.angle]
     if unknown:
         raise GeokinError(f"no declared link {unknown[0]!r}"

@@ -1,0 +1,30 @@
+"""The README's Python example runs as written, and its quick start names real things."""
+
+import re
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+README = (ROOT / "README.md").read_text(encoding="utf-8")
+
+
+def test_the_python_example_runs(monkeypatch):
+    blocks = re.findall(r"```python\n(.*?)```", README, flags=re.S)
+    assert blocks
+    monkeypatch.chdir(ROOT)
+    for block in blocks:
+        exec(compile(block, "README.md", "exec"), {})
+
+
+def test_every_file_the_readme_names_exists():
+    for name in set(re.findall(r"(?:constructions|examples|tests|geokin)/[\w./-]+\.\w+", README)):
+        assert (ROOT / name).exists(), name
+
+
+def test_the_quick_start_has_two_commands_one_for_the_tests():
+    quick = README.split("## Quick start", 1)[1].split("##", 1)[0]
+    commands = [line for line in re.findall(r"```sh\n(.*?)```", quick, flags=re.S)[0].splitlines()
+                if line and not line.startswith("#")]
+    assert len(commands) == 2
+    assert commands[1].endswith("pytest") and "geokin plot" in commands[0]
+    ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
+    assert "pip install -e '.[test]' && pytest" in ci
