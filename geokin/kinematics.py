@@ -31,8 +31,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .errors import ConstructionError, did_you_mean
-from .sweep import Sweep, evaluate
+from .sweep import Sweep, evaluate, input_name
 
 __all__ = ["Motion", "input_derivatives", "motion"]
 
@@ -136,15 +135,7 @@ def input_derivatives(sweep: Sweep, input: str | None = None, *,
            [-10., 0.]])
     """
     compiled = sweep.construction
-    names = list(compiled.inputs)
-    if input is None:
-        if len(names) != 1:
-            raise ConstructionError(f"this construction has {len(names)} inputs; name the one "
-                                    "to differentiate by")
-        input = names[0]
-    elif input not in compiled.inputs:
-        raise ConstructionError(f"unknown input {input!r}{did_you_mean(input, names)}",
-                                node=input)
+    input = input_name(compiled, input, "differentiate by")
     h = _step_for(sweep, input, step)
     n, k = len(sweep), len(OFFSETS)
     # offset-major layout: sample i at offset j sits at j * n + i
@@ -192,9 +183,9 @@ class Motion:
         The driving input.
     time : ndarray, shape (N,)
         Seconds from the first sample, for the input's speed.
-    speed, acceleration : ndarray, shape (N,)
+    speed, input_acceleration : ndarray, shape (N,)
         The input's rate and its rate of change (per second, per second squared).
-    velocity, acceleration_of : dict of str to ndarray, shape (N, 2)
+    velocity, acceleration : dict of str to ndarray, shape (N, 2)
         Each point's velocity and acceleration (length units per second and per
         second squared).
     angle, angular_velocity, angular_acceleration : dict of str to ndarray, shape (N,)

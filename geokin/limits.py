@@ -23,8 +23,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .construction import NO_INTERSECTION, OFF_LINE, REASONS
-from .errors import AssemblyError, ConstructionError, did_you_mean
-from .sweep import BranchEvent, Sweep, _compiled, evaluate
+from .errors import AssemblyError
+from .sweep import BranchEvent, Sweep, _compiled, evaluate, input_name
 
 __all__ = ["LIMIT_TOLERANCE", "Limit", "Limits", "circuit", "limits"]
 
@@ -84,16 +84,10 @@ class Limits:
         return [(lo.value, hi.value) for lo, hi in self.intervals]
 
 
-def _input_name(compiled, input):
-    names = list(compiled.inputs)
-    if input is None:
-        if len(names) != 1:
-            raise ConstructionError(f"this construction has {len(names)} inputs; name one")
-        return names[0]
-    if input not in compiled.inputs:
-        raise ConstructionError(f"unknown input {input!r}{did_you_mean(input, names)}",
-                                node=input)
-    return input
+def _held(compiled, name, at):
+    """Return the values the inputs other than ``name`` are held at."""
+    return {k: float((at or {}).get(k, v.range[0])) for k, v in compiled.inputs.items()
+            if k != name}
 
 
 def _evaluate_at(compiled, name, values, held, branches):
@@ -208,10 +202,9 @@ def limits(construction, input: str | None = None, *, range=None,
     ('C', 'tangent')
     """
     compiled = _compiled(construction)
-    name = _input_name(compiled, input)
+    name = input_name(compiled, input)
     declared = compiled.inputs[name]
-    held = {k: float((at or {}).get(k, v.range[0])) for k, v in compiled.inputs.items()
-            if k != name}
+    held = _held(compiled, name, at)
     turn = declared.kind == "angle" and range is None
     if range is None:
         lo, hi = declared.range
@@ -311,11 +304,10 @@ def circuit(construction, input: str | None = None, *, start: float | None = Non
     True
     """
     compiled = _compiled(construction)
-    name = _input_name(compiled, input)
+    name = input_name(compiled, input)
     found = limits(compiled, name, at=at, branches=branches)
     declared = compiled.inputs[name]
-    held = {k: float((at or {}).get(k, v.range[0])) for k, v in compiled.inputs.items()
-            if k != name}
+    held = _held(compiled, name, at)
     if start is None:
         start = declared.range[0]
         if not any(lo.value <= start <= hi.value for lo, hi in found.intervals):

@@ -209,6 +209,26 @@ def _compiled(construction) -> Compiled:
     raise TypeError(f"expected a Construction, got {type(construction).__name__}")
 
 
+def input_name(compiled: Compiled, name: str | None, purpose: str = "move") -> str:
+    """Return the input called ``name``, or the only input when ``name`` is None.
+
+    Raises
+    ------
+    ConstructionError
+        For an unknown name (with the closest one), or None when the
+        construction has several inputs or none.
+    """
+    names = list(compiled.inputs)
+    if name is None:
+        if len(names) != 1:
+            raise ConstructionError(f"this construction has {len(names)} inputs "
+                                    f"({', '.join(names) or 'none'}); name the one to {purpose}")
+        return names[0]
+    if name not in compiled.inputs:
+        raise ConstructionError(f"unknown input {name!r}{did_you_mean(name, names)}", node=name)
+    return name
+
+
 def input_arrays(compiled: Compiled, values=None, samples: int | None = None):
     """Return the input arrays of a sweep, broadcast to one length N.
 
