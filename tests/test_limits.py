@@ -99,3 +99,22 @@ def test_a_circuit_of_a_crank_that_turns_fully_is_one_turn():
 def test_a_circuit_start_outside_every_interval_is_an_error():
     with pytest.raises(AssemblyError, match="outside every assemblable interval"):
         circuit(triple_rocker("crank"), start=np.pi)
+
+
+def test_limits_and_circuit_for_a_line_circle_toggle():
+    """P on the line y = 8 at 5 from a crank pin of radius 5: sin(theta) >= 3/5."""
+    c = Construction("pin on a line")
+    c.input("theta", range=(np.pi / 2 - 0.1, np.pi / 2 + 0.1))
+    c.fixed("O", 0, 0)
+    c.fixed("G1", 0, 8)
+    c.fixed("G2", 1, 8)
+    c.polar("A", "O", 5, "theta")
+    c.line_circle("P", ("G1", "G2"), "A", 5, branch="second")
+    [(lo, hi)] = limits(c).intervals
+    assert abs(lo.value - np.arcsin(0.6)) < 1e-9 and abs(hi.value - (np.pi - np.arcsin(0.6))) < 1e-9
+    assert (lo.node, lo.kind, hi.kind) == ("P", "tangent", "tangent")
+    s = circuit(c)
+    assert s.valid.all() and [e.node for e in s.events] == ["P", "P"]
+    np.testing.assert_allclose(np.hypot(*(s["P"] - s["A"]).T), 5, rtol=1e-12)
+    np.testing.assert_allclose(s["P"][:, 1], 8)
+    np.testing.assert_allclose(s["P"][0], s["P"][-1], atol=1e-9)
