@@ -508,6 +508,9 @@ def _track(node, cand, n, track, override=None):
     motion[1:] = np.fmax(motion[1:], step[:-1])
     motion[:-1] = np.fmax(motion[:-1], step[1:])
     close = np.minimum(separation[:-1], separation[1:]) <= 2 * motion
+    # where the roots stay equal (a node tangent all along) there is nothing to choose
+    size = np.fmax(np.fmax(np.abs(x0), np.abs(y0)), np.fmax(np.abs(x1), np.abs(y1)))
+    close &= np.maximum(separation[:-1], separation[1:]) > 1e-12 * np.fmax(size[:-1], size[1:])
     pairs = np.flatnonzero(close)
     if pairs.size == 0:
         return start, []

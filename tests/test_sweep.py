@@ -258,3 +258,18 @@ def test_inputs_of_different_lengths_are_a_clear_error():
     with pytest.raises(ConstructionError, match=r"different lengths \(a: 5, b: 7\)"):
         sweep(c)
     assert len(sweep(c, {"a": np.zeros(3), "b": 0.5})) == 3
+
+
+def test_a_node_tangent_all_along_is_valid_and_needs_no_branch_changes():
+    """A circle rolling along a line at its radius touches it at every sample."""
+    c = Construction()
+    c.input("s", kind="length", range=(0, 10), samples=10_001)
+    c.fixed("G1", 0, 0)
+    c.fixed("G2", 1, 0)
+    c.fixed("O", 0, 2)
+    c.polar("Q", "O", "s", 0)
+    c.line_circle("T", ("G1", "G2"), "Q", 2, branch="first")
+    s = sweep(c)
+    assert s.valid.all() and s.events == []
+    np.testing.assert_allclose(s["T"], np.c_[np.linspace(0, 10, 10_001), np.zeros(10_001)],
+                               atol=1e-12)
