@@ -632,7 +632,9 @@ class Construction:
                                     node=name, field="name")
         existing = self._all_names().get(name)
         if existing is not None:
-            raise ConstructionError(f"duplicate name: a {existing} {name!r} is already declared",
+            article = "an" if existing[0] in "aeiou" else "a"
+            raise ConstructionError(f"duplicate name: {article} {existing} {name!r} is already "
+                                    "declared",
                                     node=name, field="name")
         self._compiled = None
 
@@ -645,7 +647,12 @@ class Construction:
         if number.names():
             raise ConstructionError("a parameter's value must be a number", node=name,
                                     field="value")
-        self.parameters[name] = Parameter(name, float(number.evaluate({})), description)
+        with np.errstate(all="ignore"):
+            value = float(number.evaluate({}))
+        if not np.isfinite(value):
+            raise ConstructionError(f"a parameter's value must be a finite number; "
+                                    f"{str(number)!r} is {value}", node=name, field="value")
+        self.parameters[name] = Parameter(name, value, description)
 
     def input(self, name: str, kind: str = "angle", range: Sequence[float] | None = None,
               samples: int = 361, speed: float | None = None,
@@ -682,8 +689,8 @@ class Construction:
             raise ConstructionError(f"samples must be an integer of at least 2, got {samples!r}",
                                     node=name, field="samples")
         if step is not None and not (np.isfinite(step) and step * (lo_hi[1] - lo_hi[0]) > 0):
-            raise ConstructionError(f"step must be a non-zero number with the sign of "
-                                    f"range[1] - range[0], got {step!r}", node=name, field="step")
+            raise ConstructionError("step must be a non-zero number that goes from range[0] "
+                                    "towards range[1]", node=name, field="step")
         if speed is None:
             speed = 2 * np.pi if kind == "angle" else 1.0
         self.inputs[name] = Input(name, kind, lo_hi, int(samples), float(speed),
@@ -858,8 +865,9 @@ class Construction:
                        **dict.fromkeys(self.inputs, "input")}
         for node in self.nodes.values():
             for field_name, points in node.point_fields().items():
-                for p in points:
-                    self._check_point_name(p, node.name, field_name)
+                for i, p in enumerate(points):
+                    where = f"{field_name}[{i}]" if len(points) > 1 else field_name
+                    self._check_point_name(p, node.name, where)
             for field_name, expr in node.value_fields().items():
                 for name in sorted(expr.names()):
                     if name not in value_names:

@@ -184,7 +184,8 @@ class Motion:
     time : ndarray, shape (N,)
         Seconds from the first sample, for the input's speed.
     speed, input_acceleration : ndarray, shape (N,)
-        The input's rate and its rate of change (per second, per second squared).
+        The input's signed rate and its rate of change (per second, per
+        second squared): negative where the sweep runs the input backwards.
     velocity, acceleration : dict of str to ndarray, shape (N, 2)
         Each point's velocity and acceleration (length units per second and per
         second squared).
@@ -212,6 +213,24 @@ class Motion:
     derivatives: Derivatives
 
 
+def _direction_of_travel(values: np.ndarray) -> np.ndarray:
+    """Return +1 or -1 at each sample: whether the input arrived there increasing.
+
+    The first sample takes the direction of the step after it; a sample
+    repeating the one before keeps the direction it had.
+    """
+    step = np.sign(np.diff(values))
+    if step.size == 0:
+        return np.ones_like(values)
+    direction = np.concatenate([step[:1], step])
+    known = np.flatnonzero(direction)
+    if known.size == 0:
+        return np.ones_like(values)
+    # carry the last known direction over repeated samples (the first known one backwards)
+    last = np.maximum.accumulate(np.where(direction != 0, np.arange(len(direction)), known[0]))
+    return direction[last]
+
+
 def motion(sweep: Sweep, input: str | None = None, *, speed=None, acceleration=0.0,
            step: float | None = None) -> Motion:
     """Velocity and acceleration of every point and declared link over a sweep.
@@ -222,10 +241,13 @@ def motion(sweep: Sweep, input: str | None = None, *, speed=None, acceleration=0
     input : str, optional
         The driving input; the only input by default. Other inputs are held.
     speed : float or array_like, optional
-        The input's rate per second (radians per second for an angle), constant
-        or one per sample; by default the input's declared speed.
+        How fast the input moves, per second (radians per second for an
+        angle), constant or one per sample; by default the input's declared
+        speed. The input moves the way the sweep goes: where its values
+        decrease (a sweep run backwards, the return pass of a circuit) its
+        rate is ``-speed``, and time still runs forwards.
     acceleration : float or array_like
-        The input's rate of change of speed, per second squared.
+        The rate of change of that speed, per second squared.
     step : float, optional
         The finite-difference perturbation; see :func:`input_derivatives`.
 
@@ -254,12 +276,14 @@ def motion(sweep: Sweep, input: str | None = None, *, speed=None, acceleration=0
     d = input_derivatives(sweep, input, step=step)
     n = len(sweep)
     declared = sweep.construction.inputs[d.input]
-    rate = np.broadcast_to(np.asarray(declared.speed if speed is None else speed, float), (n,))
-    rate_change = np.broadcast_to(np.asarray(acceleration, dtype=float), (n,))
     values = sweep.inputs[d.input]
+    direction = _direction_of_travel(values)
+    size = np.broadcast_to(np.asarray(declared.speed if speed is None else speed, float), (n,))
+    rate = size * direction
+    rate_change = np.broadcast_to(np.asarray(acceleration, dtype=float), (n,)) * direction
     with np.errstate(divide="ignore", invalid="ignore"):
         # time to travel between samples at the mean rate of the two
-        dt = np.diff(values) / (0.5 * (rate[1:] + rate[:-1]))
+        dt = np.abs(np.diff(values)) / np.abs(0.5 * (size[1:] + size[:-1]))
     time = np.concatenate([[0.0], np.cumsum(dt)])
     velocity = {p: d.first[p] * rate[:, None] for p in d.first}
     accel = {p: d.second[p] * (rate**2)[:, None] + d.first[p] * rate_change[:, None]

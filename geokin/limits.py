@@ -220,10 +220,11 @@ def limits(construction, input: str | None = None, *, range=None,
                      initial=None if branches is None else dict(branches))
     first_valid = np.flatnonzero(probe.valid)
     if first_valid.size == 0:
-        raise AssemblyError(f"the construction cannot be assembled anywhere in "
-                            f"[{lo:g}, {hi:g}] of input {name!r}: "
-                            f"{probe.explain(samples // 2)}",
-                            node=probe.failed_node[samples // 2] or None)
+        where = "over a whole turn" if turn else "over the searched range"
+        failed = probe.failed_node[samples // 2]
+        raise AssemblyError(f"the construction cannot be assembled anywhere {where} of input "
+                            f"{name!r}: node {failed!r}: {probe.failure_reason[samples // 2]}",
+                            node=failed or None)
     held_branches = {k: int(np.broadcast_to(v, (samples,))[first_valid[0]])
                      for k, v in probe._labels.items()}
     probe = _evaluate_at(compiled, name, grid, held, held_branches)
@@ -321,8 +322,21 @@ def circuit(construction, input: str | None = None, *, start: float | None = Non
     start = start + shift
     labels = dict(found.branches)
     passes = []
+    def run(values, labels):
+        """One pass from its first value to its last, tracked from the given branches.
+
+        Returns the pass's values, its branches at every sample, and the
+        branches it ends on (a graze on the way changes them).
+        """
+        inputs = {k: np.full(len(values), v) for k, v in held.items()}
+        inputs[name] = values
+        part = evaluate(compiled, inputs, len(values), initial=labels)
+        branches = part.branches
+        passes.append((values, branches))
+        return {k: int(b[-1]) for k, b in branches.items()}
+
     if found.full_turn:
-        passes.append((np.linspace(start, start + 2 * np.pi, samples_per_pass), dict(labels)))
+        run(np.linspace(start, start + 2 * np.pi, samples_per_pass), labels)
     else:
         # samples evenly spaced along the motion: first a fine sampling evenly spaced in
         # phi, where input = centre + radius * sin(phi), which crowds towards the limits
@@ -347,16 +361,17 @@ def circuit(construction, input: str | None = None, *, start: float | None = Non
         initial = dict(labels)
         position, target = start, hi
         for _ in range(8):  # four toggles at most bring any branches back to the start
-            passes.append((stretch(position, target.value, labels), dict(labels)))
+            labels = run(stretch(position, target.value, labels), labels)
             if target.kind == "tangent":
                 labels[target.node] ^= 1
             position, target = target.value, (lo if target is hi else hi)
             if labels == initial:
                 # back on the starting branches: run on to the start and stop
-                passes.append((stretch(position, start, labels), dict(labels)))
+                run(stretch(position, start, labels), labels)
                 break
+    # each pass starts where the one before ended: drop the repeated sample
     values = np.concatenate([p[0] if i == 0 else p[0][1:] for i, p in enumerate(passes)])
-    per_sample = {k: np.concatenate([np.full(len(p[0]) - (i > 0), p[1][k], dtype=np.int8)
+    per_sample = {k: np.concatenate([p[1][k] if i == 0 else p[1][k][1:]
                                      for i, p in enumerate(passes)]) for k in labels}
     inputs = {k: np.full(len(values), v) for k, v in held.items()}
     inputs[name] = values

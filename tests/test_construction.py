@@ -31,7 +31,7 @@ def test_unknown_point_names_the_node_field_and_closest_name():
     c.circle_circle("B", ("A", "B00"), ("l3", 30), branch="left")
     with pytest.raises(ConstructionError, match="unknown point 'B00'; did you mean 'B0'") as info:
         c.compile()
-    check(info, "B", "centers")
+    check(info, "B", "centers[1]")
 
 
 def test_unknown_value_name_suggests_the_closest_parameter():
@@ -116,7 +116,9 @@ def test_duplicate_names_are_refused(declare):
     (lambda c: c.input("s", kind="length"), "s", "range", "needs a range"),
     (lambda c: c.input("s", kind="lenght", range=(0, 1)), "s", "kind", "did you mean 'length'"),
     (lambda c: c.input("s", samples=1), "s", "samples", "at least 2"),
-    (lambda c: c.input("s", step=-1.0), "s", "step", "sign"),
+    (lambda c: c.input("s", step=-1.0), "s", "step", "towards range"),
+    (lambda c: c.parameter("k", "sqrt(-1)"), "k", "value", r"finite number; 'sqrt\(-1\)' is nan"),
+    (lambda c: c.parameter("k", "1 / 0"), "k", "value", "finite number"),
     (lambda c: c.parameter("k", "l3 + 1"), "k", "value", "must be a number"),
     (lambda c: c.fixed("2P", 0, 0), "2P", "name", "identifier"),
     (lambda c: c.fixed("pi", 0, 0), "pi", "name", "reserved"),

@@ -160,3 +160,29 @@ def test_slider_crank_against_its_closed_form():
     np.testing.assert_allclose(m.velocity["P"][:, 1], 0, atol=1e-9)
     # crank tip: |a| = r w^2
     np.testing.assert_allclose(np.hypot(*m.acceleration["A"].T), r * w**2, rtol=1e-7)
+
+
+def test_a_circuit_runs_time_forwards_and_the_input_backwards_on_the_return():
+    from geokin.limits import circuit
+
+    s = circuit(triple_rocker("crank"), samples_per_pass=181)
+    m = motion(s, speed=2.0)
+    assert (np.diff(m.time) > 0).all()
+    # each sample moves the way the input arrived there
+    going_up = np.r_[False, np.diff(s.input) > 0]
+    going_down = np.r_[False, np.diff(s.input) < 0]
+    np.testing.assert_allclose(m.angular_velocity["crank"][going_up], 2.0, rtol=1e-9)
+    np.testing.assert_allclose(m.angular_velocity["crank"][going_down & ~m.flagged], -2.0,
+                               rtol=1e-9)
+    # velocities agree with the motion itself: finite differences of the positions over time
+    ok = ~m.flagged[1:-1]
+    numeric = (s["C"][2:] - s["C"][:-2]) / (m.time[2:] - m.time[:-2])[:, None]
+    scale = np.abs(m.velocity["C"]).max()
+    assert np.abs(numeric - m.velocity["C"][1:-1])[ok].max() < 0.05 * scale
+
+
+def test_a_sweep_run_backwards_turns_the_crank_backwards():
+    c = triple_rocker("crank")
+    m = motion(sweep(c, np.linspace(1, 0, 11)), speed=3.0)
+    np.testing.assert_allclose(m.angular_velocity["crank"], -3.0, rtol=1e-9)
+    np.testing.assert_allclose(m.time, np.linspace(0, 1 / 3, 11))

@@ -3,7 +3,7 @@ import pytest
 from mechanisms import coupler_fourbar
 from test_kinematics import R1, R2, R3, R4, triple_rocker
 
-from geokin import AssemblyError, Construction
+from geokin import AssemblyError, Construction, sweep
 from geokin.limits import circuit, limits
 
 # closed forms of seed 000's triple rocker limits (see test_kinematics for the constructions)
@@ -118,3 +118,18 @@ def test_limits_and_circuit_for_a_line_circle_toggle():
     np.testing.assert_allclose(np.hypot(*(s["P"] - s["A"]).T), 5, rtol=1e-12)
     np.testing.assert_allclose(s["P"][:, 1], 8)
     np.testing.assert_allclose(s["P"][0], s["P"][-1], atol=1e-9)
+
+
+def test_a_parallelogram_stays_a_parallelogram_round_its_circuit():
+    """At a change point the roots meet and part; the smooth motion keeps the shape."""
+    c = Construction("parallelogram")
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 20, 0)
+    c.polar("A", "O2", 10, "theta")
+    c.circle_circle("B", ("A", "O4"), (20, 10), near=(20, 10))
+    for s in (circuit(c, start=0.5), sweep(c, np.linspace(0, 4 * np.pi, 721))):
+        assert s.valid.all()
+        expected = np.c_[20 + 10 * np.cos(s.input), 10 * np.sin(s.input)]
+        np.testing.assert_allclose(s["B"], expected, atol=1e-6)
+        assert s.events  # the branch changes at each change point, and it is recorded
