@@ -55,6 +55,7 @@ from .io import _script_degrees, load
 from .kinematics import motion
 from .limits import circuit
 from .report import analyze
+from .sweep import evaluate
 from .sweep import sweep as run_sweep
 
 __all__ = ["COMMANDS", "build_parser", "main"]
@@ -157,13 +158,30 @@ def _circuit_of(construction, args, at):
         raise UsageError("--circuit runs between the limits of the motion: it takes "
                          "--samples (per pass) but not --range or --step")
     result = circuit(construction, samples_per_pass=args.samples or 361)
-    values = {name: _to_script_array(construction.inputs[name], v)
-              for name, v in result.inputs.items()}
     index = None
     if at is not None:
-        first = next(iter(values.values()))
-        index = int(np.argmin(np.abs(first - at)))
+        result, index = _circuit_at(result, _from_script(
+            construction.inputs[next(iter(result.inputs))], at))
+    values = {name: _to_script_array(construction.inputs[name], v)
+              for name, v in result.inputs.items()}
     return ScriptSweep(construction, result, values), index
+
+
+def _circuit_at(result, at):
+    """Return the circuit with a sample at input value ``at`` (radians) where it first passes it."""
+    name = next(iter(result.inputs))
+    path = result.inputs[name]
+    passing = np.flatnonzero((path[:-1] - at) * (path[1:] - at) <= 0)
+    if passing.size == 0:
+        raise UsageError("--at is outside the circuit's range of the input")
+    i = int(passing[0])
+    if np.isclose(path[i], at, rtol=0, atol=1e-12):
+        return result, i
+    if np.isclose(path[i + 1], at, rtol=0, atol=1e-12):
+        return result, i + 1
+    inputs = {k: np.insert(v, i + 1, at if k == name else v[i]) for k, v in result.inputs.items()}
+    branches = {k: np.insert(b, i + 1, b[i]) for k, b in result.branches.items()}
+    return evaluate(result.construction, inputs, len(path) + 1, branches, track=False), i + 1
 
 
 def _to_script_array(inp, values):
@@ -213,6 +231,8 @@ def run_check(args) -> int:
             print()
         try:
             _check_one(path)
+        except BrokenPipeError:
+            raise
         except (GeokinError, OSError) as err:
             _print_error(err)
             status = 2
@@ -220,7 +240,14 @@ def run_check(args) -> int:
 
 
 def _degrees_of_freedom(construction) -> str:
-    return str(degrees_of_freedom(construction))
+    mobility = degrees_of_freedom(construction)
+    text = str(mobility)
+    if not mobility.matches_inputs:
+        text += (f"\n  warning: Gruebler's count gives {mobility.dof} degree(s) of freedom "
+                 f"but the construction has {mobility.inputs} input(s): the declared links "
+                 "and sliders may not describe the mechanism (a point not on any link, a "
+                 "link missing, or a slider not declared)")
+    return text
 
 
 def _check_one(path):
@@ -347,9 +374,11 @@ def _selected_points(construction, text):
     names = list(construction.nodes)
     if text is None:
         return names
-    chosen = [p.strip() for p in text.split(",") if p.strip()]
-    if not chosen:
+    chosen = [p.strip() for p in text.split(",")]
+    if not any(chosen):
         raise UsageError("--points names no point")
+    if not all(chosen):
+        raise UsageError(f"--points {text!r} has an empty name between commas")
     for p in chosen:
         if p not in construction.nodes:
             raise UsageError(f"--points: no point {p!r}{did_you_mean(p, names)} "
@@ -357,11 +386,18 @@ def _selected_points(construction, text):
     return chosen
 
 
-def trace_columns(m: ScriptSweep, points, derivatives=False) -> dict:
+def trace_columns(m: ScriptSweep, points, derivatives=False, circuit_mode=False) -> dict:
     """Return the columns of ``geokin trace`` as a dict of name to array."""
     columns = dict(m.inputs)
     columns["valid"] = m.sweep.valid.copy()
     rates = motion(m.sweep) if derivatives else None
+    if rates is not None:
+        columns["time"] = rates.time
+        columns["flagged"] = rates.flagged
+    if m.sweep.events or circuit_mode:
+        # where branches change (a circuit, a change point) the input alone is ambiguous
+        for node, branch in m.sweep.branches.items():
+            columns[f"{node}.branch"] = branch.astype(float)
     for p in points:
         xy = m.sweep[p]
         columns[f"{p}.x"], columns[f"{p}.y"] = xy[:, 0], xy[:, 1]
@@ -390,7 +426,8 @@ def write_csv(columns: dict, stream):
     for i in range(rows):
         cells = []
         for name, array in zip(names, arrays, strict=True):
-            cells.append(("1" if array[i] else "0") if name == "valid" else _csv_number(array[i]))
+            flag = name in ("valid", "flagged")
+            cells.append(("1" if array[i] else "0") if flag else _csv_number(array[i]))
         stream.write(",".join(cells) + "\n")
 
 
@@ -398,7 +435,7 @@ def write_json(columns: dict, stream):
     """Write trace columns as one JSON object of arrays (null where not a number)."""
     data = {}
     for name, array in columns.items():
-        if name == "valid":
+        if name in ("valid", "flagged"):
             data[name] = [bool(v) for v in array]
         else:
             data[name] = [None if math.isnan(v) else float(v) for v in np.asarray(array, float)]
@@ -411,7 +448,7 @@ def run_trace(args) -> int:
                                                            "a trace")
     m, _ = motion_of(args.script, args)
     points = _selected_points(m.construction, args.points)
-    columns = trace_columns(m, points, args.derivatives)
+    columns = trace_columns(m, points, args.derivatives, args.circuit)
     if args.output is None:
         write_csv(columns, sys.stdout)
         sys.stdout.flush()
@@ -541,6 +578,14 @@ def run_analyze(args) -> int:
     return 0
 
 
+def _range_end(info, value) -> str:
+    """Mark an interval's end that is the end of the searched range, not a limit."""
+    if any(abs(limit["value"] - value) <= 1e-9 * max(1.0, abs(value))
+           for limit in info["limits"]):
+        return ""
+    return " (end of the declared range)"
+
+
 def _report_text(construction, report) -> str:
     units = f" {construction.units}" if construction.units else ""
     lines = [f"{report['construction']}", f"degrees of freedom: {report['mobility']['formula']}"]
@@ -549,7 +594,8 @@ def _report_text(construction, report) -> str:
         if info["full_turn"]:
             lines.append(f"input {name}: turns fully")
             continue
-        spans = ", ".join(f"{lo:.6f} to {hi:.6f}{unit}" for lo, hi in info["intervals"])
+        spans = ", ".join(f"{lo:.6f}{_range_end(info, lo)} to {hi:.6f}{unit}"
+                          f"{_range_end(info, hi)}" for lo, hi in info["intervals"])
         lines.append(f"input {name}: assemblable from {spans}")
         for limit in info["limits"]:
             lines.append(f"  limit at {limit['value']:.6f}{unit}: {limit['meaning']}")

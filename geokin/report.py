@@ -20,7 +20,11 @@ __all__ = ["analyze"]
 
 
 def _four_bars(compiled, motion: Sweep):
-    """Find circle-circle nodes closing a four-bar on a driven crank and a fixed pivot."""
+    """Find circle-circle nodes closing a four-bar on a driven crank and a fixed pivot.
+
+    Where links are declared, the crank, the coupler and the output must be
+    among them; a helper point of the construction is not a crank.
+    """
     nodes = {step.node.name: step.node for step in compiled.steps}
     found = []
     for node in nodes.values():
@@ -31,6 +35,12 @@ def _four_bars(compiled, motion: Sweep):
             if not (isinstance(crank, Polar) and isinstance(fixed, Fixed)
                     and isinstance(nodes[crank.origin], Fixed) and crank.reference is None
                     and crank.angle.names() & compiled.inputs.keys()):
+                continue
+            # with declared links, the loop must be made of them: a helper point
+            # of the construction is not a crank
+            bars = [(crank.origin, crank_pin), (crank_pin, node.name), (node.name, pivot)]
+            if compiled.links and not all(
+                    any({a, b} <= set(link.points) for link in compiled.links) for a, b in bars):
                 continue
             i = int(np.flatnonzero(motion.valid)[0])
             p = {name: motion[name][i] for name in (crank.origin, crank_pin, node.name, pivot)}
@@ -124,10 +134,16 @@ def analyze(construction, *, degrees: bool = False) -> dict:
         return {k: float(angle(v) if compiled.inputs[k].kind == "angle" else v)
                 for k, v in values.items()}
 
+    def between_links(t):
+        # with declared links, the angle must be between two of them, not a helper line
+        return not compiled.links or all(
+            any({t.node, centre} <= set(link.points) for link in compiled.links)
+            for centre in t.centers)
+
     report["transmission_angles"] = {
         node: {"min": float(angle(t.minimum)), "max": float(angle(t.maximum)),
                "at_min": inputs_at(t.at_minimum), "at_max": inputs_at(t.at_maximum)}
-        for node, t in transmission_angles(motion).items()}
+        for node, t in transmission_angles(motion).items() if between_links(t)}
     report["strokes"] = _strokes(compiled, motion, angle)
     report["curves"] = {}
     for point in compiled.traced:
@@ -156,6 +172,13 @@ def _strokes(compiled, motion: Sweep, angle) -> dict:
     for point in compiled.traced:
         outputs[f"{point}.x"] = (motion[point][:, 0], False)
         outputs[f"{point}.y"] = (motion[point][:, 1], False)
+    for slider in compiled.sliders:
+        # the block's position along its guide, from the guide's first point
+        a, b = slider.along
+        guide = motion[b] - motion[a]
+        unit = guide / np.hypot(*guide.T)[:, None]
+        outputs[f"{slider.name}.position"] = (
+            np.einsum("ij,ij->i", motion[slider.point] - motion[a], unit), False)
     for link in compiled.links:
         if set(link.points[:2]) <= fixed:
             continue

@@ -142,10 +142,14 @@ def test_trace_derivatives_are_per_second_at_the_declared_speed(capsys):
     status, out, _ = run(capsys, "trace", SIXBAR, "--derivatives", "--points", "A")
     assert status == 0
     header, data = read_csv(out)
-    assert header == ["theta", "valid", "A.x", "A.y", "A.vx", "A.vy", "A.ax", "A.ay"]
+    assert header == ["theta", "valid", "time", "flagged", "A.x", "A.y", "A.vx", "A.vy", "A.ax",
+                      "A.ay"]
+    # one turn per second: time in seconds is the crank angle over 360 degrees
+    np.testing.assert_allclose(data[:, 2], data[:, 0] / 360)
+    assert (data[:, 3] == 0).all()
     # the crank tip: radius 20 at one turn per second
-    np.testing.assert_allclose(np.hypot(data[:, 4], data[:, 5]), 20 * 2 * np.pi, rtol=1e-6)
-    np.testing.assert_allclose(np.hypot(data[:, 6], data[:, 7]), 20 * (2 * np.pi) ** 2,
+    np.testing.assert_allclose(np.hypot(data[:, 6], data[:, 7]), 20 * 2 * np.pi, rtol=1e-6)
+    np.testing.assert_allclose(np.hypot(data[:, 8], data[:, 9]), 20 * (2 * np.pi) ** 2,
                                rtol=1e-5)
 
 
@@ -155,6 +159,7 @@ def test_trace_derivatives_are_per_second_at_the_declared_speed(capsys):
                                          ".json or .npz file"),
     (["trace", SIXBAR, "--points", "MM"], "--points: no point 'MM'; did you mean 'M'?"),
     (["trace", SIXBAR, "--points", ","], "--points names no point"),
+    (["trace", SIXBAR, "--points", "C,,B"], "has an empty name between commas"),
     (["trace", SIXBAR, "--samples", "x"], "argument --samples: expected an integer"),
     (["trace", SIXBAR, "--samples", "1"], "argument --samples: expected at least 2"),
     (["trace", SIXBAR, "--samples", "5", "--step", "1"], "not allowed with argument"),
@@ -302,9 +307,10 @@ def test_trace_circuit_passes_the_toggles_and_closes(capsys):
     status, out, _ = run(capsys, "trace", "--circuit", "--points", "C", "--samples", "91",
                          str(CONSTRUCTIONS / "triple_rocker_crank.toml"))
     header, rows = read_csv(out)
-    assert header == ["theta2", "valid", "C.x", "C.y"]
-    theta, valid, c = rows[:, 0], rows[:, 1], rows[:, 2:]
+    assert header == ["theta2", "valid", "C.branch", "C.x", "C.y"]
+    theta, valid, branch, c = rows[:, 0], rows[:, 1], rows[:, 2], rows[:, 3:]
     assert status == 0 and (valid == 1).all()
+    assert set(branch) == {0, 1}  # both branches of C, told apart where theta2 repeats
     assert abs(theta.max() - 132.1774) < 1e-4 and abs(theta.min() + 132.1774) < 1e-4
     np.testing.assert_allclose(c[0], c[-1], atol=1e-9)
 
