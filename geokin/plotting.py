@@ -125,6 +125,24 @@ class _Layout:
         self.size = 0.035 * extent if extent > 0 else 1.0
         """The size of a symbol (pivot, block) in data units."""
 
+    def bar_ends(self, points):
+        """Return a link's points, or just its two ends if they all lie on one line.
+
+        A rigid link keeps its shape, so one assembled sample decides.
+        """
+        if len(points) <= 2 or not self.valid_indices.size:
+            return tuple(points)
+        xy = np.array([self.sweep.points[p][self.valid_indices[0]] for p in points])
+        direction = xy[np.argmax(np.hypot(*(xy - xy[0]).T))] - xy[0]
+        length = float(np.hypot(*direction))
+        if length == 0:
+            return tuple(points)
+        offsets = (xy - xy[0]) @ (np.array([-direction[1], direction[0]]) / length)
+        if np.max(np.abs(offsets)) > 1e-6 * length:
+            return tuple(points)
+        along = (xy - xy[0]) @ (direction / length)
+        return points[int(np.argmin(along))], points[int(np.argmax(along))]
+
     def _traces(self, traces):
         if traces is None:
             traces = self.sweep.construction.traced or self.moving
@@ -251,8 +269,17 @@ class _Scene:
                                zorder=_Z_GROUND + 0.1)
             self.ground.append((triangle, hatch, base))
         self.bars = []
-        for k, points in enumerate(layout.links):
-            color = LINK_COLORS[k % len(LINK_COLORS)]
+        moving = 0
+        for points in layout.links:
+            if all(p in layout.fixed for p in points):
+                # the ground: its pivots are drawn hatched; a thin line shows the frame
+                closed = (*points, points[0]) if len(points) > 2 else points
+                artist = line(color=GROUND_COLOR, lw=1.2, ls=(0, (4, 3)), zorder=_Z_GROUND)
+                self.bars.append((closed, artist))
+                continue
+            color = LINK_COLORS[moving % len(LINK_COLORS)]
+            moving += 1
+            points = layout.bar_ends(points)
             if len(points) == 2:
                 artist = line(color=color, lw=self.linewidth, solid_capstyle="round",
                               zorder=_Z_LINK)
@@ -346,7 +373,7 @@ class _Scene:
             base.set_data([x - width, x + width], [y - height, y - height])
         for points, artist in self.bars:
             xy = np.array([at[p] for p in points])
-            if len(points) == 2:
+            if hasattr(artist, "set_data"):
                 artist.set_data(xy[:, 0], xy[:, 1])
             else:
                 artist.set_xy(xy)
@@ -621,7 +648,10 @@ def save(fig, path):
 
 
 class _Progress:
-    """A text progress bar on stderr, shown on a terminal or once a job takes over 2 s."""
+    """A text progress bar on stderr, shown on a terminal once a job takes over 2 s.
+
+    Nothing is written where stderr is not a terminal (a log or a pipe).
+    """
 
     def __init__(self, label, enabled, stream=None, delay=2.0, width=30):
         self.label, self.enabled = label, enabled
@@ -636,7 +666,7 @@ class _Progress:
         done = current + 1
         if not self.shown:
             isatty = getattr(self.stream, "isatty", lambda: False)()
-            if not (isatty or time.monotonic() - self.start > self.delay):
+            if not (isatty and time.monotonic() - self.start >= self.delay):
                 return
             self.shown = True
         if total:
@@ -752,7 +782,7 @@ def animate(sweep, path, *, fps=25, frames=None, progress=True):
     finally:
         bar.close()
     if suffix in (".html", ".htm"):
-        _make_self_contained(path)
+        _make_self_contained(path, sweep.construction.name)
     return path
 
 
@@ -766,12 +796,22 @@ _BUTTON_ICONS = {
 }
 
 
-def _make_self_contained(path):
-    """Drop the web stylesheet of an HTML animation and draw its buttons as text."""
+def _make_self_contained(path, title):
+    """Make an HTML animation a whole page that needs nothing from the web.
+
+    matplotlib writes a fragment that loads its button icons from a web
+    stylesheet: the page gets its head and title, and text symbols for icons.
+    """
+    import html
+
     page = path.read_text(encoding="utf-8")
     page = re.sub(r"<link[^>]*stylesheet[^>]*>", "", page, flags=re.S)
     for icon, symbol in _BUTTON_ICONS.items():
         page = page.replace(f'<i class="{icon}"></i>', symbol)
+    if "<html" not in page:
+        page = (f'<!DOCTYPE html>\n<html>\n<head>\n<meta charset="utf-8">\n'
+                f"<title>{html.escape(title)}</title>\n</head>\n<body>\n{page}\n"
+                "</body>\n</html>\n")
     path.write_text(page, encoding="utf-8")
 
 

@@ -185,6 +185,7 @@ def test_animate_html_embeds_its_frames(tmp_path, small_frames):
     assert [p.name for p in tmp_path.iterdir()] == ["slider.html"]  # nothing beside it
     # nothing fetched from the web: the buttons are drawn with text symbols
     assert "stylesheet" not in page and "fa fa-" not in page and "http" not in page
+    assert page.startswith("<!DOCTYPE html>") and "<title>" in page
 
 
 def test_animate_mp4_needs_ffmpeg(tmp_path, monkeypatch):
@@ -232,36 +233,37 @@ def test_sweep_that_never_assembles(tmp_path, small_frames):
     assert path.stat().st_size > 0
 
 
-def test_progress_bar_only_on_a_terminal_or_a_slow_job():
+def test_progress_bar_only_on_a_terminal_and_a_slow_job():
     class Terminal(io.StringIO):
         def isatty(self):
             return True
 
-    quiet = io.StringIO()
-    bar = gp._Progress("writing a.gif", True, stream=quiet)
+    log = io.StringIO()  # not a terminal: never, however slow
+    bar = gp._Progress("writing a.gif", True, stream=log, delay=0.0)
     for i in range(3):
         bar(i, 3)
     bar.close()
-    assert quiet.getvalue() == ""
+    assert log.getvalue() == ""
 
-    slow = io.StringIO()
+    quick = Terminal()  # a terminal, but the job is not slow yet
+    bar = gp._Progress("writing a.gif", True, stream=quick, delay=60.0)
+    bar(0, 3)
+    assert quick.getvalue() == ""
+
+    slow = Terminal()
     bar = gp._Progress("writing a.gif", True, stream=slow, delay=0.0)
     bar(0, 2)
     bar(1, 2)
     bar.close()
     assert slow.getvalue().endswith("[" + "#" * 30 + "] 2/2\n")
 
-    unknown = io.StringIO()
+    unknown = Terminal()
     bar = gp._Progress("writing a.gif", True, stream=unknown, delay=0.0)
     bar(6, None)
     assert unknown.getvalue().endswith("frame 7")
 
-    terminal = Terminal()
-    bar = gp._Progress("writing a.gif", True, stream=terminal)
-    bar(0, 4)
-    assert "1/4" in terminal.getvalue()
     off = Terminal()
-    bar = gp._Progress("writing a.gif", False, stream=off)
+    bar = gp._Progress("writing a.gif", False, stream=off, delay=0.0)
     bar(0, 4)
     assert off.getvalue() == ""
 
