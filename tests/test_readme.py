@@ -15,6 +15,15 @@ def test_the_python_example_runs(monkeypatch):
         exec(compile(block, "README.md", "exec"), {})
 
 
+def test_the_annotated_script_is_the_one_shipped_and_it_loads():
+    import geokin
+
+    block = re.search(r"```toml\n(# Header comments.*?)```", README, flags=re.S).group(1)
+    assert block == (ROOT / "examples" / "annotated.toml").read_text(encoding="utf-8")
+    s = geokin.sweep(geokin.loads(block, source="README.md"))
+    assert s.valid.all() and set(s.points) == {"O2", "O4", "A", "B", "P", "Q"}
+
+
 def test_every_file_the_readme_names_exists():
     for name in set(re.findall(r"(?:constructions|examples|tests|geokin)/[\w./-]+\.\w+", README)):
         assert (ROOT / name).exists(), name
