@@ -108,6 +108,11 @@ class _Layout:
                       or p not in self.fixed]
         self.moving = [p for p in self.nodes if p not in self.fixed]
         self.traces = self._traces(traces)
+        if compiled.links:
+            # a moving point on no link, no slider and no trace only helps the
+            # construction: mark it like a reference, not like a joint
+            self.references += [p for p in self.moving
+                                if p not in linked and p not in self.traces]
         self.crank = self._crank()
         self.neighbours = {p: set() for p in self.nodes}
         for points in self.links:
@@ -155,18 +160,23 @@ class _Layout:
 
     def _crank(self):
         """Return (origin, tip, input name) of the driven crank, or None."""
-        inputs = self.sweep.construction.inputs
-        found = None
+        compiled = self.sweep.construction
+        inputs = compiled.inputs
+        links = [set(link.points) for link in compiled.links]
+        best, best_rank = None, None
         for name, node in self.nodes.items():
             if node.kind != "polar" or node.reference is not None:
                 continue
             driven = [i for i in node.angle.names() if i in inputs and inputs[i].kind == "angle"]
-            if driven:
-                candidate = (node.origin, name, driven[0])
-                if node.origin in self.fixed:
-                    return candidate
-                found = found or candidate
-        return found
+            if not driven:
+                continue
+            # a declared link turned by the input comes first (not a helper point of the
+            # construction), then a crank on a fixed pivot
+            on_link = not links or any({node.origin, name} <= link for link in links)
+            rank = (not on_link, node.origin not in self.fixed)
+            if best_rank is None or rank < best_rank:
+                best, best_rank = (node.origin, name, driven[0]), rank
+        return best
 
     def pose_index(self, index):
         """Return the sample whose pose is drawn for ``index``: itself or the nearest valid."""
