@@ -1,9 +1,12 @@
 import numpy as np
 import pytest
+from hypothesis import assume, given, settings
+from hypothesis import strategies as st
 from mechanisms import coupler_fourbar
 from test_kinematics import R1, R2, R3, R4, triple_rocker
 
 from geokin import AssemblyError, Construction, sweep
+from geokin.analysis import grashof
 from geokin.limits import circuit, limits
 
 # closed forms of seed 000's triple rocker limits (see test_kinematics for the constructions)
@@ -133,3 +136,34 @@ def test_a_parallelogram_stays_a_parallelogram_round_its_circuit():
         expected = np.c_[20 + 10 * np.cos(s.input), 10 * np.sin(s.input)]
         np.testing.assert_allclose(s["B"], expected, atol=1e-6)
         assert s.events  # the branch changes at each change point, and it is recorded
+
+
+@settings(max_examples=60)
+@given(lengths=st.lists(st.floats(1.0, 10.0), min_size=4, max_size=4))
+def test_limits_agree_with_grashof_and_the_closed_form(lengths):
+    """The crank turns fully exactly when Grashof says so; otherwise its limits are where
+    the coupler and the follower line up: cos(t) = (a^2 + d^2 - (b +- c)^2) / (2 a d)."""
+    d, a, b, c = lengths
+    cos_outer = (a**2 + d**2 - (b + c) ** 2) / (2 * a * d)
+    cos_inner = (a**2 + d**2 - (b - c) ** 2) / (2 * a * d)
+    # stay clear of the borderline cases (change points, barely assemblable chains)
+    assume(all(abs(abs(v) - 1) > 1e-3 for v in (cos_outer, cos_inner)))
+    assume(max(lengths) < sum(lengths) - max(lengths) - 1e-3)
+    c4 = Construction()
+    c4.input("theta", range=(-np.pi, np.pi))
+    c4.fixed("O2", 0, 0)
+    c4.fixed("O4", d, 0)
+    c4.polar("A", "O2", a, "theta")
+    c4.circle_circle("B", ("A", "O4"), (b, c), branch="left")
+    found = limits(c4, samples=3601)
+    assert found.full_turn == grashof(d, a, b, c).input_turns
+    if found.full_turn:
+        return
+    expected = [np.arccos(v) for v in (cos_outer, cos_inner) if abs(v) < 1]
+    ends = [end.value for pair in found.intervals for end in pair]
+    assert all(end.kind == "tangent" for pair in found.intervals for end in pair)
+    # each limit is one of the closed-form angles (either sign, any turn), to 1e-9
+    for value in ends:
+        gaps = [abs(np.angle(np.exp(1j * (value - sign * e))))
+                for e in expected for sign in (1, -1)]
+        assert min(gaps) < 1e-9
