@@ -353,6 +353,9 @@ class _Reader:
             elif message.endswith("(at end of document)"):
                 line = len(self.text.splitlines()) or 1
                 message = message.replace("(at end of document)", "(at the end)")
+            if message.startswith("Cannot overwrite a value") and line:
+                key = self.text.splitlines()[line - 1].split("=", 1)[0].strip()
+                message += f": {key!r} is given twice in its table"
             where = f"{self.source}:{line}" if line else self.source
             raise _error(f"{where}: TOML syntax error: {message}", source=self.source,
                          table=None, key=None, line=line) from None

@@ -395,6 +395,9 @@ def test_toml_syntax_error_names_the_line():
     assert message.startswith("sixbar.toml:8: TOML syntax error: Invalid value")
     message = error_of('[points]\nA = { op = "fixed", at = [0, 0]\n')
     assert message.startswith("sixbar.toml:2: TOML syntax error")
+    message = error_of('[links]\ncrank = ["O", "A"]\ncrank = ["O", "B"]\n')
+    assert message.startswith("sixbar.toml:3: TOML syntax error")
+    assert message.endswith("'crank' is given twice in its table")
 
 
 def test_a_full_table_point_is_located(tmp_path):
