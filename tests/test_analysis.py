@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 from hypothesis import assume, given
 from hypothesis import strategies as st
+from mechanisms import sixbar
 
 from geokin import Construction, sweep
 from geokin.analysis import (
@@ -247,30 +248,6 @@ def test_transmission_angle_at_every_circle_circle_node():
 
 
 # -- degrees of freedom ------------------------------------------------------------------------
-
-
-def sixbar():
-    """Seed 003's six-bar: crank A0-A-A', coupler A-B-C, rocker B-B0, output A'-M."""
-    c = Construction("six-bar")
-    for name, value in dict(x=168, y=20, l1=10, l2=20, l3=100, l4=100).items():
-        c.parameter(name, value)
-    c.input("theta", range=(0, np.radians(1800)), step=np.radians(16))
-    c.fixed("D", 0, 0)
-    c.fixed("mid", 0, "y")
-    c.fixed("A0", 0, "y + l1")
-    c.fixed("B0", "x", "l1")
-    c.polar("A", "A0", "l2", "theta")
-    c.circle_circle("B", ("A", "B0"), ("l3", "l4"), branch="left")
-    c.line_circle("Ap", ("A0", "A"), "A", 5, branch="first")
-    c.line_circle("C", ("A", "B"), "Ap", 70, branch="second")
-    c.ray_circle("M", ("Ap", "C"), "Ap", 140, branch="second")
-    c.link("ground", "D", "mid", "A0", "B0")
-    c.link("crank", "A0", "A", "Ap")
-    c.link("coupler", "A", "B", "C")
-    c.link("rocker", "B", "B0")
-    c.link("output", "Ap", "M")
-    c.slider("block", "C", ("Ap", "M"))
-    return c
 
 
 def test_dof_seed_003():
