@@ -17,7 +17,7 @@ array([[10.,  0.],
 """
 
 from .construction import Compiled, Construction, Input, Link, Parameter, Slider
-from .errors import AssemblyError, ConstructionError, GeokinError, ScriptError
+from .errors import AnalysisError, AssemblyError, ConstructionError, GeokinError, ScriptError
 from .io import dump, load, loads
 from .kinematics import Motion, motion
 from .limits import Limits, circuit, limits
@@ -25,6 +25,7 @@ from .report import analyze
 from .sweep import BranchEvent, Sweep, sweep
 
 __all__ = [
+    "AnalysisError",
     "AssemblyError",
     "BranchEvent",
     "Compiled",

@@ -45,7 +45,7 @@ import numpy as np
 import shapely
 
 from .construction import CircleCircle, Compiled, Construction, Fixed
-from .errors import did_you_mean
+from .errors import AnalysisError, did_you_mean
 from .sweep import Sweep
 
 __all__ = [
@@ -64,6 +64,7 @@ __all__ = [
     "stroke",
     "time_ratio",
     "transmission_angles",
+    "unwrap_valid",
 ]
 
 ROLES = ("ground", "input", "coupler", "output")
@@ -147,7 +148,7 @@ def _lengths(values) -> dict[str, float]:
     for role, value in zip(ROLES, values, strict=True):
         value = float(value)
         if not (np.isfinite(value) and value > 0):
-            raise ValueError(f"the {role} length must be a positive number, got {value!r}")
+            raise AnalysisError(f"the {role} length must be a positive number, got {value!r}")
         lengths[role] = value
     return lengths
 
@@ -303,7 +304,7 @@ def _kinds_matching(kind: str) -> frozenset[str]:
     if kind in by_code:
         return frozenset({by_code[kind]})
     names = [*KINDS, *by_code, *_GROUPS]
-    raise ValueError(f"unknown four-bar kind {kind!r}{did_you_mean(str(kind), names)}")
+    raise AnalysisError(f"unknown four-bar kind {kind!r}{did_you_mean(str(kind), names)}")
 
 
 # -- transmission angle -----------------------------------------------------------
@@ -439,7 +440,7 @@ def fourbar_transmission_extremes(ground: float, input: float, coupler: float,
     e_min = max(abs(g - i), abs(c - o))
     e_max = min(g + i, c + o)
     if e_min > e_max * (1 + 1e-12):
-        raise ValueError(f"a four-bar with lengths {g:g}, {i:g}, {c:g}, {o:g} cannot be "
+        raise AnalysisError(f"a four-bar with lengths {g:g}, {i:g}, {c:g}, {o:g} cannot be "
                          "assembled")
 
     def mu(e):
@@ -541,7 +542,10 @@ def degrees_of_freedom(construction: Construction | Compiled) -> Mobility:
     True
     """
     compiled = construction.compile() if isinstance(construction, Construction) else construction
-    fixed = {s.node.name for s in compiled.steps if isinstance(s.node, Fixed)}
+    # a fixed point whose place depends on an input is driven, not ground
+    fixed = {s.node.name for s in compiled.steps if isinstance(s.node, Fixed)
+             and not any(e.names() & compiled.inputs.keys()
+                         for e in s.node.value_fields().values())}
     members: dict[str, set[str]] = {}
     bodies = []
     for link in compiled.links:
@@ -658,18 +662,18 @@ def stroke(output, input, *, period: float = 2 * np.pi) -> Stroke:
     y = np.asarray(output, dtype=float)
     x = np.asarray(input, dtype=float)
     if x.shape != y.shape or x.ndim != 1:
-        raise ValueError("output and input must be one-dimensional arrays of one length")
+        raise AnalysisError("output and input must be one-dimensional arrays of one length")
     if np.any(np.diff(x) <= 0):
-        raise ValueError("the input must increase from sample to sample")
+        raise AnalysisError("the input must increase from sample to sample")
     keep = x < x[0] + period - 1e-12 * period
     span = x[-1] - x[0]
     step = np.max(np.diff(x)) if len(x) > 1 else np.inf
     if span < period - 1.5 * step:
-        raise ValueError(f"the input covers {span:g}, less than one turn ({period:g})")
+        raise AnalysisError(f"the input covers {span:g}, less than one turn ({period:g})")
     x, y = x[keep], y[keep]
     ok = np.isfinite(y)
     if ok.sum() < 3:
-        raise ValueError("fewer than three finite output values")
+        raise AnalysisError("fewer than three finite output values")
     n = len(x)
 
     def extreme(index):
@@ -705,7 +709,14 @@ def time_ratio(output, input, *, period: float = 2 * np.pi) -> float:
 # -- link angles -----------------------------------------------------------------------
 
 
-def _unwrap_valid(angle):
+def unwrap_valid(angle) -> np.ndarray:
+    """Unwrap angles across the finite samples, keeping NaN where they are not.
+
+    Examples
+    --------
+    >>> unwrap_valid(np.array([3.0, np.nan, -3.0])).round(4)
+    array([3.    ,    nan, 3.2832])
+    """
     out = np.full_like(angle, np.nan)
     ok = np.isfinite(angle)
     out[ok] = np.unwrap(angle[ok])
@@ -739,7 +750,7 @@ def link_angles(sweep: Sweep) -> dict[str, np.ndarray]:
     result = {}
     for link in sweep.construction.links:
         d = sweep.points[link.points[1]] - sweep.points[link.points[0]]
-        result[link.name] = _unwrap_valid(np.arctan2(d[:, 1], d[:, 0]))
+        result[link.name] = unwrap_valid(np.arctan2(d[:, 1], d[:, 0]))
     return result
 
 
@@ -827,10 +838,10 @@ def curve_measures(points, *, tol: float | None = None) -> Curve:
     """
     xy = np.asarray(points, dtype=float)
     if xy.ndim != 2 or xy.shape[1] != 2:
-        raise ValueError(f"points must have shape (N, 2), got {xy.shape}")
+        raise AnalysisError(f"points must have shape (N, 2), got {xy.shape}")
     runs = [r for r in _runs(xy) if len(r) >= 2]
     if not runs:
-        raise ValueError("a curve needs at least two finite points in a row")
+        raise AnalysisError("a curve needs at least two finite points in a row")
     everything = np.concatenate(runs)
     lo, hi = everything.min(axis=0), everything.max(axis=0)
     bounds = (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))

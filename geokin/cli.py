@@ -1,4 +1,4 @@
-"""The ``geokin`` command line: check, trace, plot and animate construction scripts.
+"""The ``geokin`` command line: check, trace, plot, animate and analyze scripts.
 
 Every command takes a construction script (see :mod:`geokin.io`). Values on
 the command line are in the script's units: degrees for an angle input,
@@ -8,23 +8,28 @@ Commands
 --------
 ``geokin check SCRIPT...``
     Validate scripts; print the compiled steps, the inputs, the degrees of
-    freedom and whether the default sweep can be assembled.
-``geokin trace SCRIPT [-o FILE.csv|.json|.npz] [--samples N | --step S] [--range A B]
-[--points M,B] [--derivatives]``
+    freedom (with a warning where Gruebler's count and the inputs differ)
+    and whether the default sweep can be assembled.
+``geokin trace SCRIPT [-o FILE.csv|.json|.npz] [--points M,B] [--derivatives]``
     The motion as data: the input (named as in the script, in its units),
     ``valid``, and ``<point>.x``, ``<point>.y`` for each point; with
-    ``--derivatives`` also ``<point>.vx .vy .ax .ay`` per second at the
-    input's declared speed. CSV on standard output without ``-o``.
-``geokin plot SCRIPT [-o FILE.png|.svg] [--at VALUE]``
+    ``--derivatives`` also ``time`` and ``flagged`` and ``<point>.vx .vy .ax
+    .ay`` per second at the input's declared speed; where branches change,
+    ``<node>.branch``. CSV on standard output without ``-o``.
+``geokin plot SCRIPT [-o FILE.png|.svg] [--at VALUE] [--kinematics]``
     The mechanism drawn at one input value with the paths of its traced
-    points over the whole range.
-``geokin animate SCRIPT -o FILE.gif|.html|.mp4 [--fps F] [--frames N]``
+    points; with ``--kinematics`` the link angles and their rates against time.
+``geokin animate SCRIPT -o FILE.gif|.html|.mp4 [--fps F] [--frames N] [--no-progress]``
     An animation of the motion with the paths growing.
+``geokin analyze SCRIPT [--json]``
+    Degrees of freedom, limits, Grashof classes, transmission angles,
+    strokes and curve measures (see :func:`geokin.report.analyze`).
 
 ``trace``, ``plot`` and ``animate`` take the sweep options ``--range A B``
 and ``--samples N`` or ``--step S`` for the first input (other inputs are
-swept over their own ranges with as many samples). Errors are printed on
-standard error without a traceback, and the exit status is 2.
+swept over their own ranges with as many samples), or ``--circuit`` for the
+first input's whole circuit. Errors are printed on standard error without a
+traceback, and the exit status is 2.
 
 Adding a command takes a function ``run_<name>(args) -> int`` and a
 function ``add_<name>(subparsers)`` that declares its arguments and sets
@@ -157,7 +162,8 @@ def _circuit_of(construction, args, at):
     if args.range is not None or args.step is not None:
         raise UsageError("--circuit runs between the limits of the motion: it takes "
                          "--samples (per pass) but not --range or --step")
-    result = circuit(construction, samples_per_pass=args.samples or 361)
+    first = next(iter(construction.inputs))
+    result = circuit(construction, first, samples_per_pass=args.samples or 361)
     index = None
     if at is not None:
         result, index = _circuit_at(result, _from_script(
@@ -390,7 +396,11 @@ def trace_columns(m: ScriptSweep, points, derivatives=False, circuit_mode=False)
     """Return the columns of ``geokin trace`` as a dict of name to array."""
     columns = dict(m.inputs)
     columns["valid"] = m.sweep.valid.copy()
-    rates = motion(m.sweep) if derivatives else None
+    rates = None
+    if derivatives:
+        if not m.construction.inputs:
+            raise UsageError("--derivatives needs a construction with an input")
+        rates = motion(m.sweep, next(iter(m.construction.inputs)))
     if rates is not None:
         columns["time"] = rates.time
         columns["flagged"] = rates.flagged
@@ -501,7 +511,10 @@ def run_plot(args) -> int:
             raise UsageError("--at draws one pose; --kinematics plots against time: "
                              "give one or the other")
         m, _ = motion_of(args.script, args)
-        fig, _ = plotting.figure_kinematics(motion(m.sweep), title=args.title)
+        first = next(iter(m.construction.inputs), None)
+        if first is None:
+            raise UsageError("--kinematics needs a construction with an input")
+        fig, _ = plotting.figure_kinematics(motion(m.sweep, first), title=args.title)
         print(f"wrote {plotting.save(fig, output)}", file=sys.stderr)
         return 0
     m, index = motion_of(args.script, args, at=args.at)
@@ -677,6 +690,12 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("geokin: interrupted", file=sys.stderr)
         return 130
+    except Exception as err:  # a fault of geokin itself: say so, in one line
+        if os.environ.get("GEOKIN_DEBUG"):
+            raise
+        print(f"geokin: internal error: {type(err).__name__}: {err} (please report it with "
+              "the script; set GEOKIN_DEBUG=1 to see the traceback)", file=sys.stderr)
+        return 2
 
 
 if __name__ == "__main__":  # pragma: no cover

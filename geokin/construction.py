@@ -135,6 +135,8 @@ class Input:
         array([0. , 0.4, 0.8])
         """
         lo, hi = self.range
+        if samples is not None:
+            _check_samples(samples, node=self.name, field="samples")
         if samples is None and self.step is not None:
             count = int(np.floor((hi - lo) / self.step * (1 + 1e-12) + 1e-9)) + 1
             return lo + self.step * np.arange(count)
@@ -685,16 +687,25 @@ class Construction:
                                         field="range")
             range = (0.0, 2 * np.pi)
         lo_hi = _pair_of_numbers(range, node=name, field="range")
-        if not (isinstance(samples, int | np.integer) and samples >= 2):
-            raise ConstructionError(f"samples must be an integer of at least 2, got {samples!r}",
-                                    node=name, field="samples")
-        if step is not None and not (np.isfinite(step) and step * (lo_hi[1] - lo_hi[0]) > 0):
-            raise ConstructionError("step must be a non-zero number that goes from range[0] "
-                                    "towards range[1]", node=name, field="step")
+        if lo_hi[0] == lo_hi[1]:
+            raise ConstructionError("the range's two ends are equal: nothing to sweep",
+                                    node=name, field="range")
+        _check_samples(samples, node=name, field="samples")
+        if step is not None:
+            step = _number(step, node=name, field="step")
+            if not step * (lo_hi[1] - lo_hi[0]) > 0:
+                raise ConstructionError("step must be a non-zero number that goes from "
+                                        "range[0] towards range[1]", node=name, field="step")
+            _check_samples(int(abs(lo_hi[1] - lo_hi[0]) / abs(step)) + 1, node=name,
+                           field="step")
         if speed is None:
             speed = 2 * np.pi if kind == "angle" else 1.0
-        self.inputs[name] = Input(name, kind, lo_hi, int(samples), float(speed),
-                                  None if step is None else float(step))
+        speed = _number(speed, node=name, field="speed")
+        if not speed > 0:
+            raise ConstructionError("speed must be a positive number (how fast the input "
+                                    "moves; a sweep's direction sets its sign)", node=name,
+                                    field="speed")
+        self.inputs[name] = Input(name, kind, lo_hi, int(samples), speed, step)
 
     def fixed(self, name: str, x, y) -> None:
         """Declare a fixed point (a ground pivot)."""
@@ -951,6 +962,34 @@ def _find_cycle(waiting: Mapping[str, set[str]]) -> list[str]:
             return path[seen[nxt]:]
         seen[nxt] = len(path)
         path.append(nxt)
+
+
+MAX_SAMPLES = 10_000_000
+"""The most samples an input's default sweep may have."""
+
+
+def _number(value, *, node, field) -> float:
+    """Return ``value`` as a finite float, or raise naming the node and field."""
+    if isinstance(value, bool):
+        raise ConstructionError(f"expected a number, got {value!r}", node=node, field=field)
+    try:
+        number = float(value)
+    except (TypeError, ValueError, OverflowError):
+        raise ConstructionError(f"expected a number, got {value!r}", node=node,
+                                field=field) from None
+    if not np.isfinite(number):
+        raise ConstructionError(f"expected a finite number, got {value!r}", node=node,
+                                field=field)
+    return number
+
+
+def _check_samples(samples, *, node, field):
+    if isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 2:
+        raise ConstructionError(f"samples must be an integer of at least 2, got {samples!r}",
+                                node=node, field=field)
+    if samples > MAX_SAMPLES:
+        raise ConstructionError(f"{samples} samples is more than the {MAX_SAMPLES:,} a "
+                                "default sweep may have", node=node, field=field)
 
 
 def _pair_of_numbers(value, *, node, field) -> tuple[float, float]:

@@ -44,6 +44,10 @@ class ScriptError(ConstructionError):
     """A construction script cannot be read: the message names file, table and key."""
 
 
+class AnalysisError(GeokinError, ValueError):
+    """An analysis cannot be made of what it was given (lengths, arrays, curves)."""
+
+
 class AssemblyError(GeokinError):
     """A construction cannot be assembled where the caller required it.
 

@@ -130,7 +130,7 @@ class Number(Expr):
 
     def __str__(self):
         value = self.value
-        if value == int(value) and abs(value) < 1e15:
+        if math.isfinite(value) and value == int(value) and abs(value) < 1e15:
             return str(int(value))
         return repr(value)
 
@@ -201,8 +201,10 @@ class BinOp(Expr):
         # ** is right-associative, the others left-associative
         if self.left._precedence() < mine or (self.op == "**" and self.left._precedence() == mine):
             left = f"({left})"
+        # the parser groups equal precedence from the left: a right operand of the
+        # same precedence keeps its parentheses, so the text parses to the same tree
         if self.right._precedence() < mine or (
-            self.op != "**" and self.right._precedence() == mine and self.op in "-/"
+            self.op != "**" and self.right._precedence() == mine
         ):
             right = f"({right})"
         return f"{left} {self.op} {right}"
@@ -241,7 +243,14 @@ def as_expr(value, *, node: str | None = None, field: str | None = None) -> Expr
         raise ConstructionError(f"expected a number or an expression, got {value!r}",
                                 node=node, field=field)
     if isinstance(value, int | float | np.integer | np.floating):
-        return Number(float(value))
+        try:
+            number = float(value)
+        except OverflowError:
+            number = math.inf
+        if not math.isfinite(number):
+            raise ConstructionError(f"expected a finite number, got {value!r}", node=node,
+                                    field=field)
+        return Number(number)
     if isinstance(value, str):
         return parse(value, node=node, field=field)
     raise ConstructionError(
@@ -275,18 +284,26 @@ def parse(text: str, *, node: str | None = None, field: str | None = None) -> Ex
     geokin.errors.ConstructionError: expression "__import__('os')": unknown function ...
     """
     def fail(message):
-        return ConstructionError(f"expression {text!r}: {message}", node=node, field=field)
+        shown = text if len(text) <= 80 else text[:77] + "..."
+        return ConstructionError(f"expression {shown!r}: {message}", node=node, field=field)
 
     try:
         tree = ast.parse(text.strip(), mode="eval")
     except SyntaxError as exc:
         raise fail(f"not a valid expression ({exc.msg})") from None
-
+    except (RecursionError, MemoryError):
+        raise fail("too deeply nested") from None
     def build(item: ast.AST) -> Expr:
         if isinstance(item, ast.Constant):
             if isinstance(item.value, bool) or not isinstance(item.value, int | float):
                 raise fail(f"{item.value!r} is not a number")
-            return Number(float(item.value))
+            try:
+                number = float(item.value)
+            except OverflowError:
+                raise fail(f"the number {str(item.value)[:20]}... is too large") from None
+            if not math.isfinite(number):
+                raise fail(f"{item.value!r} is not a finite number")
+            return Number(number)
         if isinstance(item, ast.Name):
             return Name(item.id)
         if isinstance(item, ast.UnaryOp) and isinstance(item.op, ast.USub | ast.UAdd):
@@ -315,4 +332,7 @@ def parse(text: str, *, node: str | None = None, field: str | None = None) -> Ex
         raise fail(f"{kind} is not allowed; use numbers, names, + - * / ** and "
                    f"{', '.join(FUNCTIONS)}")
 
-    return build(tree.body)
+    try:
+        return build(tree.body)
+    except RecursionError:
+        raise fail("too deeply nested") from None

@@ -31,13 +31,15 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .analysis import unwrap_valid
+from .errors import ConstructionError
 from .sweep import Sweep, evaluate, input_name
 
 __all__ = ["Motion", "input_derivatives", "motion"]
 
 RELATIVE_STEP = 2e-4
-"""The perturbation h: radians for an angle input, and this fraction of the
-range's largest magnitude for a length input."""
+"""The perturbation h: this many radians for an angle input, and this
+fraction of the declared range for a length input."""
 
 SINGULAR_MARGIN = 1e-5
 """Samples where a two-root node's margin (squared half-chord over squared
@@ -93,14 +95,17 @@ class Derivatives:
 
 def _step_for(sweep: Sweep, name: str, step: float | None) -> float:
     if step is not None:
+        if not (np.isfinite(step) and step > 0):
+            raise ConstructionError(f"the finite-difference step must be a positive number, "
+                                    f"got {step!r}", node=name, field="step")
         return float(step)
     declared = sweep.construction.inputs[name]
     if declared.kind == "angle":
         return RELATIVE_STEP
+    # a length input: a fraction of its declared range, or of the sweep's span
     values = sweep.inputs[name]
-    size = max(np.max(np.abs(values), initial=0.0), abs(declared.range[1]),
-               abs(declared.range[0]))
-    return RELATIVE_STEP * (size if size > 0 else 1.0)
+    span = max(abs(declared.range[1] - declared.range[0]), float(np.ptp(values)))
+    return RELATIVE_STEP * span
 
 
 def input_derivatives(sweep: Sweep, input: str | None = None, *,
@@ -298,10 +303,7 @@ def motion(sweep: Sweep, input: str | None = None, *, speed=None, acceleration=0
         with np.errstate(divide="ignore", invalid="ignore"):
             omega = (x * vy - y * vx) / r2
             alpha = (x * ay - y * ax) / r2 - 2 * omega * (x * vx + y * vy) / r2
-        phi = np.arctan2(y, x)
-        valid = np.isfinite(phi)
-        phi[valid] = np.unwrap(phi[valid])
-        angle[link.name], angular_velocity[link.name] = phi, omega
+        angle[link.name], angular_velocity[link.name] = unwrap_valid(np.arctan2(y, x)), omega
         angular_acceleration[link.name] = alpha
     flagged = ((d.stencil == 2) & sweep.valid) | d.unconverged
     for margin in sweep.margins.values():

@@ -22,8 +22,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .construction import NO_INTERSECTION, OFF_LINE, REASONS
-from .errors import AssemblyError
+from .construction import NO_INTERSECTION
+from .errors import AssemblyError, ConstructionError
 from .sweep import BranchEvent, Sweep, _compiled, evaluate, input_name
 
 __all__ = ["LIMIT_TOLERANCE", "Limit", "Limits", "circuit", "limits"]
@@ -145,10 +145,12 @@ def _refine(compiled, name, held, branches, inside, outside):
     inside = np.array(inside, dtype=float)
     outside = np.array(outside, dtype=float)
     while True:
-        width = np.abs(outside - inside)
-        if not (width > LIMIT_TOLERANCE).any():
-            break
         middle = 0.5 * (inside + outside)
+        # stop at the tolerance, or where no float lies between the ends
+        open_ = (np.abs(outside - inside) > LIMIT_TOLERANCE) & (middle != inside) & (
+            middle != outside)
+        if not open_.any():
+            break
         ok = _strictly_valid(_evaluate_at(compiled, name, middle, held, branches))
         inside = np.where(ok, middle, inside)
         outside = np.where(ok, outside, middle)
@@ -212,7 +214,10 @@ def limits(construction, input: str | None = None, *, range=None,
             middle = 0.5 * (lo + hi)
             lo, hi = middle - np.pi, middle + np.pi
     else:
-        lo, hi = map(float, range)
+        lo, hi = sorted(map(float, range))
+    if samples < 3:
+        raise ConstructionError(f"limits need at least 3 samples to bracket, got {samples}",
+                                node=name, field="samples")
     grid = np.linspace(lo, hi, samples)
     inputs = {k: np.full(samples, v) for k, v in held.items()}
     inputs[name] = grid
@@ -401,4 +406,4 @@ def describe_limit(limit: Limit) -> str:
         return "end of the searched range"
     if limit.kind == "tangent":
         return f"node {limit.node!r} becomes tangent (toggle)"
-    return f"node {limit.node!r}: {REASONS[OFF_LINE]} or degenerates"
+    return f"node {limit.node!r}: its root leaves its ray or segment, or it degenerates"

@@ -44,7 +44,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .errors import AssemblyError
+from .errors import AnalysisError, AssemblyError
 
 __all__ = [
     "LoopSolution",
@@ -129,7 +129,7 @@ def newton_continuation(residual: Callable, jacobian: Callable, inputs, guess, *
     array([1., 2., 3.])
     """
     if on_failure not in ("raise", "mask"):
-        raise ValueError(f"on_failure must be 'raise' or 'mask', got {on_failure!r}")
+        raise AnalysisError(f"on_failure must be 'raise' or 'mask', got {on_failure!r}")
     u = np.atleast_1d(np.asarray(inputs, dtype=float))
     x = np.array(guess, dtype=float).reshape(-1)
     m = len(x)

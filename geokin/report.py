@@ -11,8 +11,16 @@ from __future__ import annotations
 
 import numpy as np
 
-from .analysis import curve_measures, degrees_of_freedom, grashof, stroke, transmission_angles
+from .analysis import (
+    curve_measures,
+    degrees_of_freedom,
+    grashof,
+    stroke,
+    transmission_angles,
+    unwrap_valid,
+)
 from .construction import CircleCircle, Fixed, Polar
+from .errors import AnalysisError
 from .limits import circuit, describe_limit, limits
 from .sweep import Sweep, _compiled, sweep
 
@@ -125,11 +133,15 @@ def analyze(construction, *, degrees: bool = False) -> dict:
         motion = sweep(compiled)
     if not motion.valid.any():
         return report
-    report["four_bars"] = [
-        {"node": node, "points": list(points), **lengths,
-         "class": (g := grashof(**lengths)).kind, "code": g.code, "grashof": g.grashof,
-         "turning": list(g.turning)}
-        for node, points, lengths in _four_bars(compiled, motion)]
+    report["four_bars"] = []
+    for node, points, lengths in _four_bars(compiled, motion):
+        try:
+            g = grashof(**lengths)
+        except AnalysisError:  # a link of zero length: no four-bar to classify
+            continue
+        report["four_bars"].append({"node": node, "points": list(points), **lengths,
+                                    "class": g.kind, "code": g.code, "grashof": g.grashof,
+                                    "turning": list(g.turning)})
     def inputs_at(values):
         return {k: float(angle(v) if compiled.inputs[k].kind == "angle" else v)
                 for k, v in values.items()}
@@ -147,7 +159,10 @@ def analyze(construction, *, degrees: bool = False) -> dict:
     report["strokes"] = _strokes(compiled, motion, angle)
     report["curves"] = {}
     for point in compiled.traced:
-        curve = curve_measures(motion[point])
+        try:
+            curve = curve_measures(motion[point])
+        except AnalysisError:  # fewer than two assembled samples in a row
+            continue
         report["curves"][point] = {
             "length": curve.length, "closed": curve.closed,
             "area": None if np.isnan(curve.area) else curve.area,
@@ -176,7 +191,8 @@ def _strokes(compiled, motion: Sweep, angle) -> dict:
         # the block's position along its guide, from the guide's first point
         a, b = slider.along
         guide = motion[b] - motion[a]
-        unit = guide / np.hypot(*guide.T)[:, None]
+        with np.errstate(all="ignore"):
+            unit = guide / np.hypot(*guide.T)[:, None]
         outputs[f"{slider.name}.position"] = (
             np.einsum("ij,ij->i", motion[slider.point] - motion[a], unit), False)
     for link in compiled.links:
@@ -184,10 +200,12 @@ def _strokes(compiled, motion: Sweep, angle) -> dict:
             continue
         a, b = link.points[:2]
         direction = motion[b] - motion[a]
-        outputs[f"{link.name}.angle"] = (np.unwrap(np.arctan2(direction[:, 1],
-                                                              direction[:, 0])), True)
+        outputs[f"{link.name}.angle"] = (
+            unwrap_valid(np.arctan2(direction[:, 1], direction[:, 0])), True)
     strokes = {}
     for label, (values, is_angle) in outputs.items():
+        if not np.isfinite(values).any():
+            continue
         low, high = np.nanmin(values), np.nanmax(values)
         if high - low <= 1e-9 * max(1.0, abs(high), abs(low)):
             continue  # it does not move
@@ -198,7 +216,11 @@ def _strokes(compiled, motion: Sweep, angle) -> dict:
         entry = {"turns": False, "min": float(convert(low)), "max": float(convert(high)),
                  "stroke": float(convert(high - low)), "time_ratio": None}
         if turns:
-            s = stroke(values[:-1], motion.inputs[name][:-1])
+            try:
+                s = stroke(values[:-1], motion.inputs[name][:-1])
+            except AnalysisError:  # too few assembled samples to locate the extremes
+                strokes[label] = entry
+                continue
             entry.update(min=float(convert(s.minimum)), max=float(convert(s.maximum)),
                          stroke=float(convert(s.stroke)), time_ratio=float(s.time_ratio))
         strokes[label] = entry

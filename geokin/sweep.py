@@ -109,6 +109,8 @@ class Sweep:
     @property
     def input(self) -> np.ndarray:
         """Return the values of the first input (radians for an angle)."""
+        if not self.inputs:
+            raise AttributeError(f"construction {self.construction.name!r} has no input")
         return next(iter(self.inputs.values()))
 
     @property
@@ -248,12 +250,15 @@ def input_arrays(compiled: Compiled, values=None, samples: int | None = None):
         if name not in compiled.inputs:
             raise ConstructionError(f"unknown input {name!r}{did_you_mean(name, names)}",
                                     node=name)
-    arrays = {}
+    arrays = {name: np.asarray(values[name], dtype=float) for name in names if name in values}
+    # inputs left to their defaults share one number of samples: that of the given
+    # values, else the first defaulted input's own sampling
+    given = [a.shape[0] for a in arrays.values() if a.ndim == 1]
     for name in names:
-        if name in values:
-            arrays[name] = np.asarray(values[name], dtype=float)
-        else:
-            arrays[name] = compiled.inputs[name].values(samples)
+        if name not in arrays:
+            count = samples or (given[0] if given else None)
+            arrays[name] = compiled.inputs[name].values(count)
+            given.append(len(arrays[name]))
     if not arrays:
         return {}, 1
     try:
@@ -266,6 +271,8 @@ def input_arrays(compiled: Compiled, values=None, samples: int | None = None):
     if len(shape) > 1:
         raise ConstructionError(f"input values must be one-dimensional, got shape {shape}")
     n = shape[0] if shape else 1
+    if n == 0:
+        raise ConstructionError("a sweep needs at least one sample; the input values are empty")
     return {k: np.broadcast_to(v, (n,)).astype(float, copy=False) for k, v in arrays.items()}, n
 
 
@@ -366,10 +373,10 @@ def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
                     parameters[node.name] = (cand.t[label] if np.ndim(label) == 0
                                              else np.where(label, cand.t[1], cand.t[0]))
             coords[node.name] = (x, y)
-            results.append((step, cand, values, label, x))
+            results.append((step, cand, values, label, np.isfinite(x) & np.isfinite(y)))
         valid = np.ones(n, dtype=bool)
-        for *_, x in results:
-            valid &= np.isfinite(x)
+        for *_, finite in results:
+            valid &= finite
     failed_step = np.zeros(n, dtype=np.int16)
     reason_code = np.zeros(n, dtype=np.int8)
     if not valid.all():
@@ -398,8 +405,8 @@ def _choose(cand, label):
 def _record_failures(results, n, failed_step, reason_code):
     """Name the first node that fails at each invalid sample, and why."""
     pending = np.ones(n, dtype=bool)
-    for step, cand, values, label, x in results:
-        failing = pending & ~np.isfinite(np.broadcast_to(x, (n,)))
+    for step, cand, values, label, finite in results:
+        failing = pending & ~np.broadcast_to(finite, (n,))
         if not failing.any():
             continue
         at = np.flatnonzero(failing)
@@ -482,12 +489,18 @@ def _initial_label(node, cand, n, override) -> int:
     if node.near is None:
         return node.branch_names().index(node.branch)
     x0, y0, x1, y1 = (np.broadcast_to(a, (n,)) for a in (*cand.x, *cand.y))
-    exists = np.flatnonzero(np.isfinite(x0 + x1))
+    usable = [np.isfinite(x0), np.isfinite(x1)]
+    if cand.on_line is not None:  # a root off its ray or segment cannot be assembled
+        usable = [u & np.broadcast_to(on, (n,)) for u, on in zip(usable, cand.on_line,
+                                                                  strict=True)]
+    exists = np.flatnonzero(usable[0] | usable[1])
     if exists.size == 0:
         return 0
     i = exists[0]
     near_x, near_y = node.near
-    return int(np.hypot(x1[i] - near_x, y1[i] - near_y) < np.hypot(x0[i] - near_x, y0[i] - near_y))
+    distance = [np.hypot(x0[i] - near_x, y0[i] - near_y) if usable[0][i] else np.inf,
+                np.hypot(x1[i] - near_x, y1[i] - near_y) if usable[1][i] else np.inf]
+    return int(distance[1] < distance[0])
 
 
 def _track(node, cand, n, track, override=None):
@@ -507,10 +520,17 @@ def _track(node, cand, n, track, override=None):
     motion = step.copy()
     motion[1:] = np.fmax(motion[1:], step[:-1])
     motion[:-1] = np.fmax(motion[:-1], step[1:])
-    close = np.minimum(separation[:-1], separation[1:]) <= 2 * motion
+    nearest = np.minimum(separation[:-1], separation[1:])
+    close = nearest <= 2 * motion
     # where the roots stay equal (a node tangent all along) there is nothing to choose
     size = np.fmax(np.fmax(np.abs(x0), np.abs(y0)), np.fmax(np.abs(x1), np.abs(y1)))
     close &= np.maximum(separation[:-1], separation[1:]) > 1e-12 * np.fmax(size[:-1], size[1:])
+    # roots that meet dip towards each other: at least twice as close as on either side
+    # (roots that stay as near as one step apart, never meeting, are left alone)
+    outer = np.full(n - 1, np.nan)
+    outer[1:] = separation[:-2]
+    outer[:-1] = np.fmax(outer[:-1], separation[2:])
+    close &= ~(nearest > 0.5 * outer)
     pairs = np.flatnonzero(close)
     if pairs.size == 0:
         return start, []

@@ -167,3 +167,17 @@ def test_limits_agree_with_grashof_and_the_closed_form(lengths):
         gaps = [abs(np.angle(np.exp(1j * (value - sign * e))))
                 for e in expected for sign in (1, -1)]
         assert min(gaps) < 1e-9
+
+
+def test_limits_of_a_large_length_input_end_at_float_resolution():
+    """Above about 8192 no two floats are 1e-12 apart: the bisection must still stop."""
+    c = Construction()
+    c.input("s", kind="length", range=(9000, 11000))
+    c.fixed("O", 0, 0)
+    c.fixed("Q", 20000.3, 0)
+    c.circle_circle("B", ("O", "Q"), ("s", 10000), branch="left")
+    [(lo, hi)] = limits(c).intervals
+    assert lo.kind == "tangent" and abs(lo.value - 10000.3) <= 4 * np.spacing(10000.3)
+    assert hi.kind == "range" and hi.value == 11000
+    [(lo2, _)] = limits(c, range=(11000, 9000)).intervals  # a reversed range is sorted
+    assert lo2.value == lo.value

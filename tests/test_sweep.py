@@ -255,9 +255,35 @@ def test_inputs_of_different_lengths_are_a_clear_error():
     c.input("b", kind="length", range=(0, 1), samples=7)
     c.fixed("O", 0, 0)
     c.polar("A", "O", "b + 1", "a")
-    with pytest.raises(ConstructionError, match=r"different lengths \(a: 5, b: 7\)"):
-        sweep(c)
+    with pytest.raises(ConstructionError, match=r"different lengths \(a: 3, b: 4\)"):
+        sweep(c, {"a": np.zeros(3), "b": np.zeros(4)})
     assert len(sweep(c, {"a": np.zeros(3), "b": 0.5})) == 3
+    # defaulted inputs share one sampling: the given one's, else the first input's
+    assert len(sweep(c)) == 5
+    np.testing.assert_allclose(sweep(c).inputs["b"], np.linspace(0, 1, 5))
+    assert len(sweep(c, {"b": np.zeros(9)})) == 9
+    with pytest.raises(ConstructionError, match="at least one sample"):
+        sweep(c, {"a": [], "b": []})
+
+
+def test_a_point_with_a_finite_x_but_no_y_is_not_assembled():
+    c = Construction()
+    c.input("s", kind="length", range=(0, 10), samples=11)
+    c.fixed("P", 0, "sqrt(s - 5)")
+    s = sweep(c)
+    np.testing.assert_array_equal(s.valid, np.arange(11) >= 5)
+    assert set(s.failed_node[~s.valid]) == {"P"}
+
+
+def test_near_on_a_ray_picks_a_root_on_the_ray():
+    c = Construction()
+    c.input("t")
+    c.fixed("O", 0, 0)
+    c.fixed("X", 1, 0)
+    c.polar("Q", "O", 1, "t")
+    c.ray_circle("P", ("O", "X"), "O", 5, near=(-5, 0))  # the root at -5 is off the ray
+    s = sweep(c, [0.0, 0.1])
+    assert s.valid.all() and s.branch_names("P")[0] == "second"
 
 
 def test_a_node_tangent_all_along_is_valid_and_needs_no_branch_changes():
@@ -273,3 +299,24 @@ def test_a_node_tangent_all_along_is_valid_and_needs_no_branch_changes():
     assert s.valid.all() and s.events == []
     np.testing.assert_allclose(s["T"], np.c_[np.linspace(0, 10, 10_001), np.zeros(10_001)],
                                atol=1e-12)
+
+
+def test_python_work_grows_with_branch_questions_not_with_samples(monkeypatch):
+    """Roots that stay one step apart without meeting are not examined sample by sample."""
+    import sys
+
+    engine = sys.modules["geokin.sweep"]  # the package's `sweep` is the function
+    calls = []
+    original = engine._smoother_to_switch
+    monkeypatch.setattr(engine, "_smoother_to_switch",
+                        lambda *args: calls.append(1) or original(*args))
+    c = Construction()
+    c.input("theta")
+    c.fixed("O", 0, 0)
+    c.polar("Q", "O", 2 - 1e-10, "theta")  # the circles all but touch, all the way round
+    c.circle_circle("B", ("O", "Q"), (1, 1), branch="left")
+    s = sweep(c, np.linspace(0, 2 * np.pi, 100_000))
+    assert s.valid.all() and s.events == [] and len(calls) < 10
+    calls.clear()
+    s = sweep(grazing(), samples=100_001)  # one real graze: a handful of questions
+    assert len(s.events) == 1 and len(calls) < 10
