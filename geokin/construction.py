@@ -575,7 +575,12 @@ class Construction:
     name : str
         A name for messages and pictures.
     angle_unit : {"rad", "deg"}
-        The unit of angle values inside expressions; "rad" in Python.
+        The unit of angle values inside expressions: "rad" for a construction
+        built in Python; "deg" for one loaded from a script, whose
+        expressions keep the script's degrees. Angle values declared later on
+        a loaded construction are read in its unit, degrees, while input
+        ranges, steps and speeds are radians in the Python API whatever the
+        unit.
     """
 
     def __init__(self, name: str = "construction", *, angle_unit: str = "rad",
@@ -787,10 +792,6 @@ class Construction:
         """Name the points whose paths are traced (coupler points) in plots."""
         self.traced = tuple(self._point(p, "trace", f"points[{i}]") for i, p in enumerate(points))
         self._compiled = None
-
-    def add(self, node: Node) -> None:
-        """Declare a node built elsewhere (used by the script loader)."""
-        self._add(node)
 
     # -- checks of one declaration -------------------------------------------
 

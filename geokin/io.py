@@ -129,7 +129,6 @@ OPS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
 TABLES = ("construction", "parameters", "inputs", "points", "links", "sliders")
 CONSTRUCTION_KEYS = ("name", "description", "units", "trace")
 INPUT_KEYS = ("kind", "range", "samples", "step", "speed")
-PARAMETER_KEYS = ("value", "description")
 SLIDER_KEYS = ("point", "along")
 
 _POINT_PAIRS = ("reference", "line", "first", "second", "centers")

@@ -52,7 +52,14 @@ import numpy as np
 
 from .errors import GeokinError, did_you_mean
 
-__all__ = ["animate", "figure_mechanism", "plot_input_output", "plot_mechanism", "save"]
+__all__ = [
+    "animate",
+    "figure_kinematics",
+    "figure_mechanism",
+    "plot_input_output",
+    "plot_mechanism",
+    "save",
+]
 
 LINK_COLORS = ("#2f6db5", "#e07b00", "#3a9a4b", "#8a55b5", "#b8433e", "#2a9d9d", "#8c6d46")
 """Colours of the links, in declaration order."""
@@ -712,7 +719,7 @@ def animate(sweep, path, *, fps=25, frames=None, progress=True):
         The number of frames: that many samples, evenly chosen. By default
         every sample, at most 300.
     progress : bool
-        Show a progress bar on stderr when it is a terminal or when writing
+        Show a progress bar on stderr when it is a terminal and writing
         takes more than about 2 s.
 
     Returns
