@@ -343,7 +343,8 @@ class TransmissionAngle:
     @property
     def worst(self) -> float:
         """Return the smallest distance of the angle from 0 or pi (0 at a toggle)."""
-        return float(np.nanmin(np.minimum(self.angle, np.pi - self.angle)))
+        distance = np.minimum(self.angle, np.pi - self.angle)
+        return float(np.min(distance[np.isfinite(distance)], initial=np.nan))
 
 
 def _angle_between(u, v):

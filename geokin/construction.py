@@ -648,7 +648,24 @@ class Construction:
     # -- declarations ------------------------------------------------------
 
     def parameter(self, name: str, value: float, description: str = "") -> None:
-        """Declare a named constant, usable in any value by its name."""
+        """Declare a named constant, usable in any value by its name.
+
+        Parameters
+        ----------
+        name : str
+            An identifier, unique in the construction.
+        value : float or str
+            A finite number, or arithmetic of numbers (``"sqrt(2) * 10"``).
+        description : str
+            Free text shown with the parameter.
+
+        Examples
+        --------
+        >>> c = Construction()
+        >>> c.parameter("l3", 100, "coupler")
+        >>> c.parameters["l3"].value
+        100.0
+        """
         self._claim(name, "parameter")
         number = as_expr(value, node=name, field="value")
         if number.names():
@@ -713,15 +730,50 @@ class Construction:
         self.inputs[name] = Input(name, kind, lo_hi, int(samples), speed, step)
 
     def fixed(self, name: str, x, y) -> None:
-        """Declare a fixed point (a ground pivot)."""
+        """Declare a fixed point (a ground pivot).
+
+        Parameters
+        ----------
+        name : str
+        x, y : value
+            Numbers, names or arithmetic. A coordinate that uses an input
+            makes a point driven along a line (a slider moved directly).
+
+        Examples
+        --------
+        >>> c = Construction()
+        >>> c.parameter("y", 20)
+        >>> c.fixed("A0", 0, "y + 10")
+        >>> c.compile().steps[0]
+        <Step 1: A0 = fixed(0, y + 10)>
+        """
         self._add(Fixed(name, self._value(x, name, "x"), self._value(y, name, "y")))
 
     def polar(self, name: str, origin: str, distance, angle,
               reference: Sequence[str] | None = None) -> None:
         """Declare the point at ``distance`` and ``angle`` from ``origin``.
 
-        ``angle`` is absolute, or measured from the direction of the line
-        ``reference[0] -> reference[1]`` when given.
+        Parameters
+        ----------
+        name, origin : str
+        distance : value
+        angle : value
+            Counter-clockwise, in the construction's angle unit (radians in
+            Python): from the x axis, or with ``reference`` from the
+            direction of the line ``reference[0] -> reference[1]``.
+        reference : (str, str), optional
+
+        Examples
+        --------
+        A crank pin, and a coupler point 20 from it at 30 degrees off the
+        coupler line:
+
+        >>> c = Construction()
+        >>> c.input("theta")
+        >>> c.fixed("O", 0, 0)
+        >>> c.fixed("Q", 40, 0)
+        >>> c.polar("A", "O", 10, "theta")
+        >>> c.polar("P", "A", 20, "radians(30)", reference=("A", "Q"))
         """
         ref = None if reference is None else self._points(reference, name, "reference", 2)
         self._add(Polar(name, self._point(origin, name, "origin"),
@@ -729,12 +781,32 @@ class Construction:
                         self._value(angle, name, "angle"), ref))
 
     def along(self, name: str, line: Sequence[str], distance) -> None:
-        """Declare the point at a signed ``distance`` from ``line[0]`` towards ``line[1]``."""
+        """Declare the point at a signed ``distance`` from ``line[0]`` towards ``line[1]``.
+
+        Examples
+        --------
+        >>> c = Construction()
+        >>> c.fixed("A", 0, 0)
+        >>> c.fixed("B", 3, 4)
+        >>> c.along("M", ("A", "B"), 2.5)
+        >>> print(c.compile().steps[-1].node.describe())
+        along(A->B, 2.5)
+        """
         self._add(Along(name, self._points(line, name, "line", 2),
                         self._value(distance, name, "distance")))
 
     def line_line(self, name: str, first: Sequence[str], second: Sequence[str]) -> None:
-        """Declare the intersection of two lines, each through two points."""
+        """Declare the intersection of two lines, each through two points.
+
+        Samples where the lines are parallel cannot be assembled.
+
+        Examples
+        --------
+        >>> c = Construction()
+        >>> for name, x, y in [("P", 0, 0), ("Q", 2, 2), ("R", 0, 2), ("S", 2, 0)]:
+        ...     c.fixed(name, x, y)
+        >>> c.line_line("X", ("P", "Q"), ("R", "S"))
+        """
         self._add(LineLine(name, self._points(first, name, "first", 2),
                            self._points(second, name, "second", 2)))
 
@@ -778,18 +850,37 @@ class Construction:
         self._line_circle(SegmentCircle, name, line, center, radius, branch, near)
 
     def link(self, name: str, *points: str) -> None:
-        """Declare a rigid link joining two or more points (for drawing and analysis)."""
+        """Declare a rigid link joining two or more points (for drawing and analysis).
+
+        A link's angle is the direction from its first point to its second;
+        a link of fixed points is the ground. Links feed the drawings, the
+        link angles and rates, and the degrees-of-freedom count; they do not
+        change the motion.
+
+        Examples
+        --------
+        >>> c = Construction()
+        >>> c.fixed("O", 0, 0)
+        >>> c.fixed("A", 1, 0)
+        >>> c.link("crank", "O", "A")
+        """
         self._claim(name, "link")
         self.links[name] = Link(name, self._points(points, name, "points", None))
 
     def slider(self, name: str, point: str, along: Sequence[str]) -> None:
-        """Declare a slider block at ``point`` sliding on the line ``along``."""
+        """Declare a slider block at ``point`` sliding on the line ``along``.
+
+        The block is a link pinned at ``point`` that slides on the link
+        holding both points of ``along`` (the ground if both are fixed): one
+        more moving link, a revolute joint and a prismatic pair for the
+        degrees-of-freedom count, and a block in drawings.
+        """
         self._claim(name, "slider")
         self.sliders[name] = Slider(name, self._point(point, name, "point"),
                                     self._points(along, name, "along", 2))
 
     def trace(self, *points: str) -> None:
-        """Name the points whose paths are traced (coupler points) in plots."""
+        """Name the points whose paths are traced (coupler points) in plots and reports."""
         self.traced = tuple(self._point(p, "trace", f"points[{i}]") for i, p in enumerate(points))
         self._compiled = None
 

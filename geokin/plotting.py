@@ -933,16 +933,19 @@ def figure_kinematics(motion, *, links=None, title=None):
     """
     if links is None:
         # the ground does not move: leave it out
-        names = [n for n, a in motion.angle.items() if np.nanmax(a) - np.nanmin(a) > 0]
+        names = [n for n, a in motion.angle.items()
+                 if np.isfinite(a).any() and np.nanmax(a) - np.nanmin(a) > 0]
     else:
         names = list(links)
     unknown = [n for n in names if n not in motion.angle]
     if unknown:
         raise GeokinError(f"no declared link {unknown[0]!r}"
                           f"{did_you_mean(unknown[0], motion.angle)}")
-    if not names:
+    if not names and not motion.angle:
         raise GeokinError("the construction declares no links: nothing to plot "
                           "(declare links to see their angles, velocities and accelerations)")
+    if not names:
+        raise GeokinError("no declared link moves at an assembled sample: nothing to plot")
     fig, axes = _pyplot().subplots(3, 1, sharex=True, figsize=(8.0, 8.0), layout="constrained")
     keep = motion.sweep.valid & ~motion.flagged
     quantities = [(motion.angle, np.degrees, "angle (°)"),
