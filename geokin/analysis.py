@@ -344,7 +344,8 @@ class TransmissionAngle:
     def worst(self) -> float:
         """Return the smallest distance of the angle from 0 or pi (0 at a toggle)."""
         distance = np.minimum(self.angle, np.pi - self.angle)
-        return float(np.min(distance[np.isfinite(distance)], initial=np.nan))
+        distance = distance[np.isfinite(distance)]
+        return float(distance.min()) if distance.size else float("nan")
 
 
 def _angle_between(u, v):
