@@ -14,7 +14,8 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
-from test_kinematics import loop_rates, node_angle, triple_rocker  # noqa: E402
+from mechanisms import triple_rocker  # noqa: E402
+from test_kinematics import loop_rates, node_angle  # noqa: E402
 
 from geokin import sweep  # noqa: E402
 from geokin.kinematics import motion  # noqa: E402

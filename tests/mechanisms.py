@@ -48,3 +48,31 @@ def coupler_fourbar():
     c = fourbar(40, 10, 35, 30)
     c.polar("P", "A", 20, np.radians(30), reference=("A", "B"))
     return c
+
+
+R1, R2, R3, R4 = 7.0, 5.0, 6.0, 5.0  # seed 000: ground, crank, coupler, follower
+
+
+def triple_rocker(driver, branch="left"):
+    """Seed 000's four-bar with the crank, coupler or follower driving."""
+    c = Construction(f"triple rocker, {driver} driving")
+    c.fixed("A", 0, 0)
+    c.fixed("D", R1, 0)
+    if driver == "crank":
+        c.input("theta2")
+        c.polar("B", "A", R2, "theta2")
+        c.circle_circle("C", ("B", "D"), (R3, R4), branch=branch)
+    elif driver == "coupler":
+        c.input("theta3")
+        # B is r3 behind C along the coupler: it lies on the follower circle shifted back
+        c.polar("Dp", "D", R3, "theta3 + pi")
+        c.circle_circle("B", ("A", "Dp"), (R2, R4), branch=branch)
+        c.polar("C", "B", R3, "theta3")
+    else:
+        c.input("theta4")
+        c.polar("C", "D", R4, "theta4")
+        c.circle_circle("B", ("A", "C"), (R2, R3), branch=branch)
+    c.link("crank", "A", "B")
+    c.link("coupler", "B", "C")
+    c.link("follower", "D", "C")
+    return c

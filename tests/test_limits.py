@@ -2,8 +2,7 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
-from mechanisms import coupler_fourbar
-from test_kinematics import R1, R2, R3, R4, triple_rocker
+from mechanisms import R1, R2, R3, R4, coupler_fourbar, triple_rocker
 
 from geokin import AssemblyError, Construction, sweep
 from geokin.analysis import grashof

@@ -1,6 +1,6 @@
 import numpy as np
 import pytest
-from mechanisms import FOURBAR_004, SIXBAR, coupler_fourbar, fourbar, sixbar
+from mechanisms import FOURBAR_004, SIXBAR, coupler_fourbar, fourbar, sixbar, triple_rocker
 
 from geokin import Construction, ConstructionError, sweep
 
@@ -135,20 +135,9 @@ def test_branch_override_at_sweep_time():
         sweep(fourbar(), branches={"B": "up"})
 
 
-def triple_rocker():
-    """Seed 000's non-Grashof four-bar: ground 7, crank 5, coupler 6, follower 5."""
-    c = Construction("triple rocker")
-    c.input("theta2")
-    c.fixed("A", 0, 0)
-    c.fixed("D", 7, 0)
-    c.polar("B", "A", 5, "theta2")
-    c.circle_circle("C", ("B", "D"), (6, 5), branch="left")
-    return c
-
-
 def test_unreachable_samples_are_data_naming_the_failing_node():
     theta = np.radians(np.arange(0, 360, 1.0))
-    s = sweep(triple_rocker(), theta)
+    s = sweep(triple_rocker("crank"), theta)
     limit = np.degrees(np.arccos((5**2 + 7**2 - 11**2) / (2 * 5 * 7)))  # 132.1774 degrees
     reachable = (np.degrees(theta) <= limit) | (np.degrees(theta) >= 360 - limit)
     np.testing.assert_array_equal(s.valid, reachable)
@@ -163,20 +152,20 @@ def test_unreachable_samples_are_data_naming_the_failing_node():
 def test_after_a_gap_the_branch_resumes_by_continuity_not_by_default():
     # 0 -> 300 degrees crosses the unreachable stretch; the samples beyond it
     # must be the configuration reached by turning the crank backwards from 0
-    forward = sweep(triple_rocker(), np.radians(np.arange(0, 301.0)))
-    backward = sweep(triple_rocker(), np.radians(np.arange(0, -61.0, -1.0)))
+    forward = sweep(triple_rocker("crank"), np.radians(np.arange(0, 301.0)))
+    backward = sweep(triple_rocker("crank"), np.radians(np.arange(0, -61.0, -1.0)))
     np.testing.assert_allclose(forward["C"][-1], backward["C"][-1], atol=1e-12)
     assert len(set(forward.branches["C"])) == 1
     # out to the limit and back: the crank retraces the same motion
     theta = np.radians(np.r_[np.arange(0, 200.0), np.arange(200, -1.0, -1)])
-    there_and_back = sweep(triple_rocker(), theta)
+    there_and_back = sweep(triple_rocker("crank"), theta)
     np.testing.assert_allclose(there_and_back["C"][:100], there_and_back["C"][-1:-101:-1],
                                atol=1e-12)
 
 
 def test_a_peer_defect_coming_back_on_the_other_branch_does_not_happen():
     # start on the right branch: the resumed samples are on the right branch too
-    s = sweep(triple_rocker(), np.radians(np.arange(0, 360.0)), branches={"C": "right"})
+    s = sweep(triple_rocker("crank"), np.radians(np.arange(0, 360.0)), branches={"C": "right"})
     valid = s.valid
     assert (s.branch_names("C")[valid] == "right").all()
 
