@@ -418,27 +418,29 @@ def trace_columns(m: ScriptSweep, points, derivatives=False, circuit_mode=False)
     return columns
 
 
-def _csv_number(value) -> str:
-    value = float(value)
-    if math.isnan(value):
-        return "nan"
-    if value.is_integer() and abs(value) < 1e15:
-        return str(int(value))
-    return repr(value)
+def _csv_cells(name, array) -> list[str]:
+    """Format one column: 1 and 0 for flags, else the shortest exact decimal.
+
+    Whole numbers lose their ``.0`` (``20`` rather than ``20.0``); NaN is ``nan``.
+    """
+    array = np.asarray(array)
+    if name in ("valid", "flagged"):
+        return np.where(array, "1", "0").tolist()
+    cells = [repr(value) for value in array.astype(float).tolist()]
+    return [cell[:-2] if cell.endswith(".0") else cell for cell in cells]
 
 
-def write_csv(columns: dict, stream):
+def write_csv(columns: dict, stream, *, rows_per_write: int = 10_000):
     """Write trace columns as CSV: a header, then one row per sample."""
     names = list(columns)
     stream.write(",".join(names) + "\n")
-    arrays = [columns[n] for n in names]
-    rows = len(arrays[0]) if arrays else 0
-    for i in range(rows):
-        cells = []
-        for name, array in zip(names, arrays, strict=True):
-            flag = name in ("valid", "flagged")
-            cells.append(("1" if array[i] else "0") if flag else _csv_number(array[i]))
-        stream.write(",".join(cells) + "\n")
+    arrays = [np.asarray(columns[n]) for n in names]
+    total = len(arrays[0]) if arrays else 0
+    for start in range(0, total, rows_per_write):
+        # a block of rows at a time: formatting goes column by column
+        block = [_csv_cells(n, a[start:start + rows_per_write])
+                 for n, a in zip(names, arrays, strict=True)]
+        stream.write("".join(",".join(row) + "\n" for row in zip(*block, strict=True)))
 
 
 def write_json(columns: dict, stream):
