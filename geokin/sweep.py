@@ -13,9 +13,14 @@ Branch rules
 2. The branch is the sign of the square root in the node's intersection
    formula. It stays the same along the motion, because the two roots can
    only exchange places where they meet.
-3. Where the two roots meet and part again between two samples (the curves
-   graze, as at a change point), the branch changes if that continues the
-   motion smoothly; the change is recorded as a :class:`BranchEvent`.
+3. Where the two roots meet and part again between two samples (a graze,
+   as at a change point, or a toggle where the input turns back), the
+   branch changes if that continues the motion smoothly: the node's
+   half-chord, taken with the branch's sign, must run smoothly through zero.
+   The samples count as evenly spaced in time. The change is recorded as a
+   :class:`BranchEvent`. A meeting closer to a sample than the sampling can
+   resolve may put that one sample on the other root, which is then as close
+   to it as the roots are to each other.
 4. Where a node cannot be assembled, the sample is invalid and the failing
    node and the reason are recorded. Beyond the gap the node resumes on the
    branch it had before the gap: an assembly mode is never reset silently.
@@ -38,6 +43,8 @@ __all__ = ["BranchEvent", "Sweep", "evaluate", "sweep"]
 GRAZE_MARGIN = 0.04
 """Nodes whose margin (squared half-chord over squared scale) never falls
 below this cannot graze between samples; their branch tracking is skipped."""
+
+
 
 
 @dataclass(frozen=True)
@@ -506,69 +513,72 @@ def _initial_label(node, cand, n, override) -> int:
 def _track(node, cand, n, track, override=None):
     """Choose the branch of a two-root node at every sample (rules 1 to 3).
 
+    The branch is the sign of the square root, kept from the start. It can
+    change only where the two roots meet and part between samples, near a
+    local minimum of the node's margin (its squared half-chord). There the
+    half-chord ``u = sqrt(margin)``, taken with the sign of the branch, runs
+    smoothly through zero, while taken without sign it folds back in a V.
+    Of three readings of the samples around the minimum (no crossing, a
+    crossing just before the middle sample, one just after it) the one whose
+    signed half-chords are smoothest is taken, the samples counting as evenly
+    spaced in time. Everything is computed for all samples at once.
+
     Returns the branch as an int where it never changes, else an int8 array.
     """
     start = _initial_label(node, cand, n, override)
-    if not track or n < 3 or not (np.fmin.reduce(np.ravel(cand.margin)) < GRAZE_MARGIN):
+    margin = np.broadcast_to(cand.margin, (n,))
+    if not track or n < 3 or not (np.fmin.reduce(margin) < GRAZE_MARGIN):
         return start, []
-    (x0, x1), (y0, y1) = cand.x, cand.y
-    x0, y0, x1, y1 = (np.broadcast_to(a, (n,)) for a in (x0, y0, x1, y1))
-    separation = np.hypot(x1 - x0, y1 - y0)
-    step = np.fmax(np.hypot(np.diff(x0), np.diff(y0)), np.hypot(np.diff(x1), np.diff(y1)))
-    # at a graze the kept root barely moves across the pair itself: judge the
-    # separation against the motion of the neighbouring pairs as well
-    motion = step.copy()
-    motion[1:] = np.fmax(motion[1:], step[:-1])
-    motion[:-1] = np.fmax(motion[:-1], step[1:])
-    nearest = np.minimum(separation[:-1], separation[1:])
-    close = nearest <= 2 * motion
-    # where the roots stay equal (a node tangent all along) there is nothing to choose
-    size = np.fmax(np.fmax(np.abs(x0), np.abs(y0)), np.fmax(np.abs(x1), np.abs(y1)))
-    close &= np.maximum(separation[:-1], separation[1:]) > 1e-12 * np.fmax(size[:-1], size[1:])
-    # roots that meet dip towards each other: at least twice as close as on either side
-    # (roots that stay as near as one step apart, never meeting, are left alone)
-    outer = np.full(n - 1, np.nan)
-    outer[1:] = separation[:-2]
-    outer[:-1] = np.fmax(outer[:-1], separation[2:])
-    close &= ~(nearest > 0.5 * outer)
-    pairs = np.flatnonzero(close)
-    if pairs.size == 0:
+    # samples are taken as evenly spaced in time: where the input turns back at a
+    # limit (a rocker swinging), the half-chord then folds through zero as at a graze
+    t = np.arange(n, dtype=float)
+    u = np.sqrt(np.maximum(margin, 0.0))
+    m_left, m_mid, m_right = margin[:-2], margin[1:-1], margin[2:]
+    # local minima of the margin, where the roots come closest (where the margin
+    # stays at zero the roots stay equal, and there is nothing to choose)
+    low = ((m_mid <= m_left) & (m_mid <= m_right) & (m_mid < GRAZE_MARGIN)
+           & (np.fmax(m_left, m_right) > 1e-14))
+    centre = np.flatnonzero(low) + 1
+    first_after = []
+    if centre.size:
+        # five samples around each minimum (three at the ends of the sweep)
+        wide = (centre >= 2) & (centre <= n - 3)
+        offsets = np.arange(-2, 3)[:, None]
+        window = np.where(wide, centre + offsets, np.clip(centre + offsets, 0, n - 1))
+        y, x = u[window], t[window]
+        flip_after = np.array([1, 1, 1, -1, -1])[:, None]   # meet between centre, centre+1
+        flip_before = np.array([1, 1, -1, -1, -1])[:, None]  # between centre-1 and centre
+        none, after, before = (np.where(wide, _wiggle(y * sign, x),
+                                        _bend(*(y * sign)[1:4], *x[1:4]))
+                               for sign in (1, flip_after, flip_before))
+        first_after += [centre[(after < none) & (after <= before)] + 1,
+                        centre[(before < none) & (before < after)]]
+    first_after = np.unique(np.concatenate(first_after or [np.empty(0, int)])).astype(int)
+    if first_after.size == 0:
         return start, []
-    roots = np.stack([np.stack([x0, y0], axis=-1), np.stack([x1, y1], axis=-1)])
+    flips = np.zeros(n, dtype=np.int8)
+    flips[first_after] = 1
+    label = ((start + np.cumsum(flips)) % 2).astype(np.int8)
     names = node.branch_names()
-    flips, events, current = np.zeros(n, dtype=np.int8), [], start
-    for i in pairs:
-        # the branch at sample i is `current`; should sample i+1 take the other root?
-        before = current ^ flips[i]  # the branch at sample i-1
-        if _smoother_to_switch(roots, i, before, current, n):
-            flips[i + 1] = 1
-            events.append(BranchEvent(node.name, int(i + 1), names[current], names[1 - current]))
-            current = 1 - current
-    if not events:
-        return start, []
-    return ((start + np.cumsum(flips)) % 2).astype(np.int8), events
+    events = [BranchEvent(node.name, int(i), names[label[i - 1]], names[label[i]])
+              for i in first_after]
+    return label, events
 
 
-def _smoother_to_switch(roots, i, before, current, n) -> bool:
-    """Whether taking the other root at sample i+1 continues the motion more smoothly.
+def _bend(y_left, y_mid, y_right, t_left, t_mid, t_right):
+    """Return how sharply three samples of y(t) bend: the change of slope at the middle."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.abs((y_right - y_mid) / (t_right - t_mid) - (y_mid - y_left) / (t_mid - t_left))
 
-    ``roots`` has shape (2, N, 2); the path is on root ``before`` at sample
-    i-1 and on root ``current`` at sample i.
+
+def _wiggle(y, t):
+    """Return how much samples y(t) depart from a smooth curve, for each column.
+
+    The sum of the third divided differences over consecutive runs of four
+    rows: zero on any parabola, large where the samples fold.
     """
-    here = roots[current, i]
-    keep, switch = roots[current, i + 1], roots[1 - current, i + 1]
-    if i < 1 or not (np.isfinite(keep).all() and np.isfinite(here).all()):
-        return False
-    previous = roots[before, i - 1]
-    if not np.isfinite(previous).all():
-        return False
-    predicted = 2 * here - previous
-    keep_error = np.hypot(*(keep - predicted))
-    switch_error = np.hypot(*(switch - predicted))
-    if i + 2 < n:
-        # the sample after: does each choice carry on straight?
-        keep_next, switch_next = roots[current, i + 2], roots[1 - current, i + 2]
-        if np.isfinite(keep_next).all() and np.isfinite(switch_next).all():
-            keep_error += np.hypot(*(keep_next - 2 * keep + here))
-            switch_error += np.hypot(*(switch_next - 2 * switch + here))
-    return bool(switch_error < 0.5 * keep_error)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        d1 = np.diff(y, axis=0) / np.diff(t, axis=0)
+        d2 = np.diff(d1, axis=0) / (t[2:] - t[:-2])
+        d3 = np.diff(d2, axis=0) / (t[3:] - t[:-3])
+    return np.abs(d3).sum(axis=0)
