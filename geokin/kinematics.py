@@ -39,7 +39,7 @@ __all__ = ["Motion", "input_derivatives", "motion"]
 
 RELATIVE_STEP = 2e-4
 """The perturbation h: this many radians for an angle input, and this
-fraction of the declared range for a length input."""
+fraction of the span a sweep covers for a length input."""
 
 SINGULAR_MARGIN = 1e-5
 """Samples where a two-root node's margin (squared half-chord over squared
@@ -102,9 +102,9 @@ def _step_for(sweep: Sweep, name: str, step: float | None) -> float:
     declared = sweep.construction.inputs[name]
     if declared.kind == "angle":
         return RELATIVE_STEP
-    # a length input: a fraction of its declared range, or of the sweep's span
-    values = sweep.inputs[name]
-    span = max(abs(declared.range[1] - declared.range[0]), float(np.ptp(values)))
+    # a length input: a fraction of the span the sweep covers (of the declared
+    # range where the sweep stays put)
+    span = float(np.ptp(sweep.inputs[name])) or abs(declared.range[1] - declared.range[0])
     return RELATIVE_STEP * span
 
 
@@ -142,10 +142,23 @@ def input_derivatives(sweep: Sweep, input: str | None = None, *,
     compiled = sweep.construction
     input = input_name(compiled, input, "differentiate by")
     h = _step_for(sweep, input, step)
+    return _along(sweep, {input: np.ones(len(sweep))}, h, input)
+
+
+def _along(sweep: Sweep, direction: dict, h: float, label: str) -> Derivatives:
+    """Differentiate every point along a direction in the inputs' space.
+
+    The construction is evaluated again at ``inputs + k * h * direction``
+    (k = -4..4) on each sample's branches; ``direction`` holds, per input, an
+    array of its rate at each sample (inputs left out are held).
+    """
+    compiled = sweep.construction
     n, k = len(sweep), len(OFFSETS)
     # offset-major layout: sample i at offset j sits at j * n + i
     inputs = {name: np.tile(values, k) for name, values in sweep.inputs.items()}
-    inputs[input] = (sweep.inputs[input][None, :] + h * OFFSETS[:, None]).ravel()
+    for name, rate in direction.items():
+        shift = h * OFFSETS[:, None] * np.broadcast_to(rate, (n,))[None, :]
+        inputs[name] = (sweep.inputs[name][None, :] + shift).ravel()
     branches = {name: (label if np.ndim(label) == 0 else np.tile(label, k))
                 for name, label in sweep._labels.items()}
     perturbed = evaluate(compiled, inputs, n * k, branches, track=False)
@@ -165,7 +178,10 @@ def input_derivatives(sweep: Sweep, input: str | None = None, *,
     first, second, error = {}, {}, np.zeros(n)
     for name in compiled.point_names:
         positions = perturbed.points[name].reshape(k, n, 2)
-        # unused offsets may be NaN: zero them so they do not poison the sums
+        # relative to the sample itself, so a point far from the origin loses no
+        # digits and a fixed point has no rate at all; unused offsets may be NaN:
+        # zero them so they do not poison the sums
+        positions = positions - np.where(np.isfinite(positions[4]), positions[4], 0.0)
         positions = np.where(ok[:, :, None], positions, 0.0)
         d1, d2, d1_low = np.einsum("skn,knc->snc", weights, positions)
         d1, d2, d1_low = d1 / h, d2 / (h * h), d1_low / h
@@ -174,7 +190,7 @@ def input_derivatives(sweep: Sweep, input: str | None = None, *,
         first[name], second[name] = d1, d2
     largest = max((np.nanmax(np.hypot(*d.T), initial=0.0) for d in first.values()), default=0.0)
     unconverged = ~missing & (error > CONVERGENCE_RTOL * largest)
-    return Derivatives(input, h, first, second, stencil, unconverged)
+    return Derivatives(label, h, first, second, stencil, unconverged)
 
 
 @dataclass(frozen=True)
@@ -201,7 +217,8 @@ class Motion:
         Samples near a singular position, or without a usable stencil, where
         the derivatives are not to be trusted.
     derivatives : Derivatives
-        The derivatives with respect to the input that the above come from.
+        The derivatives along the motion, with respect to time, that the
+        velocities and accelerations come from.
     """
 
     sweep: Sweep
@@ -244,7 +261,10 @@ def motion(sweep: Sweep, input: str | None = None, *, speed=None, acceleration=0
     ----------
     sweep : Sweep
     input : str, optional
-        The driving input; the only input by default. Other inputs are held.
+        The driving input, whose speed sets the clock; by default the first
+        input that moves in the sweep. Other inputs move as the sweep moves
+        them, in step with it (their rates follow from their values over
+        time), and an input that stays put is held.
     speed : float or array_like, optional
         How fast the input moves, per second (radians per second for an
         angle), constant or one per sample; by default the input's declared
@@ -278,10 +298,14 @@ def motion(sweep: Sweep, input: str | None = None, *, speed=None, acceleration=0
     >>> m.angular_velocity["crank"].round(9)
     array([2.])
     """
-    d = input_derivatives(sweep, input, step=step)
+    compiled = sweep.construction
     n = len(sweep)
-    declared = sweep.construction.inputs[d.input]
-    values = sweep.inputs[d.input]
+    if input is None:
+        moving = [k for k, v in sweep.inputs.items() if np.ptp(v) > 0]
+        input = moving[0] if moving else input_name(compiled, None, "drive the motion")
+    input = input_name(compiled, input, "drive the motion")
+    declared = compiled.inputs[input]
+    values = sweep.inputs[input]
     direction = _direction_of_travel(values)
     size = np.broadcast_to(np.asarray(declared.speed if speed is None else speed, float), (n,))
     rate = size * direction
@@ -290,9 +314,24 @@ def motion(sweep: Sweep, input: str | None = None, *, speed=None, acceleration=0
         # time to travel between samples at the mean rate of the two
         dt = np.abs(np.diff(values)) / np.abs(0.5 * (size[1:] + size[:-1]))
     time = np.concatenate([[0.0], np.cumsum(dt)])
-    velocity = {p: d.first[p] * rate[:, None] for p in d.first}
-    accel = {p: d.second[p] * (rate**2)[:, None] + d.first[p] * rate_change[:, None]
-             for p in d.first}
+    # the other inputs move as the sweep moves them, in step with the driving one
+    rates, changes = {input: rate}, {input: rate_change}
+    for name, other in sweep.inputs.items():
+        if name != input and np.ptp(other) > 0 and n >= 2 and (np.diff(time) > 0).all():
+            rates[name] = np.gradient(other, time)
+            changes[name] = np.gradient(rates[name], time) if n >= 3 else np.zeros(n)
+    # one step in time that moves no input by more than its own finite-difference step
+    h = min((_step_for(sweep, name, step) / max(np.max(np.abs(r)), 1e-300)
+             for name, r in rates.items()), default=RELATIVE_STEP)
+    d = _along(sweep, rates, h, input)
+    velocity = d.first
+    accel = dict(d.second)
+    if any(np.any(c != 0) for c in changes.values()):
+        # the inputs' own accelerations add a first derivative along them
+        h2 = min((_step_for(sweep, name, step) / max(np.max(np.abs(c)), 1e-300)
+                  for name, c in changes.items() if np.any(c != 0)))
+        extra = _along(sweep, changes, h2, input)
+        accel = {p: accel[p] + extra.first[p] for p in accel}
     angle, angular_velocity, angular_acceleration = {}, {}, {}
     for link in sweep.construction.links:
         start, end = link.points[0], link.points[1]
@@ -309,5 +348,5 @@ def motion(sweep: Sweep, input: str | None = None, *, speed=None, acceleration=0
     for margin in sweep.margins.values():
         with np.errstate(invalid="ignore"):
             flagged |= sweep.valid & (margin < SINGULAR_MARGIN)
-    return Motion(sweep, d.input, time, rate, rate_change, velocity, accel, angle,
+    return Motion(sweep, input, time, rate, rate_change, velocity, accel, angle,
                   angular_velocity, angular_acceleration, flagged, d)

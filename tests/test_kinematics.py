@@ -92,9 +92,10 @@ def test_one_sided_stencils_are_exact_where_a_segment_ends():
     c.fixed("R", 0, 3)
     c.polar("Cs", "R", "s", 0)
     c.segment_circle("P", ("O", "Q"), "Cs", 5, branch="second")
-    h = RELATIVE_STEP * 6
+    h = RELATIVE_STEP * 3  # a length input's step: a fraction of the span swept, 3 to 6
     s = sweep(c, [3.0, 6 - 1.5 * h, 6.0])
     d = input_derivatives(s)
+    assert d.step == h
     assert list(d.stencil) == [0, -1, -1]
     np.testing.assert_allclose(d.first["P"], [[1, 0]] * 3, atol=1e-9)
     np.testing.assert_allclose(d.second["P"], 0, atol=1e-5)
@@ -160,3 +161,47 @@ def test_a_sweep_run_backwards_turns_the_crank_backwards():
     m = motion(sweep(c, np.linspace(1, 0, 11)), speed=3.0)
     np.testing.assert_allclose(m.angular_velocity["crank"], -3.0, rtol=1e-9)
     np.testing.assert_allclose(m.time, np.linspace(0, 1 / 3, 11))
+
+
+def five_bar():
+    """Two cranks on pivots 4 apart, joined by two links meeting at C."""
+    c = Construction("five-bar")
+    c.input("t1", range=(0, 1), speed=2.0)
+    c.input("t2", range=(1, 3), speed=1.0)
+    c.fixed("O1", 0, 0)
+    c.fixed("O2", 4, 0)
+    c.polar("A", "O1", 2, "t1")
+    c.polar("B", "O2", 2, "t2")
+    c.circle_circle("C", ("A", "B"), (4, 4), branch="left")
+    return c
+
+
+def test_with_two_inputs_moving_together_the_rates_follow_both():
+    """v = dp/dt1 * w1 + dp/dt2 * w2, with t2 moving in step with t1."""
+    c = five_bar()
+    t1 = np.linspace(0, 1, 2001)
+    s = sweep(c, {"t1": t1, "t2": 1 + 2 * t1})
+    m = motion(s)  # t1 drives at 2 rad/s; t2 moves twice as far: 4 rad/s
+    assert m.input == "t1"
+    d1 = input_derivatives(s, "t1")
+    d2 = input_derivatives(s, "t2")
+    expected = d1.first["C"] * 2.0 + d2.first["C"] * 4.0
+    np.testing.assert_allclose(m.velocity["C"], expected, rtol=1e-7, atol=1e-9)
+    # and it is the motion's own rate of change: compare with the positions over time
+    numeric = np.gradient(s["C"], m.time, axis=0)
+    np.testing.assert_allclose(m.velocity["C"][5:-5], numeric[5:-5], rtol=1e-4, atol=1e-4)
+    second = d1.second["C"] * 4.0 + d2.second["C"] * 16.0
+    ahead, behind = (input_derivatives(sweep(c, {"t1": t1 + e, "t2": 1 + 2 * t1}), "t2")
+                     for e in (1e-4, -1e-4))
+    cross = (ahead.first["C"] - behind.first["C"]) / 2e-4  # d2p/dt1dt2, central
+    expected = second + 2 * cross * 8.0
+    scale = np.abs(expected).max()
+    np.testing.assert_allclose(m.acceleration["C"], expected, rtol=1e-5, atol=1e-5 * scale)
+
+
+def test_an_input_that_stays_put_is_held():
+    c = five_bar()
+    s = sweep(c, {"t1": np.linspace(0, 1, 11), "t2": 2.0})
+    m = motion(s)
+    np.testing.assert_allclose(m.velocity["C"], input_derivatives(s, "t1").first["C"] * 2.0,
+                               rtol=1e-9, atol=1e-12)
