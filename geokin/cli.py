@@ -98,10 +98,12 @@ def _from_script(inp, values):
 
 
 def _sample(lo, hi, samples=None, step=None) -> np.ndarray:
+    if lo == hi:
+        raise UsageError(f"--range {lo:g} {hi:g}: the two ends are equal, nothing to sweep")
     if step is not None:
         if not (math.isfinite(step) and step != 0):
             raise UsageError(f"--step must be a non-zero number, got {step:g}")
-        step = math.copysign(step, hi - lo)  # the range gives the direction
+        step = math.copysign(step, hi - lo)  # its size counts: the range gives the direction
         count = int(np.floor((hi - lo) / step * (1 + 1e-12) + 1e-9)) + 1
         if count > MAX_SAMPLES:
             raise UsageError(f"--step {step:g} makes {count} samples; at most {MAX_SAMPLES}")
@@ -343,7 +345,8 @@ def _add_sweep_options(p):
     spacing.add_argument("--samples", type=_positive_int, metavar="N",
                          help="N samples, both ends included")
     spacing.add_argument("--step", type=_finite, metavar="S",
-                         help="samples S apart from the start of the range towards its end")
+                         help="samples S apart from the start of the range towards its end "
+                              "(the size of S counts; the range gives the direction)")
     group.add_argument("--circuit", action="store_true",
                        help="sweep the whole circuit instead: the input runs to each limit of "
                             "its motion and the mechanism passes the toggle onto the other "

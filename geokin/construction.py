@@ -83,7 +83,7 @@ REASONS = (
     "no intersection: the curves do not meet",
     "degenerate input: coincident centres, zero-length line or parallel lines",
     "the chosen root lies off the ray or segment",
-    "a value is not finite (for example a negative radius or NaN)",
+    "a value is not finite, or a radius is negative",
 )
 NO_INTERSECTION, DEGENERATE, OFF_LINE, NOT_FINITE = 1, 2, 3, 4
 
@@ -202,8 +202,11 @@ def failure_reasons(cand: Candidates, values: Mapping, root) -> np.ndarray:
     """
     shape = np.shape(cand.x[0] if np.ndim(root) == 0 else root)
     finite = np.ones(shape, dtype=bool)
-    for value in values.values():
+    for field_name, value in values.items():
         finite &= np.isfinite(value)
+        if "radius" in field_name or "radii" in field_name:
+            with np.errstate(invalid="ignore"):
+                finite &= ~(np.asarray(value) < 0)
     reason = np.full(shape, DEGENERATE, dtype=np.int8)
     if cand.margin is not None:
         with np.errstate(invalid="ignore"):
@@ -988,6 +991,7 @@ class Construction:
             self._check_point_name(slider.point, slider.name, "point")
             for i, p in enumerate(slider.along):
                 self._check_point_name(p, slider.name, f"along[{i}]")
+        self._check_constant_values()
         order = self._ordered()
         steps = tuple(Step(i + 1, self.nodes[name]) for i, name in enumerate(order))
         self._compiled = Compiled(
@@ -996,6 +1000,22 @@ class Construction:
             tuple(self.sliders.values()),
             {n: node.value_fields() for n, node in self.nodes.items()}, self.traced)
         return self._compiled
+
+    def _check_constant_values(self):
+        """Refuse values that depend on no input and are not finite (``1 / 0``)."""
+        constants = {k: p.value for k, p in self.parameters.items()}
+        for node in self.nodes.values():
+            for field_name, expr in node.value_fields().items():
+                if expr.names() & self.inputs.keys():
+                    continue
+                with np.errstate(all="ignore"):
+                    value = float(expr.evaluate(constants))
+                if not np.isfinite(value):
+                    raise ConstructionError(f"{str(expr)!r} is {value}: a value must be a "
+                                            "finite number", node=node.name, field=field_name)
+                if value < 0 and ("radius" in field_name or "radii" in field_name):
+                    raise ConstructionError(f"a radius cannot be negative; {str(expr)!r} is "
+                                            f"{value:g}", node=node.name, field=field_name)
 
     def _check_point_name(self, point, node, field_name):
         if point in self.nodes:

@@ -368,6 +368,9 @@ class _Reader:
                                 f"(tables: {', '.join(TABLES)})")
             if not isinstance(data[table], dict):
                 raise self.fail(table, None, f"expected a table, got {_kind_of(data[table])}")
+        if not data.get("points"):
+            raise self.fail("points", None, "the script declares no points: a construction "
+                            "needs at least a [points] table with one point")
         meta = data.get("construction", {})
         self.check_keys("construction", None, meta, (), CONSTRUCTION_KEYS)
         for key in ("name", "description", "units"):

@@ -203,3 +203,22 @@ def test_names_must_read_the_same_in_expressions():
         c.parameter("ℓ", 3)
     check(info, "ℓ", "name")
     c.parameter("θ", 1)  # already in the form expressions read
+
+
+@pytest.mark.parametrize(("value", "match"), [
+    ("1 / 0", "is inf"), ("sqrt(-1)", "is nan"), ("10 ** 400", "is inf"),
+])
+def test_constant_values_must_be_finite(value, match):
+    c = base()
+    c.circle_circle("B", ("A", "B0"), (value, 30), branch="left")
+    with pytest.raises(ConstructionError, match=match) as info:
+        c.compile()
+    check(info, "B", "radii[0]")
+
+
+def test_a_constant_radius_cannot_be_negative():
+    c = base()
+    c.circle_circle("B", ("A", "B0"), (35, -30), branch="left")
+    with pytest.raises(ConstructionError, match="cannot be negative") as info:
+        c.compile()
+    check(info, "B", "radii[1]")

@@ -482,3 +482,9 @@ def _expressions():
 @given(_expressions())
 def test_written_expressions_parse_back_to_the_same_tree(expr):
     assert parse(_format(expr)) == expr
+
+
+@pytest.mark.parametrize("text", ["", "[construction]\nname = 'nothing'\n", "[points]\n"])
+def test_a_script_without_points_is_an_error(text):
+    with pytest.raises(ScriptError, match=r"\[points\].*declares no points"):
+        loads(text, source="empty.toml")
