@@ -1076,7 +1076,7 @@ def _find_cycle(waiting: Mapping[str, set[str]]) -> list[str]:
         path.append(nxt)
 
 
-MAX_SAMPLES = 10_000_000
+MAX_SAMPLES = 1_000_000
 """The most samples an input's default sweep may have."""
 
 
