@@ -55,6 +55,7 @@ import numpy as np
 
 from . import __version__
 from .analysis import degrees_of_freedom
+from .construction import MAX_SAMPLES
 from .errors import GeokinError, did_you_mean
 from .io import _script_degrees, load
 from .kinematics import motion
@@ -65,7 +66,6 @@ from .sweep import sweep as run_sweep
 
 __all__ = ["COMMANDS", "build_parser", "main"]
 
-MAX_SAMPLES = 1_000_000
 TRACE_FORMATS = (".csv", ".json", ".npz")
 
 
