@@ -893,12 +893,39 @@ def plot_input_output(sweep, outputs, *, ax=None):
     return ax
 
 
+def _robust_limits(values, reference):
+    """Return y-limits that show the bulk of the values.
+
+    The rates near a toggle grow without bound and would flatten the rest,
+    so the limits hold the 1st to 99th percentile (all of it when that is
+    most of the range). A quantity that only wobbles, by less than 1e-5 of
+    ``reference`` (the size such a quantity has in this motion), is shown
+    flat: that wobble is finite-difference noise about a constant.
+    """
+    if values.size == 0:
+        return -1.0, 1.0
+    low, high = np.percentile(values, [1, 99])
+    full_low, full_high = values.min(), values.max()
+    if (full_high - full_low) <= 3 * (high - low):
+        low, high = full_low, full_high
+    if high - low <= 1e-5 * reference:
+        # a constant, with finite-difference noise around it
+        middle = 0.5 * (low + high)
+        middle = 0.0 if abs(middle) <= 1e-5 * reference else middle
+        pad = 0.1 * max(abs(middle), reference)
+        return middle - pad, middle + pad
+    pad = 0.06 * (high - low)
+    return low - pad, high + pad
+
+
 def figure_kinematics(motion, *, links=None, title=None):
     """Plot link angles, angular velocities and accelerations against time.
 
     Three stacked axes, as seed 000 draws them: angle (degrees), angular
     velocity (rad/s) and angular acceleration (rad/s²) of each declared link
-    against time (s). Samples flagged near a singular position are left out.
+    against time (s). Samples flagged near a singular position are left out,
+    and each axis shows the 1st to 99th percentile of its values where a few
+    samples near a toggle would otherwise flatten the rest.
 
     Parameters
     ----------
@@ -951,10 +978,19 @@ def figure_kinematics(motion, *, links=None, title=None):
     quantities = [(motion.angle, np.degrees, "angle (°)"),
                   (motion.angular_velocity, None, "ω (rad/s)"),
                   (motion.angular_acceleration, None, "α (rad/s²)")]
-    for ax, (values, convert, label) in zip(axes, quantities, strict=True):
+    # the size a rate of each kind has in this motion, for telling noise from motion
+    rates = np.concatenate([np.abs(motion.angular_velocity[n][keep]) for n in names]
+                           + [np.abs(motion.speed[keep])])
+    omega = float(np.nanmax(rates, initial=0.0)) or 1.0
+    for ax, (values, convert, label), reference in zip(axes, quantities,
+                                                       (360.0, omega, omega**2), strict=True):
+        shown = []
         for name in names:
             y = values[name] if convert is None else convert(values[name])
-            ax.plot(motion.time, np.where(keep, y, np.nan), label=name)
+            y = np.where(keep, y, np.nan)
+            ax.plot(motion.time, y, label=name)
+            shown.append(y[np.isfinite(y)])
+        ax.set_ylim(*_robust_limits(np.concatenate(shown), reference))
         ax.set_ylabel(label)
         ax.grid(True, color="#dddddd", lw=0.8)
     axes[0].legend(fontsize=9, ncols=min(len(names), 4))
