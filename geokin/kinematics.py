@@ -161,7 +161,11 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str) -> Derivatives:
         inputs[name] = (sweep.inputs[name][None, :] + shift).ravel()
     branches = {name: (label if np.ndim(label) == 0 else np.tile(label, k))
                 for name, label in sweep._labels.items()}
-    perturbed = evaluate(compiled, inputs, n * k, branches, track=False)
+    # evaluated about the mechanism's own middle: differences of positions far from
+    # (0, 0) would lose the digits the derivatives need
+    everything = np.concatenate([sweep.points[p][sweep.valid] for p in compiled.point_names])
+    origin = np.nanmean(everything, axis=0) if everything.size else None
+    perturbed = evaluate(compiled, inputs, n * k, branches, track=False, origin=origin)
     ok = perturbed.valid.reshape(k, n)
     central = ok[2:7].all(axis=0)
     forward = ok[4:9].all(axis=0) & ~central

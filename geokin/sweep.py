@@ -327,7 +327,7 @@ def _environment(compiled: Compiled, inputs):
 
 def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
              branches: Mapping[str, np.ndarray] | None = None, *, track: bool = True,
-             initial: Mapping[str, int] | None = None) -> Sweep:
+             initial: Mapping[str, int] | None = None, origin=None) -> Sweep:
     """Evaluate every step for all samples.
 
     Parameters
@@ -345,6 +345,11 @@ def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
         isolated perturbed inputs.
     initial : mapping of str to int, optional
         Initial branches (0 or 1) replacing the declared choice of some nodes.
+    origin : (float, float), optional
+        Evaluate in a frame with its origin here: every point is found
+        relative to it (constructions move with their fixed points), which
+        keeps digits for a mechanism far from (0, 0). Positions in the result
+        are then relative to ``origin``.
 
     Returns
     -------
@@ -364,6 +369,8 @@ def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
                     value = expr.evaluate(env)
                     values[field_name] = value * factor if factor else value
             cand = node.candidates(coords, values)
+            if origin is not None and node.kind == "fixed":
+                cand = type(cand)((cand.x[0] - origin[0],), (cand.y[0] - origin[1],))
             if node.roots == 1:
                 x, y = cand.x[0], cand.y[0]
                 label = None

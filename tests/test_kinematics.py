@@ -205,3 +205,22 @@ def test_an_input_that_stays_put_is_held():
     m = motion(s)
     np.testing.assert_allclose(m.velocity["C"], input_derivatives(s, "t1").first["C"] * 2.0,
                                rtol=1e-9, atol=1e-12)
+
+
+@pytest.mark.parametrize("shift", [1e5, 1e7])
+def test_rates_do_not_depend_on_where_the_mechanism_stands(shift):
+    """The same four-bar moved far from the origin has the same velocities and accelerations."""
+    def fourbar(at):
+        c = Construction()
+        c.input("t")
+        c.fixed("A", at, at)
+        c.fixed("D", at + 7, at)
+        c.polar("B", "A", 5, "t")
+        c.circle_circle("C", ("B", "D"), (6, 5), branch="left")
+        return c
+
+    theta = np.linspace(-1, 1, 50)
+    here, there = (motion(sweep(fourbar(at), theta), speed=1.0) for at in (0.0, shift))
+    for kind in ("velocity", "acceleration"):
+        ours, theirs = getattr(here, kind)["C"], getattr(there, kind)["C"]
+        np.testing.assert_allclose(theirs, ours, rtol=0, atol=1e-7 * np.abs(ours).max())
