@@ -171,6 +171,24 @@ def analyze(construction, *, degrees: bool = False) -> dict:
     return report
 
 
+def _refined_extreme(values, sign) -> float:
+    """Return the largest (sign 1) or smallest (sign -1) value, refined between samples.
+
+    A parabola through the extreme sample and its neighbours places the
+    extreme between samples; at the ends of a run, or where the neighbours
+    are missing, the sample itself is taken.
+    """
+    finite = np.where(np.isfinite(values), sign * values, -np.inf)
+    i = int(np.argmax(finite))
+    best = finite[i]
+    if 0 < i < len(values) - 1 and np.isfinite(finite[i - 1]) and np.isfinite(finite[i + 1]):
+        left, right = finite[i - 1], finite[i + 1]
+        curvature = left - 2 * best + right
+        if curvature < 0:
+            best = best - (right - left) ** 2 / (8 * curvature)
+    return float(sign * best)
+
+
 def _strokes(compiled, motion: Sweep, angle) -> dict:
     """Extremes and time ratios of traced coordinates and link angles.
 
@@ -213,6 +231,7 @@ def _strokes(compiled, motion: Sweep, angle) -> dict:
             strokes[label] = {"turns": True}
             continue
         convert = angle if is_angle else (lambda v: v)
+        low, high = _refined_extreme(values, -1), _refined_extreme(values, 1)
         entry = {"turns": False, "min": float(convert(low)), "max": float(convert(high)),
                  "stroke": float(convert(high - low)), "time_ratio": None}
         if turns:
