@@ -60,3 +60,13 @@ def test_the_shipped_sixbar_has_one_degree_of_freedom():
     report = analyze(load(CONSTRUCTIONS / "sixbar.toml"))
     assert report["dof"] == 1
     assert report["mobility"]["moving_links"] == 5 and report["mobility"]["lower_pairs"] == 7
+
+
+def test_a_rocker_swing_is_measured_between_samples():
+    """Ground 40, crank 30, coupler 20, follower 25: the follower swings between the
+    angles where crank and coupler line up, cos(phi) = (50^2 - 40^2 - 25^2) / (2 40 25)."""
+    report = analyze(fourbar(40, 30, 20, 25), degrees=True)
+    swing = report["strokes"]["follower.angle"]
+    extreme = np.degrees(np.arccos((50**2 - 40**2 - 25**2) / (2 * 40 * 25)))
+    got = sorted(v % 360 for v in (swing["min"], swing["max"]))
+    np.testing.assert_allclose(got, [extreme, 360 - extreme], atol=1e-3)
