@@ -69,4 +69,4 @@ def test_a_rocker_swing_is_measured_between_samples():
     swing = report["strokes"]["follower.angle"]
     extreme = np.degrees(np.arccos((50**2 - 40**2 - 25**2) / (2 * 40 * 25)))
     got = sorted(v % 360 for v in (swing["min"], swing["max"]))
-    np.testing.assert_allclose(got, [extreme, 360 - extreme], atol=1e-3)
+    np.testing.assert_allclose(got, [extreme, 360 - extreme], atol=1e-4)
