@@ -631,6 +631,8 @@ def _report_text(construction, report) -> str:
             continue
         unit = " deg" if label.endswith(".angle") else units
         ratio = "" if s["time_ratio"] is None else f", time ratio {s['time_ratio']:.4f}"
+        if s.get("strokes_per_turn", 1) > 1:
+            ratio = f", {s['strokes_per_turn']} strokes per turn"
         lines.append(f"{label}: {s['min']:.4f} to {s['max']:.4f}{unit}, stroke "
                      f"{s['stroke']:.4f}{unit}{ratio}")
     for point, curve in report.get("curves", {}).items():

@@ -171,6 +171,20 @@ def analyze(construction, *, degrees: bool = False) -> dict:
     return report
 
 
+def _peaks(values, span) -> int:
+    """Count the maxima of a periodic output over one turn.
+
+    Steps smaller than 1e-9 of the output's span (rounding) do not count.
+    """
+    step = np.diff(np.concatenate([values, values[:1]]))
+    step = step[np.isfinite(step) & (np.abs(step) > 1e-9 * span)]
+    if step.size == 0:
+        return 1
+    rising = step > 0
+    # a maximum wherever a rise is followed by a fall, the last step wrapping to the first
+    return max(int(np.count_nonzero(rising & ~np.roll(rising, -1))), 1)
+
+
 def _refined_extreme(values, sign) -> float:
     """Return the largest (sign 1) or smallest (sign -1) value, refined between samples.
 
@@ -242,5 +256,9 @@ def _strokes(compiled, motion: Sweep, angle) -> dict:
                 continue
             entry.update(min=float(convert(s.minimum)), max=float(convert(s.maximum)),
                          stroke=float(convert(s.stroke)), time_ratio=float(s.time_ratio))
+            entry["strokes_per_turn"] = _peaks(values[:-1], high - low)
+            if entry["strokes_per_turn"] > 1:
+                # out and back more than once a turn: no one forward and return stroke
+                entry["time_ratio"] = None
         strokes[label] = entry
     return strokes

@@ -70,3 +70,12 @@ def test_a_rocker_swing_is_measured_between_samples():
     extreme = np.degrees(np.arccos((50**2 - 40**2 - 25**2) / (2 * 40 * 25)))
     got = sorted(v % 360 for v in (swing["min"], swing["max"]))
     np.testing.assert_allclose(got, [extreme, 360 - extreme], atol=1e-4)
+
+
+def test_an_output_with_two_strokes_a_turn_has_no_time_ratio():
+    """The quick return's ram block rises and falls twice a turn; its lever once."""
+    strokes = analyze(load(CONSTRUCTIONS / "quick_return.toml"))["strokes"]
+    assert strokes["ram_block.position"]["strokes_per_turn"] == 2
+    assert strokes["ram_block.position"]["time_ratio"] is None
+    assert strokes["lever.angle"]["strokes_per_turn"] == 1
+    assert strokes["lever.angle"]["time_ratio"] is not None
