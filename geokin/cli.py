@@ -85,10 +85,6 @@ class ScriptSweep:
     inputs: dict  # name -> values in script units
 
 
-def _unit(inp) -> str:
-    return "deg" if inp.kind == "angle" else "length"
-
-
 def _to_script(inp, value: float) -> float:
     return _script_degrees(value) if inp.kind == "angle" else float(value)
 

@@ -239,6 +239,12 @@ class Motion:
     derivatives: Derivatives
 
 
+def _time_step(sweep: Sweep, rates: dict, step: float | None) -> float:
+    """Return a step in time that moves no input by more than its own step."""
+    return min((_step_for(sweep, name, step) / max(np.max(np.abs(r)), 1e-300)
+                for name, r in rates.items()), default=RELATIVE_STEP)
+
+
 def _direction_of_travel(values: np.ndarray) -> np.ndarray:
     """Return +1 or -1 at each sample: whether the input arrived there increasing.
 
@@ -325,16 +331,13 @@ def motion(sweep: Sweep, input: str | None = None, *, speed=None, acceleration=0
             rates[name] = np.gradient(other, time)
             changes[name] = np.gradient(rates[name], time) if n >= 3 else np.zeros(n)
     # one step in time that moves no input by more than its own finite-difference step
-    h = min((_step_for(sweep, name, step) / max(np.max(np.abs(r)), 1e-300)
-             for name, r in rates.items()), default=RELATIVE_STEP)
-    d = _along(sweep, rates, h, input)
+    d = _along(sweep, rates, _time_step(sweep, rates, step), input)
     velocity = d.first
     accel = dict(d.second)
     if any(np.any(c != 0) for c in changes.values()):
         # the inputs' own accelerations add a first derivative along them
-        h2 = min((_step_for(sweep, name, step) / max(np.max(np.abs(c)), 1e-300)
-                  for name, c in changes.items() if np.any(c != 0)))
-        extra = _along(sweep, changes, h2, input)
+        moving = {name: c for name, c in changes.items() if np.any(c != 0)}
+        extra = _along(sweep, moving, _time_step(sweep, moving, step), input)
         accel = {p: accel[p] + extra.first[p] for p in accel}
     angle, angular_velocity, angular_acceleration = {}, {}, {}
     for link in sweep.construction.links:
