@@ -10,22 +10,33 @@ Branch rules
    ``right`` for circle-circle, ``first`` or ``second`` along the line for
    the line-based kinds), or, with ``near=(x, y)``, on the root nearer to
    that position at the first sample where the node can be assembled.
-2. The branch is the sign of the square root in the node's intersection
-   formula. It stays the same along the motion, because the two roots can
-   only exchange places where they meet.
-3. Where the two roots meet and part again between two samples (a graze,
-   as at a change point, or a toggle where the input turns back), the
-   branch changes if that continues the motion smoothly: the node's
-   half-chord, taken with the branch's sign, must run smoothly through zero.
-   The samples count as evenly spaced in time. The change is recorded as a
-   :class:`BranchEvent`. A meeting closer to a sample than the sampling can
-   resolve may put that one sample on the other root, which is then as close
-   to it as the roots are to each other.
-4. Where a node cannot be assembled, the sample is invalid and the failing
+2. Between two consecutive samples the inputs move along the straight
+   segment joining them. The branch is the sign of the square root in the
+   node's intersection formula; it changes exactly where the two roots meet
+   along that path (a graze, as at a change point), so that the motion
+   continues smoothly, and nowhere else, however coarse the steps and
+   wherever the path turns back.
+3. Whether the roots meet inside a step is decided by looking inside it, not
+   by fitting the samples: a step whose roots stay further apart than their
+   motion over the step could close (:data:`SAFETY`) is settled by its ends;
+   any other step is cut into pieces (:data:`ANGLE_RESOLUTION`,
+   :data:`LENGTH_RESOLUTION`) and the construction is evaluated at
+   intermediate inputs, all doubtful pieces at once, halving pieces until
+   the roots provably stay apart or come within :data:`MEET_RTOL` of the
+   node's scale of each other: they meet there.
+4. Roots that meet at a sample (within :data:`MEET_RTOL`) meet there: the
+   node changes branch after that sample if it can be assembled at the
+   samples on both sides (a graze on the path, or a toggle where the path
+   turns back). Roots meeting at the first or the last sample, or next to a
+   sample that cannot be assembled, change nothing; roots that stay together
+   over several samples count as one meeting at the last of them.
+5. Where a node cannot be assembled, the sample is invalid and the failing
    node and the reason are recorded. Beyond the gap the node resumes on the
    branch it had before the gap: an assembly mode is never reset silently.
-5. :attr:`Sweep.branches` records the branch of every node at every sample,
-   so any change is visible.
+   The same holds for a stretch between two samples that cannot be
+   assembled.
+6. :attr:`Sweep.branches` records the branch of every node at every sample,
+   and :attr:`Sweep.events` every change, so any change is visible.
 """
 
 from __future__ import annotations
@@ -40,11 +51,29 @@ from .errors import ConstructionError, did_you_mean
 
 __all__ = ["BranchEvent", "Sweep", "evaluate", "sweep"]
 
-GRAZE_MARGIN = 0.04
-"""Nodes whose margin (squared half-chord over squared scale) never falls
-below this cannot graze between samples; their branch tracking is skipped."""
+MEET_RTOL = 1e-7
+"""Roots closer than this times the node's scale meet (a graze or a toggle).
 
+Near a meeting the distance between the roots comes from the square root of
+a difference of squares, so it is known only to about the square root of
+the machine epsilon (1.5e-8) of the scale: this is as close as roots can be
+told apart."""
 
+SAFETY = 2.0
+"""A step is settled without looking inside when the roots stay further apart,
+at both ends, than this many times the distance their chord could move in it
+(estimated from its rate over the step and its neighbours)."""
+
+ANGLE_RESOLUTION = np.pi / 180
+"""The longest step of an angle input (radians) settled by its ends alone;
+longer steps are cut into pieces this long before they are checked."""
+
+LENGTH_RESOLUTION = 1 / 100
+"""The same for a length input, as a fraction of the node's scale."""
+
+MAX_HALVINGS = 60
+"""How often a doubtful piece of a step may be halved; what is still open
+then lies within rounding of the inputs, and counts as a meeting."""
 
 
 @dataclass(frozen=True)
@@ -55,10 +84,17 @@ class BranchEvent:
     index: int
     before: str
     after: str
+    fraction: float = 0.0
+    """Where the roots meet, as a fraction of the step from sample ``index - 1``
+    to ``index``: 0 at sample ``index - 1`` itself."""
 
     def __str__(self):
+        if self.fraction > 0:
+            where = f"between samples {self.index - 1} and {self.index}"
+        else:
+            where = f"at sample {self.index - 1}"
         return (f"node {self.node!r} changes branch from {self.before} to {self.after} "
-                f"at sample {self.index} (the two roots meet and part)")
+                f"at sample {self.index} (the two roots meet {where})")
 
 
 class Sweep:
@@ -325,6 +361,24 @@ def _environment(compiled: Compiled, inputs):
     return env
 
 
+def _step_values(step: _PlannedStep, env) -> Mapping:
+    """Return a step's value fields: its constants, and its varying values evaluated."""
+    if not step.varying:
+        return step.constants
+    values = dict(step.constants)
+    for field_name, expr, factor in step.varying:
+        value = expr.evaluate(env)
+        values[field_name] = value * factor if factor else value
+    return values
+
+
+def _candidates(step: _PlannedStep, coords, values, origin):
+    cand = step.node.candidates(coords, values)
+    if origin is not None and step.node.kind == "fixed":
+        cand = type(cand)((cand.x[0] - origin[0],), (cand.y[0] - origin[1],))
+    return cand
+
+
 def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
              branches: Mapping[str, np.ndarray] | None = None, *, track: bool = True,
              initial: Mapping[str, int] | None = None, origin=None) -> Sweep:
@@ -341,8 +395,8 @@ def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
         A fixed branch (0 or 1, scalar or per sample) for some two-root
         nodes; the others are chosen and tracked by the branch rules.
     track : bool
-        Whether to look for grazes (rule 3); turned off when evaluating at
-        isolated perturbed inputs.
+        Whether the samples form a path along which branches are tracked
+        (rules 2 to 4); turned off when evaluating at isolated perturbed inputs.
     initial : mapping of str to int, optional
         Initial branches (0 or 1) replacing the declared choice of some nodes.
     origin : (float, float), optional
@@ -358,19 +412,13 @@ def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
     compiled = _compiled(construction)
     plan = _plan(compiled)
     env = _environment(compiled, inputs)
+    tracker = _Tracker(compiled, plan, inputs, n, origin) if track and n >= 2 else None
     coords, labels, margins, parameters, events, results = {}, {}, {}, {}, [], []
     with np.errstate(all="ignore"):
-        for step in plan:
+        for position, step in enumerate(plan):
             node = step.node
-            values = step.constants
-            if step.varying:
-                values = dict(values)
-                for field_name, expr, factor in step.varying:
-                    value = expr.evaluate(env)
-                    values[field_name] = value * factor if factor else value
-            cand = node.candidates(coords, values)
-            if origin is not None and node.kind == "fixed":
-                cand = type(cand)((cand.x[0] - origin[0],), (cand.y[0] - origin[1],))
+            values = _step_values(step, env)
+            cand = _candidates(step, coords, values, origin)
             if node.roots == 1:
                 x, y = cand.x[0], cand.y[0]
                 label = None
@@ -378,8 +426,12 @@ def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
                 if branches is not None and node.name in branches:
                     label = branches[node.name]
                 else:
-                    label, found = _track(node, cand, n, track, (initial or {}).get(node.name))
-                    events.extend(found)
+                    start = _initial_label(node, cand, n, (initial or {}).get(node.name))
+                    if tracker is None:
+                        label = start
+                    else:
+                        label, found = tracker.track(position, cand, start)
+                        events.extend(found)
                 x, y = _choose(cand, label)
                 labels[node.name] = label
                 margins[node.name] = cand.margin
@@ -391,10 +443,11 @@ def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
         valid = np.ones(n, dtype=bool)
         for *_, finite in results:
             valid &= finite
-    failed_step = np.zeros(n, dtype=np.int16)
+    failed_step = np.zeros(n, dtype=np.int32)
     reason_code = np.zeros(n, dtype=np.int8)
     if not valid.all():
         _record_failures(results, n, failed_step, reason_code)
+    events.sort(key=lambda e: (e.index, e.fraction))
     return Sweep(compiled, dict(inputs), coords, valid, failed_step, reason_code, labels,
                  events, margins, parameters)
 
@@ -498,12 +551,13 @@ def sweep(construction, values=None, *, samples: int | None = None,
 
 
 def _initial_label(node, cand, n, override) -> int:
+    """Return the branch a node starts on: given, declared, or the root nearer ``near``."""
     if override is not None:
         return override
     if node.near is None:
         return node.branch_names().index(node.branch)
-    x0, y0, x1, y1 = (np.broadcast_to(a, (n,)) for a in (*cand.x, *cand.y))
-    usable = [np.isfinite(x0), np.isfinite(x1)]
+    x0, x1, y0, y1 = (np.broadcast_to(a, (n,)) for a in (*cand.x, *cand.y))
+    usable = [np.isfinite(x0) & np.isfinite(y0), np.isfinite(x1) & np.isfinite(y1)]
     if cand.on_line is not None:  # a root off its ray or segment cannot be assembled
         usable = [u & np.broadcast_to(on, (n,)) for u, on in zip(usable, cand.on_line,
                                                                   strict=True)]
@@ -517,75 +571,275 @@ def _initial_label(node, cand, n, override) -> int:
     return int(distance[1] < distance[0])
 
 
-def _track(node, cand, n, track, override=None):
-    """Choose the branch of a two-root node at every sample (rules 1 to 3).
+class _Tracker:
+    """Branch tracking along the path of a sweep's samples (rules 2 to 4).
 
-    The branch is the sign of the square root, kept from the start. It can
-    change only where the two roots meet and part between samples, near a
-    local minimum of the node's margin (its squared half-chord). There the
-    half-chord ``u = sqrt(margin)``, taken with the sign of the branch, runs
-    smoothly through zero, while taken without sign it folds back in a V.
-    Of three readings of the samples around the minimum (no crossing, a
-    crossing just before the middle sample, one just after it) the one whose
-    signed half-chords are smoothest is taken, the samples counting as evenly
-    spaced in time. Everything is computed for all samples at once.
+    Nodes are tracked in evaluation order; the tracker keeps what it decided
+    for each (its branch at every sample and where in a step its roots meet),
+    so that a later node can be evaluated between samples with every node
+    before it on the right branch there.
 
-    Returns the branch as an int where it never changes, else an int8 array.
+    How fast the roots can close in on each other within a step is not seen
+    at its ends alone (at a graze the roots leave the way they came, and a
+    step across it can end where it began), so it is estimated from the
+    rate at which their chord moves per unit of input over the step and its
+    neighbours; steps where the path turns back, and a sweep of one step,
+    are always looked into.
     """
-    start = _initial_label(node, cand, n, override)
+
+    def __init__(self, compiled: Compiled, plan, inputs, n: int, origin):
+        self.compiled = compiled
+        self.plan = plan
+        self.inputs = {k: np.broadcast_to(v, (n,)) for k, v in inputs.items()}
+        self.n = n
+        self.origin = origin
+        self.labels: dict[str, object] = {}
+        self.flip_after: dict[str, np.ndarray] = {}  # a meeting at the sample itself
+        self.meetings: dict[str, np.ndarray] = {}    # step + fraction, sorted
+        self.angle_steps = self.length_steps = None
+        # how far the path moves in each step, all inputs together, and where it turns
+        travel = None
+        self.turning = np.zeros(n - 1, dtype=bool) if n > 2 else np.ones(n - 1, dtype=bool)
+        for name, values in self.inputs.items():
+            step = np.diff(values)
+            low, high = step.min(), step.max()
+            if low >= 0 or high <= 0:
+                moved = step if low >= 0 else -step
+            else:
+                moved = np.abs(step)
+                turns = np.flatnonzero(step[1:] * step[:-1] < 0)
+                self.turning[turns] = self.turning[turns + 1] = True
+            travel = moved if travel is None else travel + moved
+            if compiled.inputs[name].kind == "angle":
+                self.angle_steps = moved if self.angle_steps is None else np.fmax(
+                    self.angle_steps, moved)
+            else:
+                self.length_steps = moved if self.length_steps is None else np.fmax(
+                    self.length_steps, moved)
+        if travel is None or travel.size == 0:
+            travel = np.zeros(max(n - 1, 0))
+        if self.angle_steps is None:
+            self.angle_steps = np.zeros(n - 1)
+        self.travel = travel
+        self.longest = float(travel.max(initial=0.0))
+        # steps of equal length (a linspace) need no rates per unit of travel
+        self.even = self.longest - float(travel.min(initial=self.longest)) <= 1e-9 * self.longest
+        self.any_coarse = (self.length_steps is not None or bool(self.turning.any())
+                           or float(self.angle_steps.max(initial=0.0))
+                           > ANGLE_RESOLUTION * (1 + 1e-9))
+        self.coarse = self.turning | (self.angle_steps > ANGLE_RESOLUTION * (1 + 1e-9))
+
+    def track(self, position: int, cand, start: int):
+        """Return the branch of node ``plan[position]`` at every sample, and its events."""
+        node = self.plan[position].node
+        n = self.n
+        # the half-distance between the roots over the node's scale (as the margin is
+        # its square), zero where they meet: it folds at a graze like a V
+        apart = np.sqrt(np.maximum(np.broadcast_to(cand.margin, (n,)), 0.0))
+        moved = np.abs(apart[1:] - apart[:-1])
+        # what it could move per unit of travel, over the sweep and over each step
+        rate = moved if self.even else moved / self.travel
+        if not self.any_coarse:
+            # rule 3's test over the whole sweep at once, which settles most sweeps
+            fastest = np.fmax.reduce(rate) * (1.0 if self.even else self.longest)
+            if np.fmin.reduce(apart) > SAFETY * fastest:
+                self.labels[node.name] = start
+                return start, []
+        if n > 2:
+            # the rate over a step is at most the largest of it and its neighbours'
+            rate = np.fmax(rate, np.concatenate([rate[1:], rate[-1:]]))
+            rate = np.fmax(rate, np.concatenate([rate[:1], rate[:-1]]))
+        reach = rate if self.even else rate * self.travel
+        present = np.isfinite(np.broadcast_to(cand.x[0], (n,)))
+        apart = np.where(present, apart, np.nan)
+        both = present[:-1] & present[1:]
+        settled = np.fmin(apart[:-1], apart[1:]) > SAFETY * reach
+        if not self.any_coarse and not (both & ~settled).any():
+            self.labels[node.name] = start
+            return start, []
+        pieces = np.ceil(self.angle_steps / ANGLE_RESOLUTION - 1e-9)
+        coarse = self.coarse
+        if self.length_steps is not None:
+            scale = _node_scale(cand, n)
+            pieces = np.fmax(pieces, np.ceil(self.length_steps / (LENGTH_RESOLUTION * scale)))
+            coarse = coarse | (pieces > 1)
+        doubtful = np.flatnonzero(both & (~settled | coarse))
+        at_sample = present & (apart <= MEET_RTOL / 2)
+        # each doubtful step is looked into at two pieces at least
+        inner = self._meetings_inside(position, doubtful,
+                                      np.maximum(pieces[doubtful], 2).astype(np.int64),
+                                      reach[doubtful], apart, at_sample)
+        flip_after = _flips_at_samples(at_sample, present)
+        flips = flip_after[:-1].astype(np.int64)
+        if inner.size:
+            np.add.at(flips, np.floor(inner).astype(np.int64), 1)
+        if not flips.any():
+            self.labels[node.name] = start
+            return start, []
+        label = np.empty(n, dtype=np.int8)
+        label[0] = 0
+        label[1:] = np.cumsum(flips) % 2
+        label ^= np.int8(start)
+        self.labels[node.name] = label
+        self.flip_after[node.name] = flip_after
+        self.meetings[node.name] = inner
+        names = node.branch_names()
+        events = [BranchEvent(node.name, int(i) + 1, names[label[i]], names[label[i] ^ 1], 0.0)
+                  for i in np.flatnonzero(flip_after[:-1])]
+        steps = np.floor(inner).astype(np.int64)
+        # meetings inside one step alternate the branch from the one the step set out on
+        earlier = np.arange(inner.size) - np.searchsorted(inner, steps.astype(float))
+        before = label[steps] ^ flip_after[steps] ^ (earlier % 2).astype(np.int8)
+        events += [BranchEvent(node.name, int(i) + 1, names[b], names[b ^ 1], float(key - i))
+                   for i, b, key in zip(steps, before, inner, strict=True)]
+        return label, events
+
+    def _meetings_inside(self, position, steps, pieces, step_reach, apart, at_sample):
+        """Return where the roots meet inside the given steps, as step + fraction, sorted.
+
+        Each step is cut into its pieces; pieces whose roots neither stay
+        provably apart nor meet are halved, all at once, until each is
+        decided. A piece's rate (how far the roots' distance may change over
+        a whole step) is the largest seen over it, its neighbours and the
+        step's neighbours, and never falls as pieces are halved. Meetings
+        that touch a sample where the roots meet belong to that sample
+        (rule 4) and are left out here.
+        """
+        step = np.repeat(steps, pieces)
+        first = np.repeat(np.cumsum(pieces) - pieces, pieces)
+        k = np.arange(step.size) - first
+        count = np.repeat(pieces, pieces)
+        low, high = k / count, (k + 1) / count
+        inside = low > 0
+        at_low = apart[step]
+        at_low[inside] = self._apart(position, step[inside], low[inside])
+        # a piece ends where the next begins; the last piece ends at the next sample
+        last = high == 1
+        at_high = np.roll(at_low, -1)
+        at_high[last] = apart[step[last] + 1]
+        rate = np.abs(at_high - at_low) * count
+        # the largest of each piece's own rate, its neighbours' in the step, and the step's
+        rate = np.fmax(rate, np.where(last, rate, np.roll(rate, -1)))
+        rate = np.fmax(rate, np.where(k == 0, rate, np.roll(rate, 1)))
+        rate = np.fmax(rate, np.repeat(step_reach, pieces))
+        tolerance = MEET_RTOL / 2
+        found_step, found_low, found_high = [], [], []
+        for _ in range(MAX_HALVINGS):
+            closest = np.fmin(at_low, at_high)
+            reach = rate * (high - low)
+            meet = closest + reach <= tolerance
+            present = np.isfinite(at_low) & np.isfinite(at_high)
+            open_ = present & ~meet & ~(closest > SAFETY * reach)
+            found_step.append(step[meet])
+            found_low.append(low[meet])
+            found_high.append(high[meet])
+            if not open_.any():
+                break
+            step, low, high, rate = step[open_], low[open_], high[open_], rate[open_]
+            at_low, at_high = at_low[open_], at_high[open_]
+            middle = 0.5 * (low + high)
+            at_middle = self._apart(position, step, middle)
+            rate = np.fmax(rate, np.fmax(np.abs(at_middle - at_low),
+                                         np.abs(at_high - at_middle)) / (middle - low))
+            step, rate = np.concatenate([step, step]), np.concatenate([rate, rate])
+            low, high = np.concatenate([low, middle]), np.concatenate([middle, high])
+            at_low = np.concatenate([at_low, at_middle])
+            at_high = np.concatenate([at_middle, at_high])
+        else:
+            # still open after every halving: the roots meet within rounding of the inputs
+            found_step.append(step)
+            found_low.append(low)
+            found_high.append(high)
+        return _merge_meetings(np.concatenate(found_step), np.concatenate(found_low),
+                               np.concatenate(found_high), at_sample)
+
+    def _apart(self, position, step, fraction):
+        """Return how far apart a node's roots are at fractions of steps.
+
+        The distance is relative, as in :meth:`track`, with every earlier node
+        on its branch there; NaN where the roots do not exist.
+        """
+        inputs = {name: values[step] + fraction * (values[step + 1] - values[step])
+                  for name, values in self.inputs.items()}
+        env = _environment(self.compiled, inputs)
+        coords = {}
+        size = step.size
+        for planned in self.plan[:position + 1]:
+            node = planned.node
+            cand = _candidates(planned, coords, _step_values(planned, env), self.origin)
+            if planned is self.plan[position]:
+                present = np.isfinite(np.broadcast_to(cand.x[0], (size,)))
+                margin = np.broadcast_to(cand.margin, (size,))
+                return np.where(present, np.sqrt(np.maximum(margin, 0.0)), np.nan)
+            if node.roots == 1:
+                coords[node.name] = (cand.x[0], cand.y[0])
+            else:
+                coords[node.name] = _choose(cand, self._label_between(node.name, step, fraction))
+        raise AssertionError("unreachable")
+
+    def _label_between(self, name, step, fraction):
+        """Return a tracked node's branch at fractions of steps (after its meetings there)."""
+        label = self.labels[name]
+        if np.ndim(label) == 0:
+            return label
+        label = label[step] ^ self.flip_after[name][step]
+        meetings = self.meetings[name]
+        if meetings.size:
+            before = (np.searchsorted(meetings, step + fraction)
+                      - np.searchsorted(meetings, step.astype(float)))
+            label = label ^ (before % 2).astype(np.int8)
+        return label
+
+
+def _node_scale(cand, n) -> float:
+    """Return a node's largest scale.
+
+    That is its roots' half-distance over the square root of its margin (the
+    squared half-distance over the squared scale).
+    """
     margin = np.broadcast_to(cand.margin, (n,))
-    if not track or n < 3 or not (np.fmin.reduce(margin) < GRAZE_MARGIN):
-        return start, []
-    # samples are taken as evenly spaced in time: where the input turns back at a
-    # limit (a rocker swinging), the half-chord then folds through zero as at a graze
-    t = np.arange(n, dtype=float)
-    u = np.sqrt(np.maximum(margin, 0.0))
-    m_left, m_mid, m_right = margin[:-2], margin[1:-1], margin[2:]
-    # local minima of the margin, where the roots come closest (where the margin
-    # stays at zero the roots stay equal, and there is nothing to choose)
-    low = ((m_mid <= m_left) & (m_mid <= m_right) & (m_mid < GRAZE_MARGIN)
-           & (np.fmax(m_left, m_right) > 1e-14))
-    centre = np.flatnonzero(low) + 1
-    first_after = []
-    if centre.size:
-        # five samples around each minimum (three at the ends of the sweep)
-        wide = (centre >= 2) & (centre <= n - 3)
-        offsets = np.arange(-2, 3)[:, None]
-        window = np.where(wide, centre + offsets, np.clip(centre + offsets, 0, n - 1))
-        y, x = u[window], t[window]
-        flip_after = np.array([1, 1, 1, -1, -1])[:, None]   # meet between centre, centre+1
-        flip_before = np.array([1, 1, -1, -1, -1])[:, None]  # between centre-1 and centre
-        none, after, before = (np.where(wide, _wiggle(y * sign, x),
-                                        _bend(*(y * sign)[1:4], *x[1:4]))
-                               for sign in (1, flip_after, flip_before))
-        first_after += [centre[(after < none) & (after <= before)] + 1,
-                        centre[(before < none) & (before < after)]]
-    first_after = np.unique(np.concatenate(first_after or [np.empty(0, int)])).astype(int)
-    if first_after.size == 0:
-        return start, []
-    flips = np.zeros(n, dtype=np.int8)
-    flips[first_after] = 1
-    label = ((start + np.cumsum(flips)) % 2).astype(np.int8)
-    names = node.branch_names()
-    events = [BranchEvent(node.name, int(i), names[label[i - 1]], names[label[i]])
-              for i in first_after]
-    return label, events
+    dx = np.broadcast_to(cand.x[1], (n,)) - np.broadcast_to(cand.x[0], (n,))
+    dy = np.broadcast_to(cand.y[1], (n,)) - np.broadcast_to(cand.y[0], (n,))
+    usable = margin > 1e-12
+    if usable.any():
+        scale = float(np.nanmax(0.5 * np.hypot(dx[usable], dy[usable])
+                                / np.sqrt(margin[usable])))
+        if np.isfinite(scale) and scale > 0:
+            return scale
+    return 1.0
 
 
-def _bend(y_left, y_mid, y_right, t_left, t_mid, t_right):
-    """Return how sharply three samples of y(t) bend: the change of slope at the middle."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        return np.abs((y_right - y_mid) / (t_right - t_mid) - (y_mid - y_left) / (t_mid - t_left))
+def _flips_at_samples(at_sample, present):
+    """Return where meetings at samples change the branch.
 
-
-def _wiggle(y, t):
-    """Return how much samples y(t) depart from a smooth curve, for each column.
-
-    The sum of the third divided differences over consecutive runs of four
-    rows: zero on any parabola, large where the samples fold.
+    That is after the last sample of each run of meeting samples, between
+    samples where the node can be assembled.
     """
-    with np.errstate(divide="ignore", invalid="ignore"):
-        d1 = np.diff(y, axis=0) / np.diff(t, axis=0)
-        d2 = np.diff(d1, axis=0) / (t[2:] - t[:-2])
-        d3 = np.diff(d2, axis=0) / (t[3:] - t[:-3])
-    return np.abs(d3).sum(axis=0)
+    n = at_sample.size
+    flip = np.zeros(n, dtype=bool)
+    if not at_sample.any():
+        return flip
+    edges = np.diff(np.concatenate([[0], at_sample.astype(np.int8), [0]]))
+    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
+    ok = (starts >= 1) & (ends <= n - 2)
+    starts, ends = starts[ok], ends[ok]
+    ok = present[starts - 1] & present[ends + 1]
+    flip[ends[ok]] = True
+    return flip
+
+
+def _merge_meetings(step, low, high, at_sample):
+    """Merge touching meeting pieces into one meeting each; drop those at a meeting sample.
+
+    Returns each meeting as its step plus the fraction of the step at its middle, sorted.
+    """
+    if step.size == 0:
+        return np.empty(0)
+    order = np.lexsort((low, step))
+    step, low, high = step[order], low[order], high[order]
+    new = np.ones(step.size, dtype=bool)
+    new[1:] = (step[1:] != step[:-1]) | (low[1:] > high[:-1])
+    first, last = np.flatnonzero(new), np.append(np.flatnonzero(new)[1:], step.size) - 1
+    g_step, g_low, g_high = step[first], low[first], high[last]
+    keep = ~(((g_low == 0) & at_sample[g_step]) | ((g_high == 1) & at_sample[g_step + 1]))
+    return np.sort(g_step[keep] + 0.5 * (g_low[keep] + g_high[keep]))
