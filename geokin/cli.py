@@ -603,6 +603,7 @@ def _range_end(info, value) -> str:
 def _report_text(construction, report) -> str:
     units = f" {construction.units}" if construction.units else ""
     lines = [f"{report['construction']}", f"degrees of freedom: {report['mobility']['formula']}"]
+    lines += [f"warning: {warning}" for warning in report.get("warnings", [])]
     for name, info in report["inputs"].items():
         unit = " deg" if info["kind"] == "angle" else units
         if info["full_turn"]:

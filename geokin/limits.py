@@ -56,6 +56,9 @@ class Limit:
     value: float
     node: str | None
     kind: str
+    nodes: tuple[str, ...] = ()
+    """Every node whose roots meet at this limit, ``node`` first (a mechanism may
+    have several dyads reaching their toggles together); empty for other kinds."""
 
 
 @dataclass(frozen=True)
@@ -120,21 +123,33 @@ def _strictly_valid(result: Sweep) -> np.ndarray:
     return ok
 
 
-def _what_stops(result: Sweep, i: int) -> tuple[str, str]:
-    """Return the first node that is not strictly assembled at sample i, and how."""
+def _what_stops(result: Sweep, i: int) -> tuple[str, str, tuple[str, ...]]:
+    """Return the first node not strictly assembled at sample i, and how.
+
+    The third item lists every node whose roots no longer exist there: those
+    tangent at the limit, the first node first.
+    """
+    n = result.valid.shape
+    tangent = tuple(node for node, margin in result._margins.items()
+                    if np.broadcast_to(margin, n)[i] < 0)
     for step in result.construction.steps:
         node = step.node.name
         if not result.valid[i] and result.failed_step[i] == step.index:
-            return node, "tangent" if result.reason_code[i] == NO_INTERSECTION else "end"
+            kind = "tangent" if result.reason_code[i] == NO_INTERSECTION else "end"
+            return node, kind, _first(node, tangent) if kind == "tangent" else ()
         margin = result._margins.get(node)
-        if margin is not None and np.broadcast_to(margin, result.valid.shape)[i] < 0:
-            return node, "tangent"
+        if margin is not None and np.broadcast_to(margin, n)[i] < 0:
+            return node, "tangent", _first(node, tangent)
         t = result._parameters.get(node)
         if t is not None:
-            t = np.broadcast_to(t, result.valid.shape)[i]
+            t = np.broadcast_to(t, n)[i]
             if not step.node.low <= t <= step.node.high:
-                return node, "end"
-    return "", "end"
+                return node, "end", ()
+    return "", "end", ()
+
+
+def _first(node: str, nodes: tuple[str, ...]) -> tuple[str, ...]:
+    return (node, *(other for other in nodes if other != node))
 
 
 def _refine(compiled, name, held, branches, inside, outside):
@@ -368,7 +383,7 @@ def circuit(construction, input: str | None = None, *, start: float | None = Non
         for _ in range(8):  # four toggles at most bring any branches back to the start
             labels = run(stretch(position, target.value, labels), labels)
             if target.kind == "tangent":
-                labels[target.node] ^= 1
+                labels = _through_toggle(compiled, name, held, labels, target)
             position, target = target.value, (lo if target is hi else hi)
             if labels == initial:
                 # back on the starting branches: run on to the start and stop
@@ -388,6 +403,32 @@ def circuit(construction, input: str | None = None, *, start: float | None = Non
             result.events.append(BranchEvent(node, int(i), names[label[i - 1]], names[label[i]]))
     result.events.sort(key=lambda e: e.index)
     return result
+
+
+def _through_toggle(compiled, name, held, labels, limit: Limit) -> dict:
+    """Return the branches that carry the motion through a toggle at ``limit``.
+
+    Every node whose roots meet there changes branch, as the mechanism does
+    passing the toggle; every other two-root node then takes the root that
+    continues its position at the limit, since a node built on nodes that
+    changed branch may see its own roots in the other order.
+    """
+    before = _evaluate_at(compiled, name, [limit.value], held, labels)
+    after = dict(labels)
+    for node in limit.nodes or (limit.node,):
+        after[node] ^= 1
+    for step in compiled.steps:
+        node = step.node.name
+        if step.node.roots != 2 or node in limit.nodes or not np.isfinite(
+                before[node][0]).all():
+            continue
+        choices = []
+        for label in (after[node], after[node] ^ 1):
+            trial = _evaluate_at(compiled, name, [limit.value], held, {**after, node: label})
+            choices.append(np.hypot(*(trial[node][0] - before[node][0])))
+        if choices[1] < choices[0]:
+            after[node] ^= 1
+    return after
 
 
 def _containing(found: Limits, value: float, angle: bool):

@@ -131,6 +131,14 @@ def analyze(construction, *, degrees: bool = False) -> dict:
         motion = circuit(compiled)
     else:
         motion = sweep(compiled)
+    report["warnings"] = []
+    if not motion.valid.all():
+        i = int(np.flatnonzero(~motion.valid)[0])
+        report["warnings"].append(
+            f"{int((~motion.valid).sum())} of {len(motion)} samples of the "
+            f"{'circuit' if len(compiled.inputs) == 1 else 'sweep'} cannot be assembled "
+            f"(first at sample {i}: node {motion.failed_node[i]!r}: "
+            f"{motion.failure_reason[i]}); the figures below come from the others")
     if not motion.valid.any():
         return report
     report["four_bars"] = []
@@ -185,17 +193,20 @@ def _peaks(values, span) -> int:
     return max(int(np.count_nonzero(rising & ~np.roll(rising, -1))), 1)
 
 
-def _refined_extreme(values, sign) -> float:
+def _refined_extreme(values, sign, smooth) -> float:
     """Return the largest (sign 1) or smallest (sign -1) value, refined between samples.
 
     A parabola through the extreme sample and its neighbours places the
-    extreme between samples; at the ends of a run, or where the neighbours
-    are missing, the sample itself is taken.
+    extreme between samples where the motion runs smoothly through that
+    sample (``smooth``); at the ends of a run, where the neighbours are
+    missing, and where the input turns back or a branch changes (a limit,
+    where the output may have a corner), the sample itself is taken.
     """
     finite = np.where(np.isfinite(values), sign * values, -np.inf)
     i = int(np.argmax(finite))
     best = finite[i]
-    if 0 < i < len(values) - 1 and np.isfinite(finite[i - 1]) and np.isfinite(finite[i + 1]):
+    if (0 < i < len(values) - 1 and smooth[i] and np.isfinite(finite[i - 1])
+            and np.isfinite(finite[i + 1])):
         left, right = finite[i - 1], finite[i + 1]
         curvature = left - 2 * best + right
         if curvature < 0:
@@ -234,6 +245,12 @@ def _strokes(compiled, motion: Sweep, angle) -> dict:
         direction = motion[b] - motion[a]
         outputs[f"{link.name}.angle"] = (
             unwrap_valid(np.arctan2(direction[:, 1], direction[:, 0])), True)
+    # where the input runs on through a sample, on the same branches
+    step = np.diff(motion.inputs[name])
+    smooth = np.zeros(len(motion), dtype=bool)
+    smooth[1:-1] = step[:-1] * step[1:] > 0
+    for event in motion.events:
+        smooth[max(event.index - 1, 0):event.index + 1] = False
     strokes = {}
     for label, (values, is_angle) in outputs.items():
         if not np.isfinite(values).any():
@@ -245,7 +262,7 @@ def _strokes(compiled, motion: Sweep, angle) -> dict:
             strokes[label] = {"turns": True}
             continue
         convert = angle if is_angle else (lambda v: v)
-        low, high = _refined_extreme(values, -1), _refined_extreme(values, 1)
+        low, high = _refined_extreme(values, -1, smooth), _refined_extreme(values, 1, smooth)
         entry = {"turns": False, "min": float(convert(low)), "max": float(convert(high)),
                  "stroke": float(convert(high - low)), "time_ratio": None}
         if turns:
