@@ -71,6 +71,10 @@ longer steps are cut into pieces this long before they are checked."""
 LENGTH_RESOLUTION = 1 / 100
 """The same for a length input, as a fraction of the node's scale."""
 
+EDGE_WIDTH = 2.0**-44
+"""How finely the edge of a stretch that cannot be assembled is located
+inside a step, as a fraction of the step."""
+
 MAX_HALVINGS = 60
 """How often a doubtful piece of a step may be halved; what is still open
 then lies within rounding of the inputs, and counts as a meeting."""
@@ -642,7 +646,8 @@ class _Tracker:
         if not self.any_coarse:
             # rule 3's test over the whole sweep at once, which settles most sweeps
             fastest = np.fmax.reduce(rate) * (1.0 if self.even else self.longest)
-            if np.fmin.reduce(apart) > SAFETY * fastest:
+            # np.min, not fmin: a sample that cannot be assembled needs a closer look
+            if np.min(apart) > SAFETY * fastest:
                 self.labels[node.name] = start
                 return start, []
         if n > 2:
@@ -653,8 +658,10 @@ class _Tracker:
         present = np.isfinite(np.broadcast_to(cand.x[0], (n,)))
         apart = np.where(present, apart, np.nan)
         both = present[:-1] & present[1:]
+        # a step into or out of a gap is looked into up to the gap's edge
+        edge = present[:-1] != present[1:]
         settled = np.fmin(apart[:-1], apart[1:]) > SAFETY * reach
-        if not self.any_coarse and not (both & ~settled).any():
+        if not self.any_coarse and not ((both & ~settled) | edge).any():
             self.labels[node.name] = start
             return start, []
         pieces = np.ceil(self.angle_steps / ANGLE_RESOLUTION - 1e-9)
@@ -663,8 +670,8 @@ class _Tracker:
             scale = _node_scale(cand, n)
             pieces = np.fmax(pieces, np.ceil(self.length_steps / (LENGTH_RESOLUTION * scale)))
             coarse = coarse | (pieces > 1)
-        doubtful = np.flatnonzero(both & (~settled | coarse))
-        at_sample = present & (apart <= MEET_RTOL / 2)
+        doubtful = np.flatnonzero((both & ~settled) | edge | coarse)
+        at_sample = present & (apart <= MEET_RTOL)
         # each doubtful step is looked into at two pieces at least
         inner = self._meetings_inside(position, doubtful,
                                       np.maximum(pieces[doubtful], 2).astype(np.int64),
@@ -722,14 +729,24 @@ class _Tracker:
         rate = np.fmax(rate, np.where(last, rate, np.roll(rate, -1)))
         rate = np.fmax(rate, np.where(k == 0, rate, np.roll(rate, 1)))
         rate = np.fmax(rate, np.repeat(step_reach, pieces))
-        tolerance = MEET_RTOL / 2
+        tolerance = MEET_RTOL
         found_step, found_low, found_high = [], [], []
+        edge_step, edge_low, edge_high = [], [], []
         for _ in range(MAX_HALVINGS):
             closest = np.fmin(at_low, at_high)
             reach = rate * (high - low)
-            meet = closest + reach <= tolerance
             present = np.isfinite(at_low) & np.isfinite(at_high)
-            open_ = present & ~meet & ~(closest > SAFETY * reach)
+            meet = present & (closest + reach <= tolerance)
+            # near a meeting the distance is known only to rounding: nothing closer
+            # than the tolerance is taken as settled apart
+            settled = (closest > SAFETY * reach) & (closest > tolerance)
+            # a piece with one end in a gap holds the gap's edge: halved until it is found
+            straddling = np.isfinite(at_low) != np.isfinite(at_high)
+            found = straddling & (high - low <= EDGE_WIDTH)
+            edge_step.append(step[found])
+            edge_low.append(low[found])
+            edge_high.append(high[found])
+            open_ = (present & ~meet & ~settled) | (straddling & ~found)
             found_step.append(step[meet])
             found_low.append(low[meet])
             found_high.append(high[meet])
@@ -750,8 +767,53 @@ class _Tracker:
             found_step.append(step)
             found_low.append(low)
             found_high.append(high)
-        return _merge_meetings(np.concatenate(found_step), np.concatenate(found_low),
-                               np.concatenate(found_high), at_sample)
+        edges = tuple(map(np.concatenate, (edge_step, edge_low, edge_high)))
+        return self._merge_meetings(position, steps, np.concatenate(found_step),
+                                    np.concatenate(found_low), np.concatenate(found_high),
+                                    at_sample, edges)
+
+    def _merge_meetings(self, position, steps, step, low, high, at_sample, edges):
+        """Return one meeting per place the roots meet, as step + fraction, sorted.
+
+        Touching meeting pieces are one meeting; so are pieces apart by a gap
+        where the roots stay within rounding of each other (the distance
+        between nearly equal roots is noisy, so one meeting can show as
+        several islands). Meetings joined to a sample where the roots meet
+        belong to that sample (rule 4), and those joined to the edge of a
+        stretch that cannot be assembled belong to that stretch (rule 5):
+        both are left out.
+        """
+        # the meeting samples at the ends of the steps looked into, as pieces of no
+        # width, and the edges of gaps: a group holding one of them is left out
+        start, end = at_sample[steps], at_sample[steps + 1]
+        edge_step, edge_low, edge_high = edges
+        owned = np.zeros(step.size, dtype=bool)
+        step = np.concatenate([step, steps[start], steps[end], edge_step])
+        low = np.concatenate([low, np.zeros(start.sum()), np.ones(end.sum()), edge_low])
+        high = np.concatenate([high, np.zeros(start.sum()), np.ones(end.sum()), edge_high])
+        owned = np.concatenate([owned, np.ones(step.size - owned.size, dtype=bool)])
+        if step.size == 0:
+            return np.empty(0)
+        order = np.lexsort((low, step))
+        step, low, high, owned = step[order], low[order], high[order], owned[order]
+        same = step[1:] == step[:-1]
+        gap = same & (low[1:] > high[:-1])
+        joined = same & ~gap
+        if gap.any():
+            at = np.flatnonzero(gap)
+            middle = self._apart(position, step[at], 0.5 * (high[at] + low[at + 1]))
+            joined[at] = middle <= 4 * MEET_RTOL
+        group = np.concatenate([[0], np.cumsum(~joined)])
+        count = group[-1] + 1
+        g_step = step[np.flatnonzero(np.concatenate([[True], ~joined]))]
+        g_low = np.full(count, np.inf)
+        g_high = np.full(count, -np.inf)
+        np.minimum.at(g_low, group, low)
+        np.maximum.at(g_high, group, high)
+        g_owned = np.zeros(count, dtype=bool)
+        np.logical_or.at(g_owned, group, owned)
+        keep = (g_low > 0) & (g_high < 1) & ~g_owned
+        return np.sort(g_step[keep] + 0.5 * (g_low[keep] + g_high[keep]))
 
     def _apart(self, position, step, fraction):
         """Return how far apart a node's roots are at fractions of steps.
@@ -826,20 +888,3 @@ def _flips_at_samples(at_sample, present):
     ok = present[starts - 1] & present[ends + 1]
     flip[ends[ok]] = True
     return flip
-
-
-def _merge_meetings(step, low, high, at_sample):
-    """Merge touching meeting pieces into one meeting each; drop those at a meeting sample.
-
-    Returns each meeting as its step plus the fraction of the step at its middle, sorted.
-    """
-    if step.size == 0:
-        return np.empty(0)
-    order = np.lexsort((low, step))
-    step, low, high = step[order], low[order], high[order]
-    new = np.ones(step.size, dtype=bool)
-    new[1:] = (step[1:] != step[:-1]) | (low[1:] > high[:-1])
-    first, last = np.flatnonzero(new), np.append(np.flatnonzero(new)[1:], step.size) - 1
-    g_step, g_low, g_high = step[first], low[first], high[last]
-    keep = ~(((g_low == 0) & at_sample[g_step]) | ((g_high == 1) & at_sample[g_step + 1]))
-    return np.sort(g_step[keep] + 0.5 * (g_low[keep] + g_high[keep]))

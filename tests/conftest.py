@@ -23,3 +23,5 @@ def _close_figures():
     plt.close("all")
     yield
     plt.close("all")
+settings.register_profile("slow", max_examples=2000, deadline=None,
+                          suppress_health_check=[HealthCheck.too_slow])

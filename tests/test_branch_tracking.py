@@ -1,0 +1,400 @@
+"""Branch tracking along any sample path, against answers that need no tracking.
+
+Between two samples the inputs move along the straight segment joining them;
+a two-root node changes branch exactly where its roots meet on that path.
+For a four-bar whose roots never meet along the path, the closed form on
+the declared branch is the exact answer at every sample; where the path
+crosses a change point, a dense sweep of the same path (200 sub-samples a
+step) is.
+"""
+
+import numpy as np
+import pytest
+from hypothesis import assume, given
+from hypothesis import strategies as st
+from mechanisms import fourbar, sixbar
+
+import geokin
+from geokin import Construction, sweep
+from geokin.limits import circuit, limits
+
+DEG = np.pi / 180
+
+
+def closed_form_left(theta, ground, crank, coupler, rocker):
+    """B of a four-bar on the root left of A -> O4, by the law of cosines; NaN if none."""
+    ax, ay = crank * np.cos(theta), crank * np.sin(theta)
+    dx, dy = ground - ax, -ay
+    d = np.hypot(dx, dy)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        # angle at A between A -> O4 and A -> B
+        cos_phi = (coupler**2 + d**2 - rocker**2) / (2 * coupler * d)
+        phi = np.arccos(cos_phi)
+    base = np.arctan2(dy, dx)
+    return np.stack([ax + coupler * np.cos(base + phi), ay + coupler * np.sin(base + phi)], -1)
+
+
+def crank_intervals(ground, crank, coupler, rocker):
+    """The crank angles where the four-bar assembles, as [lo, hi] in (-2 pi, 2 pi), or None
+    for a full turn: where |b - c| <= |A - O4| <= b + c."""
+    # |A - O4|^2 = a^2 + g^2 - 2 a g cos(theta)
+    lo_cos = (crank**2 + ground**2 - (coupler + rocker) ** 2) / (2 * crank * ground)
+    hi_cos = (crank**2 + ground**2 - (coupler - rocker) ** 2) / (2 * crank * ground)
+    lo_cos, hi_cos = max(lo_cos, -1.0), min(hi_cos, 1.0)
+    if lo_cos > hi_cos:
+        return []
+    if lo_cos <= -1 and hi_cos >= 1:
+        return None
+    # cos(theta) in [lo_cos, hi_cos]: theta in [acos(hi), acos(lo)] and its mirror
+    a, b = np.arccos(hi_cos), np.arccos(lo_cos)
+    if a == 0:
+        return [(-b, b)]
+    if b == np.pi:
+        return [(a, 2 * np.pi - a)]
+    return [(a, b), (-b, -a)]
+
+
+lengths = st.floats(1.0, 10.0)
+
+
+def grashof_margin(g, a, b, c):
+    s = sorted([g, a, b, c])
+    return abs(s[0] + s[3] - s[1] - s[2])
+
+
+@st.composite
+def four_bars(draw):
+    g, a, b, c = (draw(lengths) for _ in range(4))
+    # clear of the change-point lengths, where the roots meet inside the motion
+    assume(grashof_margin(g, a, b, c) > 1e-2)
+    assume(crank_intervals(g, a, b, c) != [])
+    return g, a, b, c
+
+
+def assert_closed_form(s, theta, g, a, b, c):
+    """geokin equals the closed form on the declared branch wherever it assembles."""
+    exact = closed_form_left(theta, g, a, b, c)
+    d = np.hypot(g - a * np.cos(theta), a * np.sin(theta))
+    # samples within rounding of a toggle may be either way; all others must agree
+    inside = (d < b + c - 1e-9) & (d > abs(b - c) + 1e-9)
+    outside = (d > b + c + 1e-9) | (d < abs(b - c) - 1e-9)
+    assert s.valid[inside].all() and not s.valid[outside].any()
+    np.testing.assert_allclose(s["B"][s.valid], exact[s.valid], atol=1e-9)
+    assert s.events == []
+
+
+@given(four_bars(), st.floats(-180, 180), st.floats(0.5, 170), st.integers(2, 40))
+def test_uniform_steps_of_any_size_never_change_branch(bar, start, step, count):
+    g, a, b, c = bar
+    count = min(count, int(5 * 360 / step) + 2)  # several turns at most
+    theta = (start + step * np.arange(count)) * DEG
+    assert_closed_form(sweep(fourbar(g, a, b, c), theta), theta, g, a, b, c)
+
+
+@given(four_bars(), st.data())
+def test_back_and_forth_walks_inside_the_interval_never_change_branch(bar, data):
+    g, a, b, c = bar
+    intervals = crank_intervals(g, a, b, c)
+    lo, hi = (-np.pi, 3 * np.pi) if intervals is None else data.draw(
+        st.sampled_from(intervals))
+    inset = 0.05 * DEG
+    lo, hi = lo + inset, hi - inset
+    assume(hi > lo)
+    theta = [data.draw(st.floats(lo, hi))]
+    for _ in range(data.draw(st.integers(1, 60))):
+        move = data.draw(st.floats(-40 * DEG, 40 * DEG))
+        theta.append(float(np.clip(theta[-1] + move, lo, hi)))
+    theta = np.array(theta)
+    s = sweep(fourbar(g, a, b, c), theta)
+    assert s.valid.all()
+    np.testing.assert_allclose(s["B"], closed_form_left(theta, g, a, b, c), atol=1e-9)
+    assert s.events == []
+
+
+def change_point_fourbar(draw):
+    """A four-bar with s + l = p + q: its roots meet where all four joints line up."""
+    kind = draw(st.sampled_from(["parallelogram", "kite", "general"]))
+    a, b = draw(lengths), draw(lengths)
+    if kind == "parallelogram":
+        g, c = b, a  # ground = coupler, crank = rocker
+    elif kind == "kite":
+        b, c = a, draw(lengths)  # crank = coupler, ground = rocker
+        g = c
+    else:
+        g = draw(lengths)
+        c = g + b - a  # ground + coupler = crank + rocker
+        assume(c >= 1.0)
+    # the crank pin never reaches the rocker's pivot, where the loop degenerates
+    assume(abs(g - a) > 0.1)
+    return g, a, b, c
+
+
+def change_angles(g, a, b, c):
+    """The crank angles in [0, 2 pi) where the four-bar's roots meet (joints in line)."""
+    found = []
+    for theta in (0.0, np.pi):
+        d = abs(g - a * np.cos(theta))
+        if min(abs(d - (b + c)), abs(d - abs(b - c))) < 1e-9 * (g + a + b + c):
+            found.append(theta)
+    return found
+
+
+def dense(theta, per_step=200):
+    fractions = np.arange(per_step) / per_step
+    inner = theta[:-1, None] + fractions[None, :] * np.diff(theta)[:, None]
+    return np.concatenate([inner.ravel(), theta[-1:]])
+
+
+@given(st.data())
+def test_paths_through_change_points_match_a_dense_sweep(data):
+    g, a, b, c = change_point_fourbar(data.draw)
+    meets = change_angles(g, a, b, c)
+    assume(meets)
+    start = data.draw(st.sampled_from(meets)) + data.draw(st.floats(-0.1, 0.1)) * DEG
+    step = data.draw(st.floats(0.5, 170)) * DEG * data.draw(st.sampled_from([1, -1]))
+    theta = start + step * np.arange(data.draw(st.integers(2, 12)))
+    branch = data.draw(st.sampled_from(["left", "right"]))
+    c4 = fourbar(g, a, b, c, branch=branch)
+    coarse = sweep(c4, theta)
+    fine = sweep(c4, dense(theta))
+    # a change-point four-bar may have toggles too: the same samples assemble
+    assert (coarse.valid == fine.valid[::200]).all()
+    np.testing.assert_allclose(coarse["B"], fine["B"][::200], atol=1e-9 * (g + a + b + c))
+
+
+@pytest.mark.parametrize("samples", [3, 7, 19, 46])
+def test_the_six_bar_at_coarse_samplings_matches_its_dense_sweep(samples):
+    c = sixbar()
+    theta = np.linspace(0, 1800 * DEG, samples)
+    coarse = sweep(c, theta)
+    fine = sweep(c, dense(theta))
+    assert coarse.events == [] and fine.events == []
+    for point in c.nodes:
+        np.testing.assert_allclose(coarse[point], fine[point][::200], atol=1e-9)
+    for node, branch in coarse.branches.items():
+        assert (branch == fine.branches[node][0]).all()
+    np.testing.assert_allclose(coarse["M"][-1], [134.1040, 103.5815], atol=1e-4)
+
+
+def test_a_coarse_sixbar_keeps_b_on_its_branch_where_its_roots_stay_far_apart():
+    s = sweep(sixbar(), np.linspace(0, 1800 * DEG, 19))
+    assert (s.branches["B"] == 0).all()
+    half_chord = np.hypot(*(s["B"] - s["A"]).T)
+    assert half_chord.min() > 32
+
+
+# -- near: the root nearer the sketch point, for every two-root kind ---------------
+
+
+def test_near_picks_the_nearer_root_of_a_circle_pair():
+    c = Construction()
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.polar("A", "O2", 6, "theta")
+    c.fixed("O4", 1, -4)
+    c.circle_circle("B", ("A", "O4"), (4, 5), near=(2, 1))
+    np.testing.assert_allclose(sweep(c, [0.0])["B"][0], [2.0975609756, 0.8780487805])
+
+
+@pytest.mark.parametrize("kind", ["line_circle", "ray_circle", "segment_circle"])
+@pytest.mark.parametrize("near, expected", [((-3, 0.5), (-4, 1)), ((3.5, 0), (4, 1))])
+def test_near_picks_the_nearer_root_of_a_line_and_circle(kind, near, expected):
+    # the line y = 1 from (-10, 1) to (10, 1) meets the circle of radius sqrt(17)
+    # about the origin at (-4, 1) and (4, 1)
+    c = Construction()
+    c.input("s", kind="length", range=(0, 1))
+    c.fixed("O", 0, 0)
+    c.fixed("P", -10, 1)
+    c.fixed("Q", 10, 1)
+    getattr(c, kind)("X", ("P", "Q"), "O", "sqrt(17) + s", near=near)
+    np.testing.assert_allclose(sweep(c, [0.0])["X"][0], expected, atol=1e-12)
+
+
+def test_near_is_judged_at_the_first_sample_that_assembles():
+    c = Construction()
+    c.input("r", kind="length", range=(0, 2))
+    c.fixed("O", 0, 0)
+    c.fixed("Q", 2, 0)
+    # the circles meet only from r = 1 on; then at (1, +-sqrt(r^2 - 1))
+    c.circle_circle("X", ("O", "Q"), ("r", "r"), near=(1, -0.1))
+    s = sweep(c, [0.5, 0.8, 1.5, 2.0])
+    assert list(s.valid) == [False, False, True, True]
+    assert (s["X"][2:, 1] < 0).all()
+
+
+# -- the defects the contract removes ------------------------------------------------
+
+
+def double_rocker():
+    """Grashof double-rocker: ground 10, input 8, coupler 3, output 9."""
+    return fourbar(10, 8, 3, 9)
+
+
+def test_a_swing_that_turns_back_short_of_the_toggle_keeps_its_branch():
+    theta = np.r_[np.arange(40, 82.7, 1.0), 82.7, np.arange(81.7, 39.0, -1.0)] * DEG
+    found = limits(double_rocker())
+    assert any(abs(hi.value - 82.8192 * DEG) < 1e-5 for _, hi in found.intervals)
+    s = sweep(double_rocker(), theta)
+    assert s.valid.all() and s.events == []
+    np.testing.assert_allclose(s["B"], closed_form_left(theta, 10, 8, 3, 9), atol=1e-9)
+
+
+def test_a_swing_that_reaches_the_toggle_at_a_sample_passes_it():
+    # a Grashof double-rocker (ground 4, input 3, coupler 1.5, output 3.5) whose input
+    # reaches its toggle at 90 degrees, where |A - O4| = 5 = coupler + output
+    g, a, b, c = 4, 3, 1.5, 3.5
+    theta = np.r_[np.arange(80, 90, 1.0), 90, np.arange(89, 79, -1.0)] * DEG
+    s = sweep(fourbar(g, a, b, c), theta)
+    assert s.valid.all()
+    turn = 10
+    assert [(e.node, e.index) for e in s.events] == [("B", turn + 1)]
+    left = closed_form_left(theta, g, a, b, c)
+    np.testing.assert_allclose(s["B"][:turn + 1], left[:turn + 1], atol=1e-6)
+    # back on the other branch: the mirror image of the left root in the line A -> O4
+    assert (np.hypot(*(s["B"][turn + 1:] - left[turn + 1:]).T) > 1e-2).all()
+    for p, q, length in (("A", "B", b), ("O4", "B", c)):
+        np.testing.assert_allclose(np.hypot(*(s[p] - s[q]).T), length, rtol=1e-12)
+
+
+def test_a_swing_that_turns_back_at_the_limit_found_keeps_its_branch():
+    # limits lie on the assemblable side of the toggle, 1e-12 from it in the input:
+    # the roots are still about 1e-6 of the scale apart there, and do not meet
+    toggle = next(hi.value for _, hi in limits(double_rocker()).intervals
+                  if abs(hi.value - 82.8192 * DEG) < 1e-5)
+    theta = np.r_[np.arange(75, 82.8, 1.0) * DEG, toggle, np.arange(82, 74, -1.0) * DEG]
+    s = sweep(double_rocker(), theta)
+    assert s.valid.all() and s.events == []
+
+
+def parallelogram():
+    return fourbar(10, 4, 10, 4)
+
+
+def on_the_parallelogram(s):
+    return np.hypot(*(s["B"] - s["A"] - [10, 0]).T) < 1e-9
+
+
+def test_a_change_point_between_the_first_two_samples_is_passed():
+    s = sweep(parallelogram(), (179.9 + np.arange(361.0)) * DEG)
+    assert on_the_parallelogram(s).all()
+    assert [e.index for e in s.events] == [1, 181]
+    assert all(abs(e.fraction - 0.1) < 1e-6 for e in s.events)
+
+
+@pytest.mark.parametrize("step", [60.0, 90.0, 170.0])
+def test_every_change_point_is_passed_at_coarse_steps(step):
+    theta = (1.0 + step * np.arange(int(1440 / step) + 1)) * DEG
+    s = sweep(parallelogram(), theta)
+    assert on_the_parallelogram(s).all()
+    assert len(s.events) == int((theta[-1] / DEG) // 180)
+
+
+def peaucellier():
+    """A Peaucellier-Lipkin inversor: its two dyads A, B reach their toggles together."""
+    c = Construction("inversor")
+    c.input("theta", range=(-np.pi / 2, np.pi / 2))
+    c.fixed("O", 0, 0)
+    c.fixed("C", 2.5, 0)
+    c.polar("Q", "C", 2.5, "theta")
+    c.circle_circle("A", ("O", "Q"), (5, 2), branch="left")
+    c.circle_circle("B", ("O", "Q"), (5, 2), branch="right")
+    c.circle_circle("P", ("A", "B"), (2, 2), branch="right")
+    c.link("crank", "C", "Q")
+    c.link("armA", "O", "A")
+    c.link("armB", "O", "B")
+    c.trace("P")
+    return c
+
+
+def test_a_circuit_passes_a_toggle_of_two_dyads_at_once():
+    c = peaucellier()
+    (lo, hi), = limits(c).intervals
+    assert set(hi.nodes) == {"A", "B"} and set(lo.nodes) == {"A", "B"}
+    s = circuit(c)
+    assert s.valid.all()
+    toggles = {}
+    for e in s.events:
+        toggles.setdefault(e.index, set()).add(e.node)
+    assert sum({"A", "B"} <= nodes for nodes in toggles.values()) == 2
+    # the inversor's point P runs on a straight line: x = 5^2 - 2^2 over 2 * 2.5 * 2
+    for p, q, length in (("O", "A", 5), ("O", "B", 5), ("A", "P", 2), ("B", "P", 2),
+                         ("A", "Q", 2), ("B", "Q", 2)):
+        np.testing.assert_allclose(np.hypot(*(s[p] - s[q]).T), length, rtol=1e-9)
+    report = geokin.analyze(c)
+    assert report["warnings"] == []
+    crank = report["strokes"]["crank.angle"]
+    assert crank["min"] >= lo.value - 1e-9 and crank["max"] <= hi.value + 1e-9
+
+
+def test_analyze_keeps_extremes_inside_the_limits_it_reports():
+    c = Construction("triple rocker")
+    c.input("theta2", range=(-np.pi, np.pi))
+    c.fixed("A", 0, 0)
+    c.fixed("D", 7, 0)
+    c.polar("B", "A", 5, "theta2")
+    c.circle_circle("C", ("B", "D"), (6, 5), branch="left")
+    c.link("crank", "A", "B")
+    c.link("coupler", "B", "C")
+    c.link("follower", "D", "C")
+    report = geokin.analyze(c)
+    (lo, hi), = report["inputs"]["theta2"]["intervals"]
+    crank = report["strokes"]["crank.angle"]
+    assert lo - 1e-12 <= crank["min"] and crank["max"] <= hi + 1e-12
+    np.testing.assert_allclose([crank["min"], crank["max"]], [lo, hi], atol=1e-9)
+
+
+def test_analyze_warns_when_part_of_the_motion_cannot_be_assembled():
+    # a triple rocker swept over a whole turn, with a second input that moves nothing
+    c = Construction()
+    c.input("theta2")
+    c.input("u", kind="length", range=(0, 1))
+    c.fixed("A", 0, 0)
+    c.fixed("D", "7 + 0 * u", 0)
+    c.polar("B", "A", 5, "theta2")
+    c.circle_circle("C", ("B", "D"), (6, 5), branch="left")
+    report = geokin.analyze(c)
+    assert any("cannot be assembled" in w for w in report["warnings"])
+
+
+# -- meetings at a sample, for every kind ------------------------------------------------
+
+
+def line_touching(kind, low=-1.0, high=1.0):
+    """A unit circle and the line y = 1 - s^2, which touches it at s = 0."""
+    c = Construction()
+    c.input("s", kind="length", range=(low, high))
+    c.fixed("O", 0, 0)
+    c.fixed("P", -3, "1 - s ** 2")
+    c.fixed("Q", 3, "1 - s ** 2")
+    getattr(c, kind)("X", ("P", "Q"), "O", 1, branch="first")
+    return c
+
+
+@pytest.mark.parametrize("kind", ["line_circle", "ray_circle", "segment_circle"])
+@pytest.mark.parametrize("samples", [200, 201, 2, 3])
+def test_a_line_grazing_a_circle_passes_on_smoothly(kind, samples):
+    s = sweep(line_touching(kind), samples=samples)
+    assert s.valid.all()
+    x = s["X"][:, 0]
+    # the smooth motion comes in from the left, touches at (0, 1) and goes on right
+    assert (np.diff(x) > 0).all()
+    assert len(s.events) == 1
+
+
+@pytest.mark.parametrize("kind", ["line_circle", "circle_circle"])
+def test_roots_meeting_at_the_first_or_last_sample_change_nothing(kind):
+    if kind == "line_circle":
+        c = line_touching(kind, 0.0, 1.0)
+        branch = "first"
+    else:
+        c = Construction()
+        c.input("s", kind="length", range=(0, 1))
+        c.fixed("O", 0, 0)
+        c.polar("Q", "O", "2 - s ** 2", 0)
+        c.circle_circle("X", ("O", "Q"), (1, 1), branch="left")
+        branch = "left"
+    forwards = sweep(c, np.linspace(0, 1, 11))
+    backwards = sweep(c, np.linspace(1, 0, 11))
+    assert forwards.events == [] and backwards.events == []
+    assert (forwards.branch_names("X") == branch).all()
+    assert (backwards.branch_names("X") == branch).all()
