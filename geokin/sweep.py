@@ -64,7 +64,7 @@ SAFETY = 2.0
 at both ends, than this many times the distance their chord could move in it
 (estimated from its rate over the step and its neighbours)."""
 
-ANGLE_RESOLUTION = np.pi / 180
+ANGLE_RESOLUTION = np.pi / 90
 """The longest step of an angle input (radians) settled by its ends alone;
 longer steps are cut into pieces this long before they are checked."""
 
@@ -736,9 +736,9 @@ class _Tracker:
             closest = np.fmin(at_low, at_high)
             reach = rate * (high - low)
             present = np.isfinite(at_low) & np.isfinite(at_high)
-            meet = present & (closest + reach <= tolerance)
-            # near a meeting the distance is known only to rounding: nothing closer
-            # than the tolerance is taken as settled apart
+            # near a meeting the distance is known only to rounding: a small piece with
+            # an end within the tolerance meets, and nothing closer is settled apart
+            meet = present & (closest <= tolerance) & (reach <= tolerance)
             settled = (closest > SAFETY * reach) & (closest > tolerance)
             # a piece with one end in a gap holds the gap's edge: halved until it is found
             straddling = np.isfinite(at_low) != np.isfinite(at_high)

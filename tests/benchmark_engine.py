@@ -14,6 +14,7 @@ import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
 from mechanisms import coupler_fourbar, sixbar  # noqa: E402
+from mechanisms import fourbar as four_bar  # noqa: E402
 
 from geokin import sweep  # noqa: E402
 
@@ -66,6 +67,16 @@ def main():
     theta = np.linspace(0, np.radians(1800), 1_000_000)
     seconds = best_time(lambda: sweep(six, theta)["M"], 3)
     print(f"seed six-bar, 1,000,000 samples: {seconds:.3f} s")
+    # branch tracking's cost where it has work to do: a parallelogram (ground 10,
+    # crank 4, coupler 10, rocker 4) passes two change points in a turn, against the
+    # benchmark four-bar (no graze) at the same N
+    parallelogram = four_bar(10, 4, 10, 4)
+    parallelogram.compile()
+    theta = np.linspace(0.5, 0.5 + 2 * np.pi, 361)
+    plain = best_time(lambda: sweep(fourbar, theta)["P"])
+    grazing = best_time(lambda: sweep(parallelogram, theta)["B"])
+    print(f"parallelogram through 2 change points, 361 samples: {grazing * 1e3:.3f} ms "
+          f"({grazing / plain:.1f}x the benchmark four-bar's {plain * 1e3:.3f} ms)")
     print("peak memory of a four-bar sweep (tracemalloc):")
     for n in (100_000, 200_000, 400_000):
         theta = np.linspace(0, 2 * np.pi, n)

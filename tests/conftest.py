@@ -12,6 +12,8 @@ settings.register_profile(
     "ci", derandomize=True, max_examples=200, deadline=None,
     suppress_health_check=[HealthCheck.too_slow])
 settings.register_profile("dev", max_examples=100, deadline=None)
+settings.register_profile("slow", max_examples=2000, deadline=None,
+                          suppress_health_check=[HealthCheck.too_slow])
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci" if os.environ.get("CI") else "dev"))
 
 
@@ -23,5 +25,3 @@ def _close_figures():
     plt.close("all")
     yield
     plt.close("all")
-settings.register_profile("slow", max_examples=2000, deadline=None,
-                          suppress_health_check=[HealthCheck.too_slow])
