@@ -72,8 +72,9 @@ LENGTH_RESOLUTION = 1 / 100
 """The same for a length input, as a fraction of the node's scale."""
 
 EDGE_WIDTH = 2.0**-44
-"""How finely the edge of a stretch that cannot be assembled is located
-inside a step, as a fraction of the step."""
+"""How finely the edge of a stretch that cannot be assembled, or a meeting,
+is located inside a step, as a fraction of the step: about the rounding of
+the inputs."""
 
 MAX_HALVINGS = 60
 """How often a doubtful piece of a step may be halved; what is still open
@@ -632,31 +633,41 @@ class _Tracker:
                            or float(self.angle_steps.max(initial=0.0))
                            > ANGLE_RESOLUTION * (1 + 1e-9))
         self.coarse = self.turning | (self.angle_steps > ANGLE_RESOLUTION * (1 + 1e-9))
+        self.buffers = (np.empty(n), np.empty(n - 1)) if not self.any_coarse else None
 
     def track(self, position: int, cand, start: int):
         """Return the branch of node ``plan[position]`` at every sample, and its events."""
         node = self.plan[position].node
         n = self.n
-        # the half-distance between the roots over the node's scale (as the margin is
-        # its square), zero where they meet: it folds at a graze like a V
-        apart = np.sqrt(np.maximum(np.broadcast_to(cand.margin, (n,)), 0.0))
-        moved = np.abs(apart[1:] - apart[:-1])
-        # what it could move per unit of travel, over the sweep and over each step
-        rate = moved if self.even else moved / self.travel
+        margin = np.broadcast_to(cand.margin, (n,))
         if not self.any_coarse:
-            # rule 3's test over the whole sweep at once, which settles most sweeps
-            fastest = np.fmax.reduce(rate) * (1.0 if self.even else self.longest)
-            # np.min, not fmin: a sample that cannot be assembled needs a closer look
+            # rule 3's test over the whole sweep at once, which settles most sweeps: the
+            # half-distance between the roots over the node's scale (the square root
+            # of the margin, NaN where the roots do not exist, which sends the sweep to
+            # the closer look below) against how fast it moves, in buffers reused from
+            # node to node
+            apart, moved = self.buffers
+            np.sqrt(margin, out=apart)
+            np.subtract(apart[1:], apart[:-1], out=moved)
+            np.abs(moved, out=moved)
+            if not self.even:
+                np.divide(moved, self.travel, out=moved)
+            fastest = np.fmax.reduce(moved) * (1.0 if self.even else self.longest)
             if np.min(apart) > SAFETY * fastest:
                 self.labels[node.name] = start
                 return start, []
+        # zero where they meet, also for roots within the primitives' tangency tolerance:
+        # it folds at a graze like a V
+        present = np.isfinite(np.broadcast_to(cand.x[0], (n,)))
+        apart = np.where(present, np.sqrt(np.maximum(margin, 0.0)), np.nan)
+        moved = np.abs(apart[1:] - apart[:-1])
+        # what it could move per unit of travel, over each step and its neighbours
+        rate = moved if self.even else moved / self.travel
         if n > 2:
             # the rate over a step is at most the largest of it and its neighbours'
             rate = np.fmax(rate, np.concatenate([rate[1:], rate[-1:]]))
             rate = np.fmax(rate, np.concatenate([rate[:1], rate[:-1]]))
         reach = rate if self.even else rate * self.travel
-        present = np.isfinite(np.broadcast_to(cand.x[0], (n,)))
-        apart = np.where(present, apart, np.nan)
         both = present[:-1] & present[1:]
         # a step into or out of a gap is looked into up to the gap's edge
         edge = present[:-1] != present[1:]
@@ -664,11 +675,14 @@ class _Tracker:
         if not self.any_coarse and not ((both & ~settled) | edge).any():
             self.labels[node.name] = start
             return start, []
-        pieces = np.ceil(self.angle_steps / ANGLE_RESOLUTION - 1e-9)
+        # a step looked into is cut at half the resolution: a narrow dip of the roots'
+        # distance shows at one cut at least
+        pieces = np.ceil(self.angle_steps / (ANGLE_RESOLUTION / 2) - 1e-9)
         coarse = self.coarse
         if self.length_steps is not None:
             scale = _node_scale(cand, n)
-            pieces = np.fmax(pieces, np.ceil(self.length_steps / (LENGTH_RESOLUTION * scale)))
+            pieces = np.fmax(pieces, np.ceil(self.length_steps
+                                             / (LENGTH_RESOLUTION / 2 * scale)))
             coarse = coarse | (pieces > 1)
         doubtful = np.flatnonzero((both & ~settled) | edge | coarse)
         at_sample = present & (apart <= MEET_RTOL)
@@ -746,6 +760,8 @@ class _Tracker:
             edge_step.append(step[found])
             edge_low.append(low[found])
             edge_high.append(high[found])
+            # a piece at the inputs' rounding that is not settled apart meets
+            meet |= present & ~settled & (high - low <= EDGE_WIDTH)
             open_ = (present & ~meet & ~settled) | (straddling & ~found)
             found_step.append(step[meet])
             found_low.append(low[meet])
@@ -802,7 +818,10 @@ class _Tracker:
         if gap.any():
             at = np.flatnonzero(gap)
             middle = self._apart(position, step[at], 0.5 * (high[at] + low[at + 1]))
-            joined[at] = middle <= 4 * MEET_RTOL
+            # roots that cannot be assembled between two pieces: the edge of a gap,
+            # which flickers within rounding of the primitives' tangency test
+            joined[at] = ~(middle > 4 * MEET_RTOL)
+            owned[at[np.isnan(middle)] + 1] = True
         group = np.concatenate([[0], np.cumsum(~joined)])
         count = group[-1] + 1
         g_step = step[np.flatnonzero(np.concatenate([[True], ~joined]))]
