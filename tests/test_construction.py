@@ -2,9 +2,12 @@ import numpy as np
 import pytest
 from mechanisms import sixbar
 
-from geokin import Construction, ConstructionError, GeokinError
+from geokin import Construction, ConstructionError, GeokinError, sweep
 from geokin.construction import NODE_KINDS
 from geokin.expressions import as_expr, parse
+from geokin.loops import fourbar_closed_form
+
+SEED_004 = (24.0, 10.55, 25.0, 14.0)  # ground, input, coupler, output: a crank-rocker
 
 
 def base():
@@ -222,3 +225,81 @@ def test_a_constant_radius_cannot_be_negative():
     with pytest.raises(ConstructionError, match="cannot be negative") as info:
         c.compile()
     check(info, "B", "radii[1]")
+
+
+# -- degenerate fixed geometry: a sample that cannot be assembled, with its reason ----
+
+DEGENERATE = {
+    "coincident centres": lambda c: (
+        c.fixed("P", 1, 2), c.fixed("Q", 1, 2),
+        c.circle_circle("X", ("P", "Q"), (1, 1), branch="left")),
+    "parallel guides": lambda c: (
+        c.fixed("P", 0, 0), c.fixed("Q", 1, 0), c.fixed("R", 0, 1), c.fixed("S", 2, 1),
+        c.line_line("X", ("P", "Q"), ("R", "S"))),
+    "coincident guides": lambda c: (
+        c.fixed("P", 0, 0), c.fixed("Q", 1, 1), c.fixed("R", 2, 2), c.fixed("S", 3, 3),
+        c.line_line("X", ("P", "Q"), ("R", "S"))),
+    "zero-length guide": lambda c: (
+        c.fixed("P", 0, 0), c.fixed("Q", 0, 0), c.fixed("R", 0, 1), c.fixed("S", 1, 1),
+        c.line_line("X", ("P", "Q"), ("R", "S"))),
+    "zero-length line to a circle": lambda c: (
+        c.fixed("P", 3, 3), c.fixed("Q", 3, 3), c.fixed("C", 0, 0),
+        c.line_circle("X", ("P", "Q"), "C", 5, branch="first")),
+    "zero-length reference": lambda c: (
+        c.fixed("P", 3, 3), c.fixed("Q", 3, 3),
+        c.polar("X", "P", 2, 0.5, reference=("P", "Q"))),
+    "zero-length line along": lambda c: (
+        c.fixed("P", 3, 3), c.fixed("Q", 3, 3), c.along("X", ("P", "Q"), 2)),
+}
+
+
+@pytest.mark.parametrize("case", sorted(DEGENERATE))
+def test_degenerate_fixed_geometry_is_an_invalid_sample_with_its_reason(case):
+    """Fixed (Python float) operands give invalid samples naming the node, not an exception."""
+    c = Construction(case)
+    c.input("t")
+    DEGENERATE[case](c)
+    c.polar("M", "X", 1, "t")  # a moving point after the degenerate one
+    s = sweep(c, np.linspace(0, 1, 4))
+    assert not s.valid.any()
+    assert set(s.failed_node) == {"X"}
+    assert all(r.startswith("degenerate input") for r in s.failure_reason)
+    assert np.isnan(s["M"]).all()
+
+
+# -- extreme scales: right answers far from 1 ----------------------------------------
+
+
+@pytest.mark.parametrize("scale", [1e200, 1e-200, 1e-285, 1e285])
+def test_a_scaled_four_bar_moves_as_the_closed_form_says(scale):
+    """A four-bar 1e200 (or 1e-200) times larger gives the closed form's points, scaled."""
+    g, i, cpl, o = SEED_004
+    c = Construction("scaled")
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", g * scale, 0)
+    c.polar("A", "O2", i * scale, "theta")
+    c.circle_circle("B", ("A", "O4"), (cpl * scale, o * scale), branch="left")
+    c.polar("P", "A", 0.5 * cpl * scale, 0.3, reference=("A", "B"))
+    theta = np.linspace(0, 2 * np.pi, 73)
+    s = sweep(c, theta)
+    assert s.valid.all()
+    t3, t4 = fourbar_closed_form(g, i, cpl, o, theta, open=True)
+    b = np.stack([g + o * np.cos(t4), o * np.sin(t4)], axis=-1)
+    p = i * np.stack([np.cos(theta), np.sin(theta)], axis=-1) + 0.5 * cpl * np.stack(
+        [np.cos(t3 + 0.3), np.sin(t3 + 0.3)], axis=-1)
+    np.testing.assert_allclose(s["B"] / scale, b, rtol=0, atol=1e-12 * g)
+    np.testing.assert_allclose(s["P"] / scale, p, rtol=0, atol=1e-12 * g)
+    np.testing.assert_allclose(s.margins["B"], sweep(_unit_fourbar(), theta).margins["B"],
+                               rtol=1e-12, atol=1e-14)
+
+
+def _unit_fourbar():
+    g, i, cpl, o = SEED_004
+    c = Construction("unit")
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", g, 0)
+    c.polar("A", "O2", i, "theta")
+    c.circle_circle("B", ("A", "O4"), (cpl, o), branch="left")
+    return c
