@@ -377,10 +377,13 @@ def parse(text: str, *, node: str | None = None, field: str | None = None) -> Ex
     if len(text) > MAX_EXPRESSION_LENGTH:
         raise fail(f"longer than the {MAX_EXPRESSION_LENGTH:,} characters an expression may "
                    "have; give parts of it names as parameters")
+    parsed = _PARSED.get(text)
+    if parsed is not None:
+        return parsed
     try:
         tree = ast.parse(text.strip(), mode="eval")
-    except SyntaxError as exc:
-        raise fail(f"not a valid expression ({exc.msg})") from None
+    except SyntaxError as exc:  # the first sentence: Python's advice is not for scripts
+        raise fail(f"not a valid expression ({exc.msg.split(';')[0]})") from None
     except (RecursionError, MemoryError):
         raise fail(_too_deep()) from None
     except ValueError as exc:  # a NUL character, and the like
@@ -430,7 +433,17 @@ def parse(text: str, *, node: str | None = None, field: str | None = None) -> Ex
         raise fail(f"{kind} is not allowed; use numbers, names, + - * / ** and "
                    f"{', '.join(FUNCTIONS)}")
 
-    return build(tree.body)
+    parsed = build(tree.body)
+    if len(text) <= _CACHED_LENGTH and len(_PARSED) < _CACHE_SIZE:
+        _PARSED[text] = parsed
+    return parsed
+
+
+# scripts repeat short values ("theta", "l2 / 2"): expressions are immutable, so a
+# text parsed once is shared; the cache holds at most _CACHE_SIZE short texts
+_PARSED: dict[str, Expr] = {}
+_CACHED_LENGTH = 64
+_CACHE_SIZE = 4096
 
 
 # -- names ----------------------------------------------------------------------
