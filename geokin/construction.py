@@ -34,7 +34,10 @@ construction 'four-bar': 5 steps
 
 from __future__ import annotations
 
+import dataclasses
 import heapq
+import keyword
+import math
 import unicodedata
 from collections.abc import Iterable, Mapping, Sequence
 from dataclasses import dataclass, field
@@ -43,8 +46,17 @@ from typing import ClassVar
 import numpy as np
 
 from . import primitives as prim
-from .errors import ConstructionError, did_you_mean
-from .expressions import CONSTANTS, FUNCTIONS, Expr, as_expr
+from .errors import ConstructionError, did_you_mean, quote, show
+from .expressions import (
+    CONSTANTS,
+    FUNCTIONS,
+    Expr,
+    Number,
+    as_expr,
+    look_alike,
+    normal_name,
+    skeleton,
+)
 
 __all__ = [
     "BRANCHES",
@@ -601,6 +613,8 @@ class Construction:
         self.sliders: dict[str, Slider] = {}
         self.traced: tuple[str, ...] = ()
         self._compiled: Compiled | None = None
+        # names that are not plain ASCII, by their skeleton (see expressions.skeleton)
+        self._skeletons: dict[str, str] = {}
 
     def __repr__(self):
         return (f"<Construction {self.name!r}: {len(self.parameters)} parameters, "
@@ -621,32 +635,59 @@ class Construction:
 
     def _all_names(self) -> dict[str, str]:
         names = {}
-        for kind, table in (("parameter", self.parameters), ("input", self.inputs),
-                            ("point", self.nodes), ("link", self.links),
-                            ("slider", self.sliders)):
+        for kind, table in self._tables():
             names.update(dict.fromkeys(table, kind))
         return names
 
-    def _claim(self, name: str, what: str):
-        if not isinstance(name, str) or not name.isidentifier():
+    def _tables(self):
+        return (("parameter", self.parameters), ("input", self.inputs), ("point", self.nodes),
+                ("link", self.links), ("slider", self.sliders))
+
+    def _kind_of(self, name: str) -> str | None:
+        """Return what ``name`` is declared as ("parameter", "point", ...), or None."""
+        for kind, table in self._tables():
+            if name in table:
+                return kind
+        return None
+
+    def _claim(self, name, what: str) -> str:
+        """Check a new name and return it in normal form (NFKC): the name to declare.
+
+        The checks take a constant time per name, so declaring n names is linear.
+        """
+        given = name
+        name = normal_name(name, what=f"{what} name", node=show(name) if not isinstance(
+            name, str) else name, field="name")
+        if not name.isidentifier():
             raise ConstructionError(
-                f"a {what} name must be an identifier (letters, digits, _), got {name!r}",
-                node=str(name), field="name")
-        if unicodedata.normalize("NFKC", name) != name:
-            raise ConstructionError(
-                f"{name!r} reads as {unicodedata.normalize('NFKC', name)!r} in expressions; "
-                "use that spelling", node=name, field="name")
+                f"a {what} name must be an identifier (letters, digits, _), got {quote(given)}",
+                node=given, field="name")
+        if keyword.iskeyword(name):
+            raise ConstructionError(f"{quote(name)} is a reserved word of expressions; choose "
+                                    "another name", node=name, field="name")
         if name in CONSTANTS or name in FUNCTIONS:
-            raise ConstructionError(f"{name!r} is reserved for the built-in "
+            raise ConstructionError(f"{quote(name)} is reserved for the built-in "
                                     f"{'constant' if name in CONSTANTS else 'function'}",
                                     node=name, field="name")
-        existing = self._all_names().get(name)
+        folded = f" ({quote(given)} reads as {quote(name)})" if given != name else ""
+        existing = self._kind_of(name)
         if existing is not None:
             article = "an" if existing[0] in "aeiou" else "a"
-            raise ConstructionError(f"duplicate name: {article} {existing} {name!r} is already "
-                                    "declared",
-                                    node=name, field="name")
+            raise ConstructionError(f"duplicate name{folded}: {article} {existing} {quote(name)} "
+                                    "is already declared", node=name, field="name")
+        key = skeleton(name)
+        other = self._skeletons.get(key)
+        if other is None or other == name or self._kind_of(other) is None:
+            other = key if key != name and self._kind_of(key) is not None else None
+        if other is not None:
+            raise ConstructionError(
+                f"{quote(name)} looks like the {self._kind_of(other)} {quote(other)} but is "
+                f"another name: {_differences(name, other)}; use one spelling",
+                node=name, field="name")
+        if key != name:
+            self._skeletons[key] = name
         self._compiled = None
+        return name
 
     # -- declarations ------------------------------------------------------
 
@@ -669,7 +710,7 @@ class Construction:
         >>> c.parameters["l3"].value
         100.0
         """
-        self._claim(name, "parameter")
+        name = self._claim(name, "parameter")
         number = as_expr(value, node=name, field="value")
         if number.names():
             raise ConstructionError("a parameter's value must be a number", node=name,
@@ -701,9 +742,9 @@ class Construction:
         speed : float, optional
             Rate in radians (or lengths) per second; one turn per second by default.
         """
-        self._claim(name, "input")
+        name = self._claim(name, "input")
         if kind not in INPUT_KINDS:
-            raise ConstructionError(f"unknown input kind {kind!r}; use one of "
+            raise ConstructionError(f"unknown input kind {show(kind)}; use one of "
                                     f"{', '.join(INPUT_KINDS)}{did_you_mean(kind, INPUT_KINDS)}",
                                     node=name, field="kind")
         if range is None:
@@ -715,21 +756,32 @@ class Construction:
         if lo_hi[0] == lo_hi[1]:
             raise ConstructionError("the range's two ends are equal: nothing to sweep",
                                     node=name, field="range")
+        width = lo_hi[1] - lo_hi[0]
+        if not np.isfinite(width):
+            raise ConstructionError(f"the range from {lo_hi[0]:g} to {lo_hi[1]:g} is wider "
+                                    "than floating-point numbers reach", node=name, field="range")
+        if kind == "length":
+            for end in lo_hi:
+                _check_length(end, node=name, field="range")
         _check_samples(samples, node=name, field="samples")
         if step is not None:
             step = _number(step, node=name, field="step")
-            if not step * (lo_hi[1] - lo_hi[0]) > 0:
+            if step == 0 or (step > 0) != (width > 0):
                 raise ConstructionError("step must be a non-zero number that goes from "
                                         "range[0] towards range[1]", node=name, field="step")
-            _check_samples(int(abs(lo_hi[1] - lo_hi[0]) / abs(step)) + 1, node=name,
-                           field="step")
+            count = abs(width / step) + 1  # inf for a step too small to divide by
+            if not count <= MAX_SAMPLES:
+                raise ConstructionError(f"a step of {step:g} makes {count:.3g} samples over "
+                                        f"the range, more than the {MAX_SAMPLES:,} a default "
+                                        "sweep may have", node=name, field="step")
         if speed is None:
             speed = 2 * np.pi if kind == "angle" else 1.0
         speed = _number(speed, node=name, field="speed")
-        if not speed > 0:
-            raise ConstructionError("speed must be a positive number (how fast the input "
-                                    "moves; a sweep's direction sets its sign)", node=name,
-                                    field="speed")
+        low, high = prim.SCALE_RANGE
+        if not low <= speed <= high:
+            raise ConstructionError(f"speed must be a positive number from {low:g} to "
+                                    f"{high:g} (how fast the input moves; a sweep's direction "
+                                    f"sets its sign), got {speed:g}", node=name, field="speed")
         self.inputs[name] = Input(name, kind, lo_hi, int(samples), speed, step)
 
     def fixed(self, name: str, x, y) -> None:
@@ -867,7 +919,7 @@ class Construction:
         >>> c.fixed("A", 1, 0)
         >>> c.link("crank", "O", "A")
         """
-        self._claim(name, "link")
+        name = self._claim(name, "link")
         self.links[name] = Link(name, self._points(points, name, "points", None))
 
     def slider(self, name: str, point: str, along: Sequence[str]) -> None:
@@ -878,7 +930,7 @@ class Construction:
         more moving link, a revolute joint and a prismatic pair for the
         degrees-of-freedom count, and a block in drawings.
         """
-        self._claim(name, "slider")
+        name = self._claim(name, "slider")
         self.sliders[name] = Slider(name, self._point(point, name, "point"),
                                     self._points(along, name, "along", 2))
 
@@ -890,8 +942,10 @@ class Construction:
     # -- checks of one declaration -------------------------------------------
 
     def _add(self, node: Node) -> None:
-        self._claim(node.name, "point")
-        self.nodes[node.name] = node
+        name = self._claim(node.name, "point")
+        if name != node.name:
+            node = dataclasses.replace(node, name=name)
+        self.nodes[name] = node
 
     def _line_circle(self, cls, name, line, center, radius, branch, near):
         self._add(cls(name, *self._branch(cls.kind, name, branch, near),
@@ -905,7 +959,7 @@ class Construction:
 
     def _values(self, values, node, field_name, count) -> tuple[Expr, ...]:
         if isinstance(values, str | bytes) or not isinstance(values, Sequence):
-            raise ConstructionError(f"expected {count} values, got {values!r}", node=node,
+            raise ConstructionError(f"expected {count} values, got {show(values)}", node=node,
                                     field=field_name)
         if len(values) != count:
             raise ConstructionError(f"expected {count} values, got {len(values)}", node=node,
@@ -915,24 +969,22 @@ class Construction:
     @staticmethod
     def _point(point, node, field_name) -> str:
         if not isinstance(point, str):
-            raise ConstructionError(f"expected a point name, got {point!r}", node=node,
+            raise ConstructionError(f"expected a point name, got {show(point)}", node=node,
                                     field=field_name)
-        return point
+        return normal_name(point, what="point name", node=node, field=field_name)
 
     def _points(self, points, node, field_name, count) -> tuple[str, ...]:
         if isinstance(points, str) or not isinstance(points, Iterable):
-            raise ConstructionError(f"expected a list of point names, got {points!r}",
+            raise ConstructionError(f"expected a list of point names, got {show(points)}",
                                     node=node, field=field_name)
-        points = tuple(points)
+        points = tuple(points)  # the count is checked before the names
         if count is not None and len(points) != count:
             raise ConstructionError(f"expected {count} point names, got {len(points)}",
                                     node=node, field=field_name)
         if count is None and len(points) < 2:
             raise ConstructionError(f"a link joins at least 2 points, got {len(points)}",
                                     node=node, field=field_name)
-        for i, p in enumerate(points):
-            self._point(p, node, f"{field_name}[{i}]")
-        return points
+        return tuple(self._point(p, node, f"{field_name}[{i}]") for i, p in enumerate(points))
 
     @staticmethod
     def _branch(kind, node, branch, near):
@@ -945,7 +997,7 @@ class Construction:
                                     f"({' or '.join(map(repr, names))}) or near=(x, y)",
                                     node=node, field="branch")
         if branch is not None and branch not in names:
-            raise ConstructionError(f"unknown branch {branch!r} for {kind}; use "
+            raise ConstructionError(f"unknown branch {show(branch)} for {kind}; use "
                                     f"{' or '.join(map(repr, names))}"
                                     f"{did_you_mean(str(branch), names)}",
                                     node=node, field="branch")
@@ -977,11 +1029,12 @@ class Construction:
             for field_name, expr in node.value_fields().items():
                 for name in sorted(expr.names()):
                     if name not in value_names:
-                        hint = did_you_mean(name, value_names)
+                        hint = _hint(name, value_names)
                         if name in self.nodes:
-                            hint = f"; {name!r} is a point, not a parameter or input"
-                        raise ConstructionError(f"unknown parameter or input {name!r}{hint}",
-                                                node=node.name, field=field_name)
+                            hint = f"; {quote(name)} is a point, not a parameter or input"
+                        raise ConstructionError(
+                            f"unknown parameter or input {quote(name)}{hint}",
+                            node=node.name, field=field_name)
         for link in self.links.values():
             for i, p in enumerate(link.points):
                 self._check_point_name(p, link.name, f"points[{i}]")
@@ -1002,29 +1055,55 @@ class Construction:
         return self._compiled
 
     def _check_constant_values(self):
-        """Refuse values that depend on no input and are not finite (``1 / 0``)."""
+        """Refuse values that depend on no input and are not finite (``1 / 0``).
+
+        Also refuse lengths beyond :data:`~geokin.primitives.SCALE_RANGE`,
+        and a mechanism whose size (its largest constant length) is below it.
+        """
         constants = {k: p.value for k, p in self.parameters.items()}
-        for node in self.nodes.values():
-            for field_name, expr in node.value_fields().items():
-                if expr.names() & self.inputs.keys():
-                    continue
-                with np.errstate(all="ignore"):
-                    value = float(expr.evaluate(constants))
-                if not np.isfinite(value):
-                    raise ConstructionError(f"{str(expr)!r} is {value}: a value must be a "
-                                            "finite number", node=node.name, field=field_name)
-                if value < 0 and ("radius" in field_name or "radii" in field_name):
-                    raise ConstructionError(f"a radius cannot be negative; {str(expr)!r} is "
-                                            f"{value:g}", node=node.name, field=field_name)
+        size, largest = 0.0, None
+        for inp in self.inputs.values():
+            if inp.kind == "length" and max(map(abs, inp.range)) > size:
+                size, largest = max(map(abs, inp.range)), (inp.name, "range")
+        high = prim.SCALE_RANGE[1]
+        with np.errstate(all="ignore"):
+            for node in self.nodes.values():
+                angles = node.angle_fields()
+                for field_name, expr in node.value_fields().items():
+                    if type(expr) is Number:  # most values: no evaluation, nothing to refuse
+                        value = expr.value
+                    elif expr.names() & self.inputs.keys():
+                        continue
+                    else:
+                        value = float(expr.evaluate(constants))
+                    if not math.isfinite(value):
+                        raise ConstructionError(f"{quote(str(expr), 60)} is {value}: a value "
+                                                "must be a finite number", node=node.name,
+                                                field=field_name)
+                    if value < 0 and ("radius" in field_name or "radii" in field_name):
+                        raise ConstructionError(f"a radius cannot be negative; "
+                                                f"{quote(str(expr), 60)} is {value:g}",
+                                                node=node.name, field=field_name)
+                    if field_name not in angles and abs(value) > size:
+                        if abs(value) > high:
+                            _check_length(value, node=node.name, field=field_name)
+                        size, largest = abs(value), (node.name, field_name)
+        low = prim.SCALE_RANGE[0]
+        if 0 < size < low:
+            raise ConstructionError(
+                f"the mechanism's largest length is {size:g}, smaller than the {low:g} geokin "
+                "computes with; express the mechanism in another unit of length",
+                node=largest[0], field=largest[1])
 
     def _check_point_name(self, point, node, field_name):
         if point in self.nodes:
             return
-        hint = did_you_mean(point, self.nodes)
-        other = self._all_names().get(point)
+        hint = _hint(point, self.nodes)
+        other = self._kind_of(point)
         if other is not None:
-            hint = f"; {point!r} is a {other}, not a point" + hint
-        raise ConstructionError(f"unknown point {point!r}{hint}", node=node, field=field_name)
+            hint = f"; {quote(point)} is a {other}, not a point" + hint
+        raise ConstructionError(f"unknown point {quote(point)}{hint}", node=node,
+                                field=field_name)
 
     def _ordered(self) -> list[str]:
         """Topological order, declaration order breaking ties."""
@@ -1057,6 +1136,24 @@ class Construction:
         return order
 
 
+def _differences(name: str, other: str) -> str:
+    """Say where two names of the same skeleton differ: 'В' (Cyrillic) for 'B' (Latin)."""
+    for a, b in zip(name, other, strict=False):
+        if a != b:
+            return (f"{a!r} ({unicodedata.name(a, '?').lower()}) stands for "
+                    f"{b!r} ({unicodedata.name(b, '?').lower()})")
+    return "they differ in letters that look alike"
+
+
+def _hint(name: str, candidates) -> str:
+    """Return a hint for an unknown name: a look-alike of a declared one, or the closest."""
+    other = look_alike(name, candidates)
+    if other is not None:
+        return (f"; it looks like {quote(other)} but is another name: "
+                f"{_differences(name, other)}")
+    return did_you_mean(name, candidates)
+
+
 def _field_naming(node: Node, point: str) -> str:
     for field_name, points in node.point_fields().items():
         if point in points:
@@ -1086,21 +1183,25 @@ def _number(value, *, node, field) -> float:
         raise ConstructionError(f"expected a number, got {value!r}", node=node, field=field)
     try:
         number = float(value)
-    except (TypeError, ValueError, OverflowError):
-        raise ConstructionError(f"expected a number, got {value!r}", node=node,
+    except OverflowError:
+        raise ConstructionError(f"expected a finite number, got {show(value)}: beyond the "
+                                "range of floating-point numbers", node=node,
+                                field=field) from None
+    except (TypeError, ValueError):
+        raise ConstructionError(f"expected a number, got {show(value)}", node=node,
                                 field=field) from None
     if not np.isfinite(number):
-        raise ConstructionError(f"expected a finite number, got {value!r}", node=node,
+        raise ConstructionError(f"expected a finite number, got {show(value)}", node=node,
                                 field=field)
     return number
 
 
 def _check_samples(samples, *, node, field):
     if isinstance(samples, bool) or not isinstance(samples, int | np.integer) or samples < 2:
-        raise ConstructionError(f"samples must be an integer of at least 2, got {samples!r}",
+        raise ConstructionError(f"samples must be an integer of at least 2, got {show(samples)}",
                                 node=node, field=field)
     if samples > MAX_SAMPLES:
-        raise ConstructionError(f"{samples} samples is more than the {MAX_SAMPLES:,} a "
+        raise ConstructionError(f"{show(samples)} samples is more than the {MAX_SAMPLES:,} a "
                                 "default sweep may have", node=node, field=field)
 
 
@@ -1108,10 +1209,24 @@ def _pair_of_numbers(value, *, node, field) -> tuple[float, float]:
     try:
         a, b = value
         pair = (float(a), float(b))
+    except OverflowError:
+        raise ConstructionError(f"expected two finite numbers, got {show(value)}: beyond the "
+                                "range of floating-point numbers", node=node,
+                                field=field) from None
     except (TypeError, ValueError):
-        raise ConstructionError(f"expected two numbers, got {value!r}", node=node,
+        raise ConstructionError(f"expected two numbers, got {show(value)}", node=node,
                                 field=field) from None
     if not all(np.isfinite(pair)):
-        raise ConstructionError(f"expected two finite numbers, got {value!r}", node=node,
+        raise ConstructionError(f"expected two finite numbers, got {show(value)}", node=node,
                                 field=field)
     return pair
+
+
+def _check_length(value: float, *, node, field) -> None:
+    """Refuse a length larger than the scales the primitives compute with."""
+    high = prim.SCALE_RANGE[1]
+    if abs(value) > high:
+        raise ConstructionError(
+            f"{value:g} is larger than the lengths geokin computes with (magnitudes up to "
+            f"{high:g}); express the mechanism in another unit of length",
+            node=node, field=field)

@@ -26,16 +26,33 @@ class ConstructionError(GeokinError, ValueError):
         The node (point, parameter, input, link) the error is about.
     field : str, optional
         The field of that node.
+
+    Attributes
+    ----------
+    message : str
+        What is wrong, without the node and field.
+    node, field : str or None
+        As given, whole; the text of the error shows them shortened by
+        :func:`quote`.
+
+    Examples
+    --------
+    >>> err = ConstructionError("unknown point 'B'", node="C", field="centers[0]")
+    >>> str(err)
+    "node 'C', field 'centers[0]': unknown point 'B'"
+    >>> err.message
+    "unknown point 'B'"
     """
 
     def __init__(self, message: str, *, node: str | None = None, field: str | None = None):
         self.node = node
         self.field = field
+        self.message = message
         where = ""
         if node is not None:
-            where = f"node {node!r}"
+            where = f"node {quote(node)}"
             if field is not None:
-                where += f", field {field!r}"
+                where += f", field {quote(field)}"
             where += ": "
         super().__init__(where + message)
 
@@ -64,6 +81,89 @@ class AssemblyError(GeokinError):
         super().__init__(message)
 
 
+class BudgetError(GeokinError):
+    """A script, an expression or a computation is larger than its budget.
+
+    Raised before the work starts (see :mod:`geokin.budgets`); the message
+    gives the size, the budget and how to reduce the size.
+
+    Parameters
+    ----------
+    message : str
+        What is too large and what to do about it.
+    needed, budget : int, optional
+        The estimated size and the budget, in the message's unit (bytes for memory).
+    """
+
+    def __init__(self, message: str, *, needed: int | None = None, budget: int | None = None):
+        self.needed = needed
+        self.budget = budget
+        super().__init__(message)
+
+
+SHOWN_CHARACTERS = 40
+"""The most characters of a name or value that an error message shows."""
+
+_MAX_COMPARED = 1000
+"""Names longer than this get no "did you mean": none is that close to a short name."""
+
+
+def quote(text, limit: int = SHOWN_CHARACTERS) -> str:
+    r"""Return ``repr(text)`` for a message, cut short if it is long.
+
+    Control characters come out escaped, as ``repr`` writes them; a text of
+    more than ``limit`` characters shows its first ``limit`` and its length.
+    Anything that is not a string is shown by :func:`show`.
+
+    Examples
+    --------
+    >>> quote("l3")
+    "'l3'"
+    >>> quote("x" * 10_000_000)
+    "'xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx...' (10,000,000 characters)"
+    >>> print(quote("a\x1b]0;title\x07"))
+    'a\x1b]0;title\x07'
+    """
+    if not isinstance(text, str):
+        return show(text, limit)
+    if len(text) <= limit:
+        return repr(text)
+    start = repr(text[:limit])
+    return f"{start[:-1]}...{start[-1]} ({len(text):,} characters)"
+
+
+def show(value, limit: int = SHOWN_CHARACTERS) -> str:
+    """Return the repr of any value for a message, short and safe to compute.
+
+    Integers too large to print in full (Python refuses over 4,300 digits),
+    long sequences and long reprs are summarised instead of raising or
+    flooding the message.
+
+    Examples
+    --------
+    >>> show(2.5)
+    '2.5'
+    >>> show(16 ** 5000)
+    'an integer of 6,021 digits'
+    >>> show([0, 10 ** 5000])
+    'a list of 2 items'
+    >>> show(list(range(100)))
+    'a list of 100 items'
+    """
+    if isinstance(value, str):
+        return quote(value, limit)
+    if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 3 * limit:
+        return f"an integer of {int(value.bit_length() * 0.3010299956639812) + 1:,} digits"
+    if isinstance(value, list | tuple) and len(value) > 8:
+        return f"a {type(value).__name__} of {len(value):,} items"
+    try:
+        text = repr(value)
+    except Exception:  # noqa: BLE001 - a message must not fail on a strange value
+        size = f" of {len(value):,} items" if isinstance(value, list | tuple) else ""
+        return f"a {type(value).__name__}{size}"
+    return text if len(text) <= 2 * limit else f"{text[:2 * limit]}... (a {type(value).__name__})"
+
+
 def closest_name(name: str, candidates: Iterable[str]) -> str | None:
     """Return the candidate closest to ``name``, or None if none is close.
 
@@ -73,8 +173,13 @@ def closest_name(name: str, candidates: Iterable[str]) -> str | None:
     'B0'
     >>> closest_name("zzz", ["A0", "B0"]) is None
     True
+    >>> closest_name("B" * 10_000_000, ["B0"]) is None
+    True
     """
-    matches = difflib.get_close_matches(name, list(candidates), n=1, cutoff=0.5)
+    if not isinstance(name, str) or len(name) > _MAX_COMPARED:
+        return None
+    candidates = [c for c in candidates if isinstance(c, str) and len(c) <= _MAX_COMPARED]
+    matches = difflib.get_close_matches(name, candidates, n=1, cutoff=0.5)
     if matches:
         return matches[0]
     lowered = {c.lower(): c for c in candidates}
@@ -90,4 +195,4 @@ def did_you_mean(name: str, candidates: Iterable[str]) -> str:
     "; did you mean 'l3'?"
     """
     best = closest_name(name, candidates)
-    return f"; did you mean {best!r}?" if best is not None else ""
+    return f"; did you mean {quote(best)}?" if best is not None else ""

@@ -8,6 +8,19 @@ with :mod:`ast` and accepts only those node kinds: no ``eval``, no attribute
 access, no subscripts and no calls outside that list, so parsing a script
 never runs code. The trigonometric functions work in radians.
 
+An expression holds at most :data:`~geokin.budgets.MAX_EXPRESSION_LENGTH`
+characters and nests operations and calls at most
+:data:`~geokin.budgets.MAX_EXPRESSION_DEPTH` levels deep, so printing and
+evaluating it, which recurse once per level, always have the stack they need.
+
+Names
+-----
+Names are read as Python reads identifiers, in Unicode normal form NFKC:
+``ｌ1`` (fullwidth) and ``l1`` are one name. A name keeps to one script
+(:func:`normal_name`): ``pаram`` with a Cyrillic ``а`` is refused, and a
+construction refuses a name that differs from a declared one only by letters
+that look alike (:func:`skeleton`), such as Cyrillic ``В0`` next to Latin ``B0``.
+
 Examples
 --------
 >>> e = parse("y + l1")
@@ -22,15 +35,19 @@ Examples
 from __future__ import annotations
 
 import ast
+import dataclasses
 import math
-from collections.abc import Mapping
+import unicodedata
+from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
-from .errors import ConstructionError
+from .budgets import MAX_EXPRESSION_DEPTH, MAX_EXPRESSION_LENGTH, MAX_NAME_LENGTH
+from .errors import ConstructionError, quote, show
 
-__all__ = ["Expr", "FUNCTIONS", "as_expr", "parse"]
+__all__ = ["Expr", "FUNCTIONS", "as_expr", "look_alike", "normal_name", "parse", "skeleton"]
 
 FUNCTIONS = {
     "sqrt": (1, np.sqrt),
@@ -62,6 +79,9 @@ class Expr:
     """
 
     __slots__ = ()
+
+    depth: ClassVar[int] = 0
+    """Levels of operations and calls from the whole to a number or a name."""
 
     def names(self) -> frozenset[str]:
         """Return the names of parameters and inputs this value depends on."""
@@ -131,11 +151,12 @@ class Number(Expr):
     def __str__(self):
         value = self.value
         if math.isfinite(value) and value == int(value) and abs(value) < 1e15:
-            return str(int(value))
+            # -0.0 keeps its sign: atan2(0, -0.0) is pi
+            return "-0" if value == 0 and math.copysign(1.0, value) < 0 else str(int(value))
         return repr(value)
 
     def _precedence(self):
-        return 3 if self.value < 0 else 5
+        return 3 if math.copysign(1.0, self.value) < 0 else 5
 
 
 @dataclass(frozen=True, slots=True, repr=False)
@@ -161,6 +182,10 @@ class Neg(Expr):
     """Unary minus."""
 
     operand: Expr
+    depth: int = dataclasses.field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "depth", 1 + self.operand.depth)
 
     def names(self):
         return self.operand.names()
@@ -185,6 +210,10 @@ class BinOp(Expr):
     op: str
     left: Expr
     right: Expr
+    depth: int = dataclasses.field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "depth", 1 + max(self.left.depth, self.right.depth))
 
     def names(self):
         return self.left.names() | self.right.names()
@@ -216,6 +245,10 @@ class Call(Expr):
 
     function: str
     args: tuple[Expr, ...]
+    depth: int = dataclasses.field(init=False, repr=False, compare=False)
+
+    def __post_init__(self):
+        object.__setattr__(self, "depth", 1 + max((a.depth for a in self.args), default=0))
 
     def names(self):
         return frozenset().union(*(a.names() for a in self.args))
@@ -230,14 +263,26 @@ class Call(Expr):
 def as_expr(value, *, node: str | None = None, field: str | None = None) -> Expr:
     """Turn a number, a string or an :class:`Expr` into an :class:`Expr`.
 
+    Raises
+    ------
+    ConstructionError
+        For anything else, a number that is not finite (or too large for a
+        float), or an expression over the limits of :mod:`geokin.budgets`.
+
     Examples
     --------
     >>> as_expr(3)
     Expr('3')
     >>> as_expr("l2 / 2")
     Expr('l2 / 2')
+    >>> as_expr(10 ** 400)
+    Traceback (most recent call last):
+    ...
+    geokin.errors.ConstructionError: expected a finite number, got an integer of 401 digits
     """
     if isinstance(value, Expr):
+        if value.depth > MAX_EXPRESSION_DEPTH:
+            raise ConstructionError(_too_deep(value.depth), node=node, field=field)
         return value
     if isinstance(value, bool):
         raise ConstructionError(f"expected a number or an expression, got {value!r}",
@@ -248,14 +293,47 @@ def as_expr(value, *, node: str | None = None, field: str | None = None) -> Expr
         except OverflowError:
             number = math.inf
         if not math.isfinite(number):
-            raise ConstructionError(f"expected a finite number, got {value!r}", node=node,
+            raise ConstructionError(f"expected a finite number, got {show(value)}", node=node,
                                     field=field)
         return Number(number)
     if isinstance(value, str):
         return parse(value, node=node, field=field)
     raise ConstructionError(
-        f"expected a number or an expression, got {type(value).__name__} {value!r}",
+        f"expected a number or an expression, got {type(value).__name__} {show(value)}",
         node=node, field=field)
+
+
+def _too_deep(depth: int | None = None) -> str:
+    """Say that an expression is nested too deeply (``depth`` levels, when known)."""
+    levels = f"{depth} levels deep" if depth is not None else "too deeply"
+    return (f"nested {levels}: an expression may nest at most {MAX_EXPRESSION_DEPTH} levels "
+            "of operations and calls; give parts of it names as parameters")
+
+
+def _ast_depth(tree: ast.AST) -> int:
+    """Return the nesting of operations and calls in a parsed expression, without recursion.
+
+    Stops counting past :data:`~geokin.budgets.MAX_EXPRESSION_DEPTH`, so the
+    answer is at most one more than the limit.
+    """
+    deepest = 0
+    stack = [(tree, 0)]
+    while stack:
+        item, depth = stack.pop()
+        if isinstance(item, ast.BinOp):
+            children = (item.left, item.right)
+        elif isinstance(item, ast.UnaryOp):
+            children = (item.operand,)
+        elif isinstance(item, ast.Call):
+            children = tuple(item.args)
+        else:
+            continue
+        depth += 1
+        if depth > MAX_EXPRESSION_DEPTH:
+            return depth
+        deepest = max(deepest, depth)
+        stack.extend((child, depth) for child in children)
+    return deepest
 
 
 def parse(text: str, *, node: str | None = None, field: str | None = None) -> Expr:
@@ -265,7 +343,9 @@ def parse(text: str, *, node: str | None = None, field: str | None = None) -> Ex
     ----------
     text : str
         The expression, in Python syntax restricted to numbers, names,
-        ``+ - * / **``, parentheses and calls of :data:`FUNCTIONS`.
+        ``+ - * / **``, parentheses and calls of :data:`FUNCTIONS`; at most
+        :data:`~geokin.budgets.MAX_EXPRESSION_LENGTH` characters, nested at
+        most :data:`~geokin.budgets.MAX_EXPRESSION_DEPTH` levels deep.
     node, field : str, optional
         Where the text comes from, for error messages.
 
@@ -282,30 +362,51 @@ def parse(text: str, *, node: str | None = None, field: str | None = None) -> Ex
     Traceback (most recent call last):
     ...
     geokin.errors.ConstructionError: expression "__import__('os')": unknown function ...
+    >>> parse("+".join(["1"] * 500))
+    Traceback (most recent call last):
+    ...
+    geokin.errors.ConstructionError: expression '1+1+1+...' (999 characters): nested too deeply: ...
     """
     def fail(message):
-        shown = text if len(text) <= 80 else text[:77] + "..."
-        return ConstructionError(f"expression {shown!r}: {message}", node=node, field=field)
+        shown = quote(text, 60) if len(text) <= 60 else quote(text, 6)
+        return ConstructionError(f"expression {shown}: {message}", node=node, field=field)
 
+    if not isinstance(text, str):
+        raise ConstructionError(f"expected an expression (a string), got {show(text)}",
+                                node=node, field=field)
+    if len(text) > MAX_EXPRESSION_LENGTH:
+        raise fail(f"longer than the {MAX_EXPRESSION_LENGTH:,} characters an expression may "
+                   "have; give parts of it names as parameters")
+    parsed = _PARSED.get(text)
+    if parsed is not None:
+        return parsed
     try:
         tree = ast.parse(text.strip(), mode="eval")
-    except SyntaxError as exc:
-        raise fail(f"not a valid expression ({exc.msg})") from None
+    except SyntaxError as exc:  # the first sentence: Python's advice is not for scripts
+        raise fail(f"not a valid expression ({exc.msg.split(';')[0]})") from None
     except (RecursionError, MemoryError):
-        raise fail("too deeply nested") from None
+        raise fail(_too_deep()) from None
+    except ValueError as exc:  # a NUL character, and the like
+        raise fail(f"not a valid expression ({exc})") from None
+    if _ast_depth(tree.body) > MAX_EXPRESSION_DEPTH:
+        raise fail(_too_deep())
+
     def build(item: ast.AST) -> Expr:
         if isinstance(item, ast.Constant):
             if isinstance(item.value, bool) or not isinstance(item.value, int | float):
-                raise fail(f"{item.value!r} is not a number")
+                raise fail(f"{show(item.value)} is not a number")
             try:
                 number = float(item.value)
             except OverflowError:
-                raise fail(f"the number {str(item.value)[:20]}... is too large") from None
+                raise fail(f"the number {show(item.value)} is too large") from None
             if not math.isfinite(number):
-                raise fail(f"{item.value!r} is not a finite number")
+                raise fail(f"{show(item.value)} is not a finite number")
             return Number(number)
         if isinstance(item, ast.Name):
-            return Name(item.id)
+            try:
+                return Name(normal_name(item.id, what="name"))
+            except ConstructionError as err:
+                raise fail(err.message) from None
         if isinstance(item, ast.UnaryOp) and isinstance(item.op, ast.USub | ast.UAdd):
             operand = build(item.operand)
             if isinstance(item.op, ast.UAdd):
@@ -320,7 +421,7 @@ def parse(text: str, *, node: str | None = None, field: str | None = None) -> Ex
                 raise fail("only calls of plain function names are allowed")
             name = item.func.id
             if name not in FUNCTIONS:
-                raise fail(f"unknown function {name!r}; allowed: {', '.join(FUNCTIONS)}")
+                raise fail(f"unknown function {quote(name)}; allowed: {', '.join(FUNCTIONS)}")
             if item.keywords:
                 raise fail(f"{name}() takes no keyword arguments")
             arity = FUNCTIONS[name][0]
@@ -332,7 +433,153 @@ def parse(text: str, *, node: str | None = None, field: str | None = None) -> Ex
         raise fail(f"{kind} is not allowed; use numbers, names, + - * / ** and "
                    f"{', '.join(FUNCTIONS)}")
 
-    try:
-        return build(tree.body)
-    except RecursionError:
-        raise fail("too deeply nested") from None
+    parsed = build(tree.body)
+    if len(text) <= _CACHED_LENGTH and len(_PARSED) < _CACHE_SIZE:
+        _PARSED[text] = parsed
+    return parsed
+
+
+# scripts repeat short values ("theta", "l2 / 2"): expressions are immutable, so a
+# text parsed once is shared; the cache holds at most _CACHE_SIZE short texts
+_PARSED: dict[str, Expr] = {}
+_CACHED_LENGTH = 64
+_CACHE_SIZE = 4096
+
+
+# -- names ----------------------------------------------------------------------
+
+
+def _script(ch: str) -> str | None:
+    """Return the script of a letter or digit, by its Unicode name; None for neutral ones."""
+    if ch.isascii():
+        return "Latin" if ch.isalpha() else None
+    category = unicodedata.category(ch)
+    if not (category[0] == "L" or category == "Nd"):
+        return None  # combining marks, connector punctuation: they go with any script
+    name = unicodedata.name(ch, "")
+    if not name or name.startswith("MODIFIER LETTER"):
+        return None
+    word = name.removeprefix("EXTENDED ").split(" ")[0].split("-")[0]
+    return {"CJK": "Han", "IDEOGRAPHIC": "Han"}.get(word, word.title())
+
+
+# scripts that mix with Latin in one name, as in Unicode's "moderately
+# restrictive" identifiers (UTS #39): Chinese, Japanese and Korean writing
+_MIXES_WITH_LATIN = (
+    frozenset({"Latin", "Han", "Hiragana", "Katakana"}),
+    frozenset({"Latin", "Han", "Bopomofo"}),
+    frozenset({"Latin", "Han", "Hangul"}),
+)
+_LOOK_LIKE_LATIN = frozenset({"Cyrillic", "Greek"})
+
+
+def normal_name(name, *, what: str = "name", node: str | None = None,
+                field: str | None = None) -> str:
+    """Return a name in Unicode normal form NFKC, checking its length and scripts.
+
+    Python reads identifiers in NFKC, so ``ｌ1`` (fullwidth) means ``l1``;
+    names are compared in that form. A name of more than
+    :data:`~geokin.budgets.MAX_NAME_LENGTH` characters is refused, and so is
+    one that mixes scripts: its letters must be all of one script, or Latin
+    with one other script that is neither Cyrillic nor Greek, or Latin with
+    Chinese, Japanese or Korean writing (Unicode's "moderately restrictive"
+    identifiers, UTS #39). Digits 0-9 and ``_`` go with any script.
+
+    Parameters
+    ----------
+    name : str
+    what : str
+        What the name names, for the message ("parameter name").
+    node, field : str, optional
+        Where the name comes from, for the message.
+
+    Raises
+    ------
+    ConstructionError
+        For a name too long or of mixed scripts.
+
+    Examples
+    --------
+    >>> normal_name("ｌ1")
+    'l1'
+    >>> normal_name("θ2"), normal_name("長さ_1")
+    ('θ2', '長さ_1')
+    >>> normal_name("pаram")  # the second letter is Cyrillic
+    Traceback (most recent call last):
+    ...
+    geokin.errors.ConstructionError: name 'pаram' mixes Latin and Cyrillic letters ('p' and 'а' ...
+    """
+    if not isinstance(name, str):
+        raise ConstructionError(f"a {what} must be a string, got {show(name)}", node=node,
+                                field=field)
+    if len(name) > MAX_NAME_LENGTH:
+        raise ConstructionError(f"a {what} may have at most {MAX_NAME_LENGTH} characters; "
+                                f"{quote(name)} is too long", node=node, field=field)
+    if name.isascii():
+        return name
+    name = unicodedata.normalize("NFKC", name)
+    seen: dict[str, str] = {}
+    for ch in name:
+        script = _script(ch)
+        if script is not None:
+            seen.setdefault(script, ch)
+    scripts = frozenset(seen)
+    if len(scripts) <= 1 or any(scripts <= allowed for allowed in _MIXES_WITH_LATIN) or (
+            len(scripts) == 2 and "Latin" in scripts and not scripts & _LOOK_LIKE_LATIN):
+        return name
+    first, second = sorted(scripts, key=lambda s: name.index(seen[s]))[:2]
+    raise ConstructionError(
+        f"{what} {quote(name)} mixes {first} and {second} letters ({seen[first]!r} and "
+        f"{seen[second]!r} {unicodedata.name(seen[second], '').lower()}): letters of "
+        "different scripts can look alike, so a name keeps to one script",
+        node=node, field=field)
+
+
+# Cyrillic and Greek letters that look like Latin ones, after NFKC, from the
+# Unicode confusables (UTS #39); enough to tell names apart that read the same
+_CONFUSABLE = str.maketrans({
+    # Cyrillic
+    "а": "a", "с": "c", "ԁ": "d", "е": "e", "һ": "h", "і": "i", "ј": "j", "ӏ": "l",
+    "о": "o", "р": "p", "ԛ": "q", "ѕ": "s", "ԝ": "w", "х": "x", "у": "y",
+    "А": "A", "В": "B", "С": "C", "Е": "E", "Н": "H", "І": "I", "Ј": "J", "К": "K",
+    "М": "M", "О": "O", "Р": "P", "Ѕ": "S", "Т": "T", "Х": "X", "У": "Y", "Ӏ": "I",
+    "Ԝ": "W",
+    # Greek
+    "α": "a", "ι": "i", "ν": "v", "ο": "o", "ρ": "p", "υ": "u", "χ": "x",
+    "Α": "A", "Β": "B", "Ε": "E", "Ζ": "Z", "Η": "H", "Ι": "I", "Κ": "K", "Μ": "M",
+    "Ν": "N", "Ο": "O", "Ρ": "P", "Τ": "T", "Υ": "Y", "Χ": "X",
+})
+
+
+def skeleton(name: str) -> str:
+    """Return a name with look-alike letters replaced by the Latin letters they resemble.
+
+    Two names with the same skeleton read the same: a construction refuses
+    the second (see :func:`look_alike`). The table covers the Cyrillic and
+    Greek letters that look like Latin ones.
+
+    Examples
+    --------
+    >>> skeleton("В0") == skeleton("B0") == "B0"  # Cyrillic Ve, Latin B
+    True
+    >>> skeleton("θ2")
+    'θ2'
+    """
+    return name if name.isascii() else name.translate(_CONFUSABLE)
+
+
+def look_alike(name: str, names: Iterable[str]) -> str | None:
+    """Return a name of ``names`` that reads like ``name`` but is not it, or None.
+
+    Examples
+    --------
+    >>> look_alike("В0", ["A0", "B0"])
+    'B0'
+    >>> look_alike("B0", ["B0"]) is None
+    True
+    """
+    key = skeleton(name)
+    for other in names:
+        if other != name and (other == key or skeleton(other) == key):
+            return other
+    return None

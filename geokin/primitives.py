@@ -31,6 +31,18 @@ the squared half-chord, so the tolerance means the same for a small circle
 as for a large one. Exactly tangent inputs in floating point therefore give
 the double root rather than NaN, and every double root lies within
 ``TANGENCY_RTOL`` of the scale of both curves.
+
+Scale
+-----
+Every function works relative to the size of each configuration, so a
+mechanism 1e200 or 1e-200 times larger gives the same roots, as many times
+larger, and the same validity: squares that would overflow or go subnormal
+are taken on coordinates divided by a power of two near the configuration's
+size. Sizes within :data:`SCALE_RANGE` are answered right to rounding.
+
+Plain Python floats behave as arrays of one element: a degenerate
+configuration of fixed points gives NaN as an array does, never
+``ZeroDivisionError``.
 """
 
 from __future__ import annotations
@@ -38,6 +50,7 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = [
+    "SCALE_RANGE",
     "TANGENCY_RTOL",
     "circle_circle",
     "line_circle",
@@ -76,26 +89,82 @@ def _stack_roots(x0, y0, x1, y1):
 
 
 # -- kernels on separate coordinate arrays: the sweep calls these directly ----
+#
+# Each kernel first computes in plain floating point, then checks on one
+# quantity it computed anyway (a scale of the configuration) whether some
+# element lies outside the window where no square overflows or goes subnormal.
+# Such elements, and only they, are computed again on their coordinates
+# relative to the first point, divided by a power of two near their own size:
+# exact scaling, so the answer is the one the same formulas give to a
+# configuration of size about 1. The kernels thus work relative to each
+# configuration's own size, whatever it is (see ``SCALE_RANGE``), at the cost
+# of two reductions on the usual path.
+#
+# A first difference of coordinates that is a Python number becomes a numpy
+# scalar, and with it every quantity a kernel divides by, so a degenerate
+# element divides by zero the numpy way (inf or NaN) rather than raising
+# ZeroDivisionError: a scalar behaves as an array of one element. Arithmetic
+# on the other Python floats (radii, distances) stays as it is, being faster.
+
+SCALE_RANGE = (1e-290, 1e290)
+"""Sizes of a configuration (its largest distance or radius) that the kernels
+answer right to rounding, working relative to that size. Beyond, coordinates
+are subnormal or their differences overflow; where a difference overflows,
+the answer is NaN, never a wrong number."""
+
+_CC_WINDOW = (1e-130, 1e130)  # circle_circle: scale, whose square must be normal
+_LC_WINDOW = (1e-140, 1e140)  # line_circle: squared scale, whose square must be normal
+_LL_WINDOW = (1e-140, 1e140)  # line_line: squared lengths, whose product must be normal
+_RP_WINDOW = (1e-280, 1e280)  # relative_point: squared length
 
 
-def circle_circle_xy(x1, y1, r1, x2, y2, r2):
-    """Kernel of :func:`circle_circle` on coordinate arrays.
+_PLAIN = (float, int)
+"""Python number types, turned into numpy scalars where a kernel divides them."""
 
-    Kernels leave floating-point warnings to the caller (wrap calls in
-    ``np.errstate``): degenerate elements give NaN or inf on the way.
 
-    Returns
-    -------
-    xl, yl, xr, yr : ndarray
-        The left and right roots (NaN where there are none).
-    margin : ndarray
-        The squared half-chord divided by the squared scale: positive for two
-        roots, zero at tangency, negative where the circles miss. NaN for
-        degenerate input. Smooth in the inputs, so a root finder can locate
-        the limits of motion on it.
+def _within(quantity, window) -> bool:
+    """Whether every non-NaN element of ``quantity`` lies inside ``window``."""
+    if type(quantity) is np.ndarray and quantity.ndim:
+        low = np.fmin.reduce(quantity, axis=None)
+        high = np.fmax.reduce(quantity, axis=None)
+    else:
+        low = high = quantity
+    return not (low < window[0] or high > window[1])
+
+
+def _outside(quantity, window, shape):
+    """Return the mask, broadcast to ``shape``, of elements outside ``window``."""
+    return np.broadcast_to((quantity < window[0]) | (quantity > window[1]), shape)
+
+
+def _power_of_two(*magnitudes):
+    """Return a power of two within a factor 2 below the largest magnitude, elementwise.
+
+    Dividing by it is exact and brings the largest magnitude into [1, 2);
+    it is 0.5 where every magnitude is zero, finite for the largest floats.
     """
-    dx = x2 - x1
-    dy = y2 - y1
+    largest = np.abs(magnitudes[0])
+    for m in magnitudes[1:]:
+        largest = np.maximum(largest, np.abs(m))
+    return np.ldexp(1.0, np.frexp(largest)[1] - 1)
+
+
+def _patch(outputs, mask, shape, redo, *args):
+    """Replace the masked elements of ``outputs`` with ``redo`` of the masked ``args``."""
+    if not shape:
+        return redo(*args)
+    picked = [np.broadcast_to(a, shape)[mask] for a in args]
+    fresh = redo(*picked)
+    patched = []
+    for out, new in zip(outputs, fresh, strict=True):
+        out = np.array(np.broadcast_to(out, shape))
+        out[mask] = new
+        patched.append(out)
+    return tuple(patched)
+
+
+def _circle_circle(x1, y1, dx, dy, r1, r2):
+    """Compute :func:`circle_circle_xy`; also return the scale to check the result on."""
     d2 = dx * dx + dy * dy
     d = np.sqrt(d2)
     # the foot of the chord is c1 + k * (c2 - c1); coincident centres give inf or NaN
@@ -116,7 +185,61 @@ def circle_circle_xy(x1, y1, r1, x2, y2, r2):
     # the left normal of (dx, dy) is (-dy, dx)
     ex = h_over_d * dy
     ey = h_over_d * dx
-    return fx - ex, fy + ey, fx + ex, fy - ey, margin
+    return (fx - ex, fy + ey, fx + ex, fy - ey, margin), scale
+
+
+def _circle_circle_rescaled(x1, y1, dx, dy, r1, r2):
+    s = _power_of_two(dx, dy, r1, r2)
+    (xl, yl, xr, yr, margin), _ = _circle_circle(0.0, 0.0, dx / s, dy / s, r1 / s, r2 / s)
+    return x1 + xl * s, y1 + yl * s, x1 + xr * s, y1 + yr * s, margin
+
+
+def circle_circle_xy(x1, y1, r1, x2, y2, r2):
+    """Kernel of :func:`circle_circle` on coordinate arrays.
+
+    Kernels leave floating-point warnings to the caller (wrap calls in
+    ``np.errstate``): degenerate elements give NaN or inf on the way.
+    Python floats behave as arrays of one element: nothing raises.
+
+    Returns
+    -------
+    xl, yl, xr, yr : ndarray
+        The left and right roots (NaN where there are none).
+    margin : ndarray
+        The squared half-chord divided by the squared scale: positive for two
+        roots, zero at tangency, negative where the circles miss. NaN for
+        degenerate input. Smooth in the inputs, so a root finder can locate
+        the limits of motion on it.
+
+    Examples
+    --------
+    >>> xl, yl, xr, yr, margin = circle_circle_xy(0.0, 0.0, 5.0, 8.0, 0.0, 5.0)
+    >>> float(xl), float(yl), float(xr), float(yr), float(margin)
+    (4.0, 3.0, 4.0, -3.0, 0.140625)
+
+    Coincident centres are degenerate, not an error, for plain floats too:
+
+    >>> with np.errstate(all="ignore"):
+    ...     [float(v) for v in circle_circle_xy(1.0, 1.0, 2.0, 1.0, 1.0, 2.0)]
+    [nan, nan, nan, nan, nan]
+
+    A configuration 1e200 times larger has the same roots, 1e200 times larger:
+
+    >>> with np.errstate(all="ignore"):  # the squares overflow on the first try
+    ...     big = circle_circle_xy(0.0, 0.0, 5e200, 8e200, 0.0, 5e200)
+    >>> [float(v) for v in big[:4]]
+    [4e+200, 3e+200, 4e+200, -3e+200]
+    """
+    dx = x2 - x1
+    dy = y2 - y1
+    if type(dx) in _PLAIN:
+        dx = np.float64(dx)
+    outputs, scale = _circle_circle(x1, y1, dx, dy, r1, r2)
+    if _within(scale, _CC_WINDOW):
+        return outputs
+    shape = np.shape(outputs[0])
+    return _patch(outputs, _outside(scale, _CC_WINDOW, shape), shape,
+                  _circle_circle_rescaled, x1, y1, dx, dy, r1, r2)
 
 
 def _nonnegative(r) -> bool:
@@ -124,6 +247,35 @@ def _nonnegative(r) -> bool:
     if isinstance(r, float | int):
         return r >= 0
     return bool(np.all(np.asarray(r) >= 0))
+
+
+def _line_circle(x1, y1, dx, dy, wx, wy, r):
+    """Compute :func:`line_circle_xy`; also return the squared scale to check it on."""
+    length_sq = dx * dx + dy * dy
+    # t of the foot of the perpendicular from the centre, and the centre's offset
+    t_foot = (wx * dx + wy * dy) / length_sq
+    offset_sq = (wy * dx - wx * dy) ** 2 / length_sq
+    r_sq = r * r
+    half_chord_sq = r_sq - offset_sq
+    # fmax: a zero or overflowing length_sq makes t_foot and offset_sq NaN, and
+    # the scale must then still show how small or large the configuration is
+    scale_sq = np.fmax(np.fmax(r_sq, offset_sq), np.fmax(t_foot * t_foot, 1.0) * length_sq)
+    margin = np.where(length_sq > DEGENERATE_RTOL**2 * scale_sq, half_chord_sq / scale_sq, np.nan)
+    if not _nonnegative(r):
+        margin = np.where(r >= 0, margin, np.nan)
+    # a zero-length line gives NaN through t_foot
+    meet = (np.sqrt(offset_sq) <= r + TANGENCY_RTOL * np.sqrt(scale_sq)) & ~np.isnan(margin)
+    dt = np.sqrt(np.where(meet, np.maximum(half_chord_sq, 0.0), np.nan) / length_sq)
+    ta = t_foot - dt
+    tb = t_foot + dt
+    return (x1 + ta * dx, y1 + ta * dy, x1 + tb * dx, y1 + tb * dy, ta, tb, margin), scale_sq
+
+
+def _line_circle_rescaled(x1, y1, dx, dy, wx, wy, r):
+    s = _power_of_two(dx, dy, wx, wy, r)
+    (xa, ya, xb, yb, ta, tb, margin), _ = _line_circle(0.0, 0.0, dx / s, dy / s, wx / s,
+                                                       wy / s, r / s)
+    return x1 + xa * s, y1 + ya * s, x1 + xb * s, y1 + yb * s, ta, tb, margin
 
 
 def line_circle_xy(x1, y1, x2, y2, cx, cy, r):
@@ -137,27 +289,51 @@ def line_circle_xy(x1, y1, x2, y2, cx, cy, r):
         Their parameters along ``start + t * (through - start)``.
     margin : ndarray
         Squared half-chord over squared scale, as in :func:`circle_circle_xy`.
+
+    Examples
+    --------
+    >>> roots = line_circle_xy(-10.0, 0.0, 10.0, 0.0, 0.0, 0.0, 5.0)
+    >>> [float(v) for v in roots]
+    [-5.0, 0.0, 5.0, 0.0, 0.25, 0.75, 0.0625]
+    >>> with np.errstate(all="ignore"):  # a zero-length line
+    ...     bool(np.isnan(line_circle_xy(1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 5.0)[-1]))
+    True
     """
     dx = x2 - x1
     dy = y2 - y1
-    length_sq = dx * dx + dy * dy
+    if type(dx) in _PLAIN:
+        dx = np.float64(dx)
     wx = cx - x1
     wy = cy - y1
-    # t of the foot of the perpendicular from the centre, and the centre's offset
-    t_foot = (wx * dx + wy * dy) / length_sq
-    offset_sq = (wy * dx - wx * dy) ** 2 / length_sq
-    r_sq = r * r
-    half_chord_sq = r_sq - offset_sq
-    scale_sq = np.maximum(np.maximum(r_sq, offset_sq), np.maximum(t_foot * t_foot, 1.0) * length_sq)
-    margin = np.where(length_sq > DEGENERATE_RTOL**2 * scale_sq, half_chord_sq / scale_sq, np.nan)
-    if not _nonnegative(r):
-        margin = np.where(r >= 0, margin, np.nan)
-    # a zero-length line gives NaN through t_foot
-    meet = (np.sqrt(offset_sq) <= r + TANGENCY_RTOL * np.sqrt(scale_sq)) & ~np.isnan(margin)
-    dt = np.sqrt(np.where(meet, np.maximum(half_chord_sq, 0.0), np.nan) / length_sq)
-    ta = t_foot - dt
-    tb = t_foot + dt
-    return x1 + ta * dx, y1 + ta * dy, x1 + tb * dx, y1 + tb * dy, ta, tb, margin
+    outputs, scale_sq = _line_circle(x1, y1, dx, dy, wx, wy, r)
+    if _within(scale_sq, _LC_WINDOW):
+        return outputs
+    shape = np.shape(outputs[0])
+    return _patch(outputs, _outside(scale_sq, _LC_WINDOW, shape), shape,
+                  _line_circle_rescaled, x1, y1, dx, dy, wx, wy, r)
+
+
+def _line_line(x1, y1, ax, ay, bx, by, wx, wy):
+    """Compute :func:`line_line_xy`; also return the squared lengths to check it on."""
+    cross = ax * by - ay * bx
+    a_sq = ax * ax + ay * ay
+    b_sq = bx * bx + by * by
+    norms = np.sqrt(a_sq * b_sq)
+    sine = cross / norms
+    ok = np.abs(sine) > PARALLEL_RTOL  # False for NaN: zero-length lines
+    t = np.where(ok, (wx * by - wy * bx) / cross, np.nan)
+    u = np.where(ok, (wx * ay - wy * ax) / cross, np.nan)
+    return (x1 + t * ax, y1 + t * ay, t, u, sine), a_sq, b_sq
+
+
+def _line_line_rescaled(x1, y1, ax, ay, bx, by, wx, wy):
+    # each line's direction is divided by its own power of two and the offset
+    # between the lines by the first's: t and the sine do not change, u does
+    sa = _power_of_two(ax, ay)
+    sb = _power_of_two(bx, by)
+    (_, _, t, u, sine), _, _ = _line_line(0.0, 0.0, ax / sa, ay / sa, bx / sb, by / sb,
+                                          wx / sa, wy / sa)
+    return x1 + t * ax, y1 + t * ay, t, u * (sa / sb), sine
 
 
 def line_line_xy(x1, y1, x2, y2, x3, y3, x4, y4):
@@ -171,20 +347,28 @@ def line_line_xy(x1, y1, x2, y2, x3, y3, x4, y4):
         Its parameters along the first and the second line.
     margin : ndarray
         The sine of the angle between the lines (signed); zero when parallel.
+
+    Examples
+    --------
+    >>> [float(v) for v in line_line_xy(0.0, 0.0, 2.0, 2.0, 0.0, 2.0, 2.0, 0.0)]
+    [1.0, 1.0, 0.5, 0.5, -1.0]
+    >>> with np.errstate(all="ignore"):  # parallel lines
+    ...     [float(v) for v in line_line_xy(0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 1.0)[:2]]
+    [nan, nan]
     """
     ax = x2 - x1
     ay = y2 - y1
     bx = x4 - x3
     by = y4 - y3
-    cross = ax * by - ay * bx
-    norms = np.sqrt((ax * ax + ay * ay) * (bx * bx + by * by))
-    sine = cross / norms
-    ok = np.abs(sine) > PARALLEL_RTOL  # False for NaN: zero-length lines
-    wx = x3 - x1
-    wy = y3 - y1
-    t = np.where(ok, (wx * by - wy * bx) / cross, np.nan)
-    u = np.where(ok, (wx * ay - wy * ax) / cross, np.nan)
-    return x1 + t * ax, y1 + t * ay, t, u, sine
+    if type(ax) in _PLAIN:
+        ax = np.float64(ax)
+    outputs, a_sq, b_sq = _line_line(x1, y1, ax, ay, bx, by, x3 - x1, y3 - y1)
+    if _within(a_sq, _LL_WINDOW) and _within(b_sq, _LL_WINDOW):
+        return outputs
+    shape = np.shape(outputs[0])
+    mask = _outside(a_sq, _LL_WINDOW, shape) | _outside(b_sq, _LL_WINDOW, shape)
+    return _patch(outputs, mask, shape, _line_line_rescaled, x1, y1, ax, ay, bx, by,
+                  x3 - x1, y3 - y1)
 
 
 # -- public primitives --------------------------------------------------------
@@ -400,16 +584,44 @@ def relative_point(origin, start, through, distance, angle):
     return np.stack(np.broadcast_arrays(x, y), axis=-1)
 
 
-def relative_point_xy(ox, oy, x1, y1, x2, y2, distance, angle):
-    """Kernel of :func:`relative_point` on coordinate arrays."""
-    dx = x2 - x1
-    dy = y2 - y1
-    length = np.sqrt(dx * dx + dy * dy)
+def _relative_point(ox, oy, dx, dy, distance, angle):
+    """Compute :func:`relative_point_xy`; also return the squared length to check it on."""
+    length_sq = dx * dx + dy * dy
     c = np.cos(angle)
     s = np.sin(angle)
-    k = distance / length  # inf or NaN for a zero-length line, NaN in the result
+    k = distance / np.sqrt(length_sq)  # inf or NaN for a zero-length line, NaN in the result
     # rotate the direction (dx, dy) by the angle, scaled to the distance
-    return ox + k * (c * dx - s * dy), oy + k * (s * dx + c * dy)
+    return (ox + k * (c * dx - s * dy), oy + k * (s * dx + c * dy)), length_sq
+
+
+def _relative_point_rescaled(ox, oy, dx, dy, distance, angle):
+    # the answer depends on the direction only: divide it by a power of two
+    s = _power_of_two(dx, dy)
+    return _relative_point(ox, oy, dx / s, dy / s, distance, angle)[0]
+
+
+def relative_point_xy(ox, oy, x1, y1, x2, y2, distance, angle):
+    """Kernel of :func:`relative_point` on coordinate arrays.
+
+    Examples
+    --------
+    >>> [round(float(v), 12) for v in relative_point_xy(0.0, 0.0, 0.0, 0.0, 0.0, 10.0, 2.0,
+    ...                                                 np.pi / 2)]
+    [-2.0, 0.0]
+    >>> with np.errstate(all="ignore"):  # a zero-length line has no direction
+    ...     [float(v) for v in relative_point_xy(0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 2.0, 0.0)]
+    [nan, nan]
+    """
+    dx = x2 - x1
+    dy = y2 - y1
+    if type(dx) in _PLAIN:
+        dx = np.float64(dx)
+    outputs, length_sq = _relative_point(ox, oy, dx, dy, distance, angle)
+    if _within(length_sq, _RP_WINDOW):
+        return outputs
+    shape = np.shape(outputs[0])
+    return _patch(outputs, _outside(length_sq, _RP_WINDOW, shape), shape,
+                  _relative_point_rescaled, ox, oy, dx, dy, distance, angle)
 
 
 def point_along(start, through, distance):

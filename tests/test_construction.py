@@ -1,10 +1,17 @@
+import time
+
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 from mechanisms import sixbar
 
-from geokin import Construction, ConstructionError, GeokinError
+from geokin import Construction, ConstructionError, GeokinError, sweep
 from geokin.construction import NODE_KINDS
 from geokin.expressions import as_expr, parse
+from geokin.loops import fourbar_closed_form
+
+SEED_004 = (24.0, 10.55, 25.0, 14.0)  # ground, input, coupler, output: a crank-rocker
 
 
 def base():
@@ -197,12 +204,79 @@ def test_expressions_round_trip_through_text_and_evaluate_with_numpy():
     assert (as_expr("l3") + 5) * 2 == parse("(l3 + 5) * 2")
 
 
-def test_names_must_read_the_same_in_expressions():
+def test_names_are_declared_and_referred_to_as_expressions_read_them():
+    """NFKC folds compatibility forms: 'ℓ' and fullwidth 'Ｏ' are 'l' and 'O' everywhere."""
     c = Construction()
-    with pytest.raises(ConstructionError, match="reads as 'l' in expressions") as info:
-        c.parameter("ℓ", 3)
-    check(info, "ℓ", "name")
-    c.parameter("θ", 1)  # already in the form expressions read
+    c.parameter("ℓ", 3)
+    assert list(c.parameters) == ["l"]
+    c.input("θ")
+    c.fixed("Ｏ", 0, 0)
+    c.polar("A", "O", "ℓ * 2", "θ")
+    c.polar("B", "Ｏ", "l", "θ")
+    assert c.nodes["B"].origin == "O"
+    s = sweep(c, np.array([0.0]))
+    np.testing.assert_allclose(s["A"], [[6.0, 0.0]])
+    np.testing.assert_allclose(s["B"], [[3.0, 0.0]])
+    with pytest.raises(ConstructionError, match="duplicate name \\('ｌ' reads as 'l'\\): a "
+                                                "parameter 'l' is already declared") as info:
+        c.fixed("ｌ", 1, 1)
+    check(info, "l", "name")
+
+
+@pytest.mark.parametrize(("first", "second", "letters"), [
+    ("B0", "В0", "'В' (cyrillic capital letter ve) stands for 'B'"),
+    ("В0", "B0", "'B' (latin capital letter b) stands for 'В'"),
+    ("poc", "рос", "'р' (cyrillic small letter er) stands for 'p'"),  # all Cyrillic
+    ("A1", "Α1", "'Α' (greek capital letter alpha) stands for 'A'"),
+    ("Оо", "Οο", "'Ο' (greek capital letter omicron) stands for 'О'"),  # Cyrillic, Greek
+])
+def test_names_that_differ_only_by_look_alike_letters_are_refused(first, second, letters):
+    """Two names that read the same cannot both be declared, in either order."""
+    c = Construction()
+    c.fixed(first, 0, 0)
+    with pytest.raises(ConstructionError, match="looks like the point") as info:
+        c.parameter(second, 1)
+    assert letters in str(info.value)
+    check(info, second, "name")
+    c.parameter("other", 1)  # a refused name leaves no trace
+    assert list(c.nodes) == [first] and list(c.parameters) == ["other"]
+
+
+def test_a_reference_that_looks_like_a_declared_name_says_so():
+    c = Construction()
+    c.fixed("B0", 0, 0)
+    c.polar("P", "В0", 1, 0)  # Cyrillic Ve
+    with pytest.raises(ConstructionError, match="unknown point 'В0'; it looks like 'B0' but "
+                                                "is another name") as info:
+        c.compile()
+    check(info, "P", "origin")
+
+
+@pytest.mark.parametrize(("name", "match"), [
+    ("pаram", "mixes Latin and Cyrillic letters"),
+    ("if", "reserved word"),
+    ("None", "reserved word"),
+    ("lambda", "reserved word"),
+    ("sqrt", "reserved for the built-in function"),
+    ("a" * 201, "at most 200 characters"),
+    ("a b", "identifier"),
+])
+def test_names_that_cannot_be_names_are_refused(name, match):
+    c = Construction()
+    with pytest.raises(ConstructionError, match=match) as info:
+        c.parameter(name, 1)
+    assert info.value.field == "name"
+    assert len(str(info.value)) < 300
+
+
+def test_a_10_mb_name_is_refused_without_being_echoed():
+    name = "p" * 10_000_000
+    c = Construction()
+    for declare in (lambda: c.parameter(name, 1), lambda: c.fixed(name, 0, 0),
+                    lambda: c.polar("P", name, 1, 0)):
+        with pytest.raises(ConstructionError, match="10,000,000 characters") as info:
+            declare()
+        assert len(str(info.value)) < 300
 
 
 @pytest.mark.parametrize(("value", "match"), [
@@ -222,3 +296,206 @@ def test_a_constant_radius_cannot_be_negative():
     with pytest.raises(ConstructionError, match="cannot be negative") as info:
         c.compile()
     check(info, "B", "radii[1]")
+
+
+# -- degenerate fixed geometry: a sample that cannot be assembled, with its reason ----
+
+DEGENERATE = {
+    "coincident centres": lambda c: (
+        c.fixed("P", 1, 2), c.fixed("Q", 1, 2),
+        c.circle_circle("X", ("P", "Q"), (1, 1), branch="left")),
+    "parallel guides": lambda c: (
+        c.fixed("P", 0, 0), c.fixed("Q", 1, 0), c.fixed("R", 0, 1), c.fixed("S", 2, 1),
+        c.line_line("X", ("P", "Q"), ("R", "S"))),
+    "coincident guides": lambda c: (
+        c.fixed("P", 0, 0), c.fixed("Q", 1, 1), c.fixed("R", 2, 2), c.fixed("S", 3, 3),
+        c.line_line("X", ("P", "Q"), ("R", "S"))),
+    "zero-length guide": lambda c: (
+        c.fixed("P", 0, 0), c.fixed("Q", 0, 0), c.fixed("R", 0, 1), c.fixed("S", 1, 1),
+        c.line_line("X", ("P", "Q"), ("R", "S"))),
+    "zero-length line to a circle": lambda c: (
+        c.fixed("P", 3, 3), c.fixed("Q", 3, 3), c.fixed("C", 0, 0),
+        c.line_circle("X", ("P", "Q"), "C", 5, branch="first")),
+    "zero-length reference": lambda c: (
+        c.fixed("P", 3, 3), c.fixed("Q", 3, 3),
+        c.polar("X", "P", 2, 0.5, reference=("P", "Q"))),
+    "zero-length line along": lambda c: (
+        c.fixed("P", 3, 3), c.fixed("Q", 3, 3), c.along("X", ("P", "Q"), 2)),
+}
+
+
+@pytest.mark.parametrize("case", sorted(DEGENERATE))
+def test_degenerate_fixed_geometry_is_an_invalid_sample_with_its_reason(case):
+    """Fixed (Python float) operands give invalid samples naming the node, not an exception."""
+    c = Construction(case)
+    c.input("t")
+    DEGENERATE[case](c)
+    c.polar("M", "X", 1, "t")  # a moving point after the degenerate one
+    s = sweep(c, np.linspace(0, 1, 4))
+    assert not s.valid.any()
+    assert set(s.failed_node) == {"X"}
+    assert all(r.startswith("degenerate input") for r in s.failure_reason)
+    assert np.isnan(s["M"]).all()
+
+
+# -- extreme scales: right answers far from 1 ----------------------------------------
+
+
+@pytest.mark.parametrize("scale", [1e200, 1e-200, 1e-285, 1e285])
+def test_a_scaled_four_bar_moves_as_the_closed_form_says(scale):
+    """A four-bar 1e200 (or 1e-200) times larger gives the closed form's points, scaled."""
+    g, i, cpl, o = SEED_004
+    c = Construction("scaled")
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", g * scale, 0)
+    c.polar("A", "O2", i * scale, "theta")
+    c.circle_circle("B", ("A", "O4"), (cpl * scale, o * scale), branch="left")
+    c.polar("P", "A", 0.5 * cpl * scale, 0.3, reference=("A", "B"))
+    theta = np.linspace(0, 2 * np.pi, 73)
+    s = sweep(c, theta)
+    assert s.valid.all()
+    t3, t4 = fourbar_closed_form(g, i, cpl, o, theta, open=True)
+    b = np.stack([g + o * np.cos(t4), o * np.sin(t4)], axis=-1)
+    p = i * np.stack([np.cos(theta), np.sin(theta)], axis=-1) + 0.5 * cpl * np.stack(
+        [np.cos(t3 + 0.3), np.sin(t3 + 0.3)], axis=-1)
+    np.testing.assert_allclose(s["B"] / scale, b, rtol=0, atol=1e-12 * g)
+    np.testing.assert_allclose(s["P"] / scale, p, rtol=0, atol=1e-12 * g)
+    np.testing.assert_allclose(s.margins["B"], sweep(_unit_fourbar(), theta).margins["B"],
+                               rtol=1e-12, atol=1e-14)
+
+
+def _unit_fourbar():
+    g, i, cpl, o = SEED_004
+    c = Construction("unit")
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", g, 0)
+    c.polar("A", "O2", i, "theta")
+    c.circle_circle("B", ("A", "O4"), (cpl, o), branch="left")
+    return c
+
+
+# -- numbers beyond floats, and steps too small to count ------------------------------
+
+HUGE_INT = 10**400  # a TOML integer may be this large; float() of it overflows
+
+
+@pytest.mark.parametrize(("declare", "node", "field"), [
+    (lambda c: c.input("s", range=(0, HUGE_INT)), "s", "range"),
+    (lambda c: c.input("s", range=(0, 16**5000)), "s", "range"),  # too long to print
+    (lambda c: c.input("s", range=(0, 1), step=HUGE_INT), "s", "step"),
+    (lambda c: c.input("s", speed=HUGE_INT), "s", "speed"),
+    (lambda c: c.input("s", speed=-(16**5000)), "s", "speed"),
+    (lambda c: c.input("s", samples=HUGE_INT), "s", "samples"),
+    (lambda c: c.input("s", samples=16**5000), "s", "samples"),
+    (lambda c: c.circle_circle("B", ("A", "B0"), (1, 2), near=(HUGE_INT, 0)), "B", "near"),
+    (lambda c: c.fixed("P", HUGE_INT, 0), "P", "x"),
+    (lambda c: c.parameter("k", 16**5000), "k", "value"),
+])
+def test_integers_beyond_floats_are_errors_naming_node_and_field(declare, node, field):
+    with pytest.raises(ConstructionError) as info:
+        declare(base())
+    check(info, node, field)
+    assert len(str(info.value)) < 300
+
+
+@pytest.mark.parametrize(("options", "match"), [
+    (dict(range=(0, 1), step=1e-320), "makes inf samples"),
+    (dict(range=(0, 1), step=1e-9), "makes 1e\\+09 samples"),
+    (dict(range=(-1e308, 1e308)), "wider than floating-point numbers reach"),
+    (dict(speed=1e-320), "speed must be a positive number from 1e-290"),
+    (dict(speed=0.0), "speed must be a positive number"),
+])
+def test_input_options_that_cannot_be_swept_are_errors(options, match):
+    with pytest.raises(ConstructionError, match=match) as info:
+        Construction().input("s", **options)
+    assert info.value.node == "s"
+
+
+def test_a_step_that_makes_the_most_samples_is_accepted():
+    c = Construction()
+    c.input("s", kind="length", range=(0, 999_999e-6), step=1e-6)
+    assert len(c.inputs["s"].values()) == 1_000_000
+
+
+# -- the scales geokin computes with ----------------------------------------------------
+
+
+@pytest.mark.parametrize(("declare", "node", "field", "match"), [
+    (lambda c: c.fixed("P", 3e290, 0), "P", "x", "larger than the lengths"),
+    (lambda c: c.polar("P", "A0", "l3 * 1e289", 0), "P", "distance", "larger than the lengths"),
+    (lambda c: c.input("s", kind="length", range=(0, 1e300)), "s", "range",
+     "larger than the lengths"),
+])
+def test_lengths_beyond_the_scale_range_are_refused(declare, node, field, match):
+    c = base()
+    with pytest.raises(ConstructionError, match=match) as info:
+        declare(c)
+        c.compile()
+    check(info, node, field)
+
+
+def test_a_mechanism_smaller_than_the_scale_range_is_refused_but_a_tiny_offset_is_not():
+    c = _unit_fourbar()
+    c.fixed("T", 0, 1e-300)  # a tiny coordinate in a mechanism of size 24 is fine
+    c.compile()
+    tiny = Construction()
+    tiny.input("t")
+    tiny.fixed("O", 0, 0)
+    tiny.fixed("Q", 2e-300, 0)
+    tiny.polar("A", "O", 1e-300, "t")
+    with pytest.raises(ConstructionError, match="largest length is 2e-300") as info:
+        tiny.compile()
+    check(info, "Q", "x")
+
+
+@given(st.floats(-320, 308), st.floats(0, 2 * np.pi))
+def test_a_four_bar_at_any_scale_is_refused_or_right(exponent, theta1):
+    """Scaled by 10**exponent, a four-bar is refused when declared or compiled, or right."""
+    scale = 10.0**exponent
+    g, i, cpl, o = SEED_004
+    largest = cpl * scale  # the coupler is the longest length
+    theta = np.linspace(0, 2 * np.pi, 37) + theta1
+    try:
+        with np.errstate(all="ignore"):
+            c = Construction("scaled")
+            c.input("theta")
+            c.fixed("O2", 0, 0)
+            c.fixed("O4", g * scale * np.cos(theta1), g * scale * np.sin(theta1))
+            c.polar("A", "O2", i * scale, "theta")
+            c.circle_circle("B", ("A", "O4"), (cpl * scale, o * scale), branch="left")
+            c.polar("P", "A", 0.5 * cpl * scale, 0.3, reference=("A", "B"))
+        s = sweep(c, theta)
+    except ConstructionError as err:
+        assert "length" in str(err) or "finite number" in str(err)
+        assert not 1e-290 <= largest <= 1e290
+        return
+    assert 1e-290 <= largest <= 1e290
+    assert s.valid.all()
+    t3, t4 = fourbar_closed_form(g, i, cpl, o, theta - theta1, open=True)
+    t3, t4 = t3 + theta1, t4 + theta1
+    o4 = g * np.array([np.cos(theta1), np.sin(theta1)])
+    b = o4 + o * np.stack([np.cos(t4), np.sin(t4)], axis=-1)
+    p = i * np.stack([np.cos(theta), np.sin(theta)], axis=-1) + 0.5 * cpl * np.stack(
+        [np.cos(t3 + 0.3), np.sin(t3 + 0.3)], axis=-1)
+    np.testing.assert_allclose(s["B"] / scale, b, rtol=0, atol=1e-11 * g)
+    np.testing.assert_allclose(s["P"] / scale, p, rtol=0, atol=1e-11 * g)
+
+
+# -- declaring many names takes a time linear in their number -------------------------
+
+
+def test_forty_thousand_parameters_and_twenty_thousand_points_are_quick():
+    """Each declaration used to rebuild the table of every name: 60 s for 40,000."""
+    start = time.process_time()
+    c = Construction()
+    for k in range(40_000):
+        c.parameter(f"p{k}", k)
+    c.input("t")
+    c.fixed("O", 0, 0)
+    for k in range(20_000):
+        c.polar(f"P{k}", f"P{k - 1}" if k else "O", "p1", "t")
+    compiled = c.compile()
+    assert len(compiled) == 20_001
+    assert time.process_time() - start < 5

@@ -28,16 +28,19 @@ from hypothesis.extra import numpy as hnp
 
 from geokin.primitives import (
     PARAMETER_RTOL,
+    SCALE_RANGE,
     TANGENCY_RTOL,
     circle_circle,
     circle_circle_xy,
     line_circle,
     line_circle_xy,
     line_line,
+    line_line_xy,
     point_along,
     polar_point,
     ray_circle,
     relative_point,
+    relative_point_xy,
     segment_circle,
 )
 
@@ -853,3 +856,125 @@ def test_a_small_circle_that_misses_is_not_taken_as_touching(small):
         assert bool(valid[0]) is expected, (small, miss)
         _, valid = line_circle([-5.0, small + miss], [5.0, small + miss], [0.0, 0.0], small)
         assert bool(valid[0]) is expected, (small, miss)
+
+
+# -- kernels on Python floats: degenerate elements are NaN, never an exception --------
+
+KERNELS = {
+    # kernel, number of arguments, the indices of the arguments that are lengths
+    "circle_circle_xy": (circle_circle_xy, 6),
+    "line_circle_xy": (line_circle_xy, 7),
+    "line_line_xy": (line_line_xy, 8),
+    "relative_point_xy": (relative_point_xy, 8),
+}
+
+# small integers make coincident points, parallel lines and zero lengths common
+grid_coord = st.one_of(st.integers(-2, 2).map(float), coord)
+ARGUMENTS = {
+    "circle_circle_xy": st.tuples(grid_coord, grid_coord, radius, grid_coord, grid_coord, radius),
+    "line_circle_xy": st.tuples(*[grid_coord] * 6, radius),
+    "line_line_xy": st.tuples(*[grid_coord] * 8),
+    "relative_point_xy": st.tuples(*[grid_coord] * 6, coord, angle),
+}
+
+
+@pytest.mark.parametrize("name", sorted(KERNELS))
+@given(data=st.data())
+def test_kernels_treat_python_floats_as_arrays_of_one(name, data):
+    """Python floats give what one-element arrays give, NaN included, and never raise."""
+    kernel, _ = KERNELS[name]
+    args = data.draw(ARGUMENTS[name])
+    with np.errstate(all="ignore"):
+        scalar = kernel(*args)
+        array = kernel(*(np.array([a]) for a in args))
+    for got, want in zip(scalar, array, strict=True):
+        assert np.ndim(got) == 0
+        np.testing.assert_allclose(np.reshape(got, 1), want, rtol=1e-14, atol=1e-12)
+
+
+@pytest.mark.parametrize(("name", "args"), [
+    ("circle_circle_xy", (1.0, 2.0, 3.0, 1.0, 2.0, 3.0)),  # coincident centres
+    ("circle_circle_xy", (1.0, 2.0, 0.0, 1.0, 2.0, 0.0)),  # and zero radii
+    ("line_circle_xy", (1.0, 1.0, 1.0, 1.0, 0.0, 0.0, 5.0)),  # zero-length line
+    ("line_line_xy", (0.0, 0.0, 1.0, 0.0, 0.0, 1.0, 1.0, 1.0)),  # parallel
+    ("line_line_xy", (0.0, 0.0, 1.0, 0.0, 2.0, 0.0, 3.0, 0.0)),  # coincident
+    ("line_line_xy", (0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0)),  # zero-length line
+    ("relative_point_xy", (0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 2.0, 0.5)),  # zero-length line
+    ("relative_point_xy", (0, 0, 1, 1, 1, 1, 2, 0)),  # Python ints
+])
+def test_degenerate_python_floats_give_nan(name, args):
+    """Degenerate fixed geometry in plain Python numbers gives NaN points, not ZeroDivisionError."""
+    kernel, _ = KERNELS[name]
+    with np.errstate(all="ignore"):
+        out = kernel(*args)
+    assert np.isnan(out[0]) and np.isnan(out[1])
+
+
+# -- scale: the kernels work relative to the configuration's own size ---------------
+
+# (index of each length argument); the first point of every kernel is at the origin
+LENGTHS = {
+    "circle_circle_xy": (2, 3, 4, 5),
+    "line_circle_xy": (2, 3, 4, 5, 6),
+    "line_line_xy": (2, 3, 4, 5, 6, 7),
+    "relative_point_xy": (2, 3, 4, 5, 6),
+}
+ORIGIN_FIRST = {
+    "circle_circle_xy": st.tuples(st.just(0.0), st.just(0.0), radius, grid_coord, grid_coord,
+                                  radius),
+    "line_circle_xy": st.tuples(st.just(0.0), st.just(0.0), *[grid_coord] * 4, radius),
+    "line_line_xy": st.tuples(st.just(0.0), st.just(0.0), *[grid_coord] * 6),
+    # angles that are not subnormal: their sines would be, at scale 1 already
+    "relative_point_xy": st.tuples(st.just(0.0), st.just(0.0), *[grid_coord] * 4, coord,
+                                   angle.map(lambda a: 0.0 if abs(a) < 1e-9 else a)),
+}
+
+
+@pytest.mark.parametrize("name", sorted(KERNELS))
+@given(data=st.data(), bits=st.integers(-960, 960))
+def test_kernels_scale_exactly(name, data, bits):
+    """Scaling every length by 2**bits scales every point by 2**bits and nothing else changes.
+
+    Scaling by a power of two is exact in floating point, so the kernels must
+    give bit for bit the same answer at 1e-289 or 1e289 as at 1: squares that
+    overflow or go subnormal may not change a single root or validity.
+    """
+    kernel, _ = KERNELS[name]
+    args = list(data.draw(ORIGIN_FIRST[name]))
+    if name == "relative_point_xy":  # the origin of the point is the line's start too
+        args[0], args[1] = args[2], args[3]
+    factor = 2.0**bits
+    scaled = [a * factor if i in LENGTHS[name] or (name == "relative_point_xy" and i < 2)
+              else a for i, a in enumerate(args)]
+    shape = (3,)  # arrays, so both calls take numpy's same loops
+    with np.errstate(all="ignore"):
+        unit = kernel(*(np.full(shape, a) for a in args))
+        big = kernel(*(np.full(shape, a) for a in scaled))
+    points = 2 if name in ("line_line_xy", "relative_point_xy") else 4
+    for i, (u, b) in enumerate(zip(unit, big, strict=True)):
+        if i < points:
+            np.testing.assert_array_equal(b, u * factor)
+        else:  # parameters along lines, margins, sines: dimensionless
+            np.testing.assert_array_equal(b, u)
+
+
+@given(st.floats(1e-280, 1e280), st.floats(0.1, 10), st.floats(0.1, 10), grid_angle,
+       st.floats(-1e3, 1e3))
+def test_circle_circle_is_right_at_any_scale(scale, r1, r2, theta, offset):
+    """Roots at any scale lie on both circles to rounding of that scale, as at scale 1."""
+    d = abs(r1 - r2) + 0.5 * (r1 + r2 - abs(r1 - r2))  # between the radii's difference and sum
+    c1 = np.array([offset, -offset]) * scale
+    c2 = c1 + scale * d * _direction(theta)
+    points, valid = circle_circle(c1, scale * r1, c2, scale * r2)
+    assert valid.all()
+    size = scale * max(r1, r2, d, abs(offset))
+    for p in points:
+        assert abs(_norm(p - c1) - scale * r1) <= 1e-13 * size
+        assert abs(_norm(p - c2) - scale * r2) <= 1e-13 * size
+
+
+def test_scale_range_covers_the_documented_figures():
+    """The documented range reaches the scales where squares used to fail, with room."""
+    low, high = SCALE_RANGE
+    assert low <= 1e-200 and high >= 1e200
+    assert low > np.finfo(float).tiny  # beyond, inputs are subnormal: few digits left
