@@ -1069,23 +1069,33 @@ def animate(sweep, path, *, fps=25, frames=None, progress=True):
 
 def _write_movie(fig, path, fps, drawn, count, bar):
     """Pipe the frames to ffmpeg, which writes a temporary file renamed into place."""
+    import subprocess
+
     from matplotlib import animation
 
     with replacing_path(path) as temp:
         writer = animation.FFMpegWriter(fps=fps)
         writer.setup(fig, temp, dpi=fig.dpi)
-        finished = False
+        stopped = False
         try:
             for k in drawn:
                 writer.grab_frame()
                 bar(k, count)
-            finished = True
-        finally:
-            if finished:
+        except BrokenPipeError:  # ffmpeg has stopped reading: finish() tells why
+            stopped = True
+        except BaseException:  # already failing: let ffmpeg go without hiding why
+            with contextlib.suppress(Exception):
                 writer.finish()
-            else:  # already failing: let ffmpeg go without hiding why
-                with contextlib.suppress(Exception):
-                    writer.finish()
+            raise
+        try:
+            writer.finish()
+        except subprocess.CalledProcessError as err:
+            said = (err.stderr or "").strip().splitlines()
+            raise GeokinError(f"cannot write {str(path)!r}: ffmpeg stopped with status "
+                              f"{err.returncode}" + (f": {said[-1]}" if said else "")) from None
+        if stopped:
+            raise GeokinError(f"cannot write {str(path)!r}: ffmpeg stopped before the last "
+                              "frame")
 
 
 def plot_input_output(sweep, outputs, *, ax=None):

@@ -477,3 +477,38 @@ def test_a_title_is_text_not_mathtext_nor_terminal_codes(tmp_path):
     title = ax.get_title()
     assert title.startswith(r"$\frac$ costs 5$ and \x1b[2J\x1b[2Jxxx") and title.isprintable()
     assert title.endswith("[1,032 characters]")
+
+
+@pytest.fixture
+def fake_ffmpeg(tmp_path, monkeypatch):
+    """An ffmpeg that copies the raw frames it is given to its output file, or fails."""
+    def install(script):
+        program = tmp_path / "bin" / "ffmpeg"
+        program.parent.mkdir(exist_ok=True)
+        program.write_text("#!/bin/sh\n" + script)
+        program.chmod(0o755)
+        monkeypatch.setitem(matplotlib.rcParams, "animation.ffmpeg_path", str(program))
+    return install
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="a shell script stands for ffmpeg")
+def test_mp4_frames_go_to_ffmpeg_and_its_file_into_place(tmp_path, small_frames, fake_ffmpeg):
+    fake_ffmpeg('for last; do :; done\ncat > "$last"\n')
+    path = tmp_path / "old.mp4"
+    path.write_bytes(b"the old movie")
+    gp.animate(sweep(four_bar(), samples(37)), path, frames=5, progress=False)
+    width, height = 200, 150  # 8 x 6 inches at 25 dpi
+    assert path.stat().st_size == 5 * width * height * 4  # five RGBA frames
+    assert [p.name for p in tmp_path.iterdir() if p.is_file()] == ["old.mp4"]
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="a shell script stands for ffmpeg")
+def test_a_failing_ffmpeg_is_an_error_and_leaves_the_old_file(tmp_path, small_frames,
+                                                              fake_ffmpeg):
+    fake_ffmpeg("echo 'Unknown encoder libx264' >&2\nexit 1\n")
+    path = tmp_path / "old.mp4"
+    path.write_bytes(b"the old movie")
+    with pytest.raises(GeokinError, match=r"ffmpeg stopped with status 1: Unknown encoder"):
+        gp.animate(sweep(four_bar(), samples(37)), path, frames=5, progress=False)
+    assert path.read_bytes() == b"the old movie"
+    assert [p.name for p in tmp_path.iterdir() if p.is_file()] == ["old.mp4"]
