@@ -29,7 +29,9 @@ Commands
 and ``--samples N`` or ``--step S`` for the first input (other inputs are
 swept over their own ranges with as many samples), or ``--circuit`` for the
 first input's whole circuit. Errors are printed on standard error without a
-traceback, and the exit status is 2.
+traceback, one line each with what came from a script escaped, and the exit
+status is 2. Every output file is written whole or not at all
+(:mod:`geokin.atomic`): Ctrl-C exits with status 130 and leaves the old file.
 
 Adding a command takes a function ``run_<name>(args) -> int`` and a
 function ``add_<name>(subparsers)`` that declares its arguments and sets
