@@ -750,7 +750,10 @@ def _show_warning(message, category, filename, lineno, file=None, line=None):
 
 
 class Terminated(BaseException):
-    """SIGTERM arrived: raised like KeyboardInterrupt, so that partial outputs are removed."""
+    """SIGTERM arrived: raised like KeyboardInterrupt, so that partial outputs are removed.
+
+    :func:`main` then prints one line and ends the process by SIGTERM.
+    """
 
 
 def _terminate(signum, frame):
@@ -767,8 +770,9 @@ def main(argv=None) -> int:
     -------
     int
         The exit status: 0 on success, 2 for any error (printed on standard
-        error), 130 after Ctrl-C and 143 after SIGTERM (leaving every output
-        file as it was).
+        error) and 130 after Ctrl-C, which leaves every output file as it
+        was. SIGTERM cleans up the same way, then ends the process by that
+        signal.
     """
     sigterm = None
     if threading.current_thread() is threading.main_thread():
@@ -803,6 +807,9 @@ def _run(argv) -> int:
         return 130
     except Terminated:
         print("geokin: terminated", file=sys.stderr)
+        # outputs are cleaned up: now end as SIGTERM asked, so the parent sees why
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        os.kill(os.getpid(), signal.SIGTERM)
         return 143
     except MemoryError:
         print("geokin: error: not enough memory for this job; ask for fewer samples, points "

@@ -304,8 +304,45 @@ def _more_points(data, rng):
                                "angle": rng.choice([0, 90, driver, 1e300])}
 
 
+def _degenerate(data, rng):
+    """Make geometry degenerate: coincident pivots, a line from a point to itself, radius 0."""
+    points = data.get("points")
+    if not isinstance(points, dict) or not points:
+        return
+    fixed = [n for n, p in points.items() if isinstance(p, dict) and p.get("op") == "fixed"]
+    kind = rng.randrange(3)
+    if kind == 0 and len(fixed) >= 2:
+        a, b = rng.sample(fixed, 2)
+        points[b]["at"] = points[a].get("at")
+        return
+    pairs = [(p, v) for p, v in _places(points) if len(p) == 2 and isinstance(v, list)
+             and len(v) == 2 and all(isinstance(x, str) for x in v)]
+    if kind == 1 and pairs:
+        path, value = rng.choice(pairs)
+        _set(points, path, [value[0], value[0]])
+        return
+    sizes = [p for p, v in _places(points) if len(p) >= 2 and p[1] in ("radius", "radii",
+                                                                         "distance")]
+    if sizes:
+        path = rng.choice(sizes)
+        value = rng.choice([0, 0.0, 1e-300, -0.0])
+        _set(points, path, [value, value] if path[-1] == "radii" else value)
+
+
+def _scale(data, rng):
+    """Multiply every length by one huge or tiny factor."""
+    factor = rng.choice([1e-170, 1e-160, 1e-100, 1e100, 1e153, 1e160, 1e300])
+    for path, value in list(_places(data)):
+        if (len(path) >= 2 and path[0] in ("parameters", "points")
+                and isinstance(value, int | float) and not isinstance(value, bool)
+                and "angle" not in path):
+            with contextlib.suppress(OverflowError):  # an integer beyond float range stays
+                _set(data, path, value * factor)
+
+
 DATA_MUTATIONS = [_drop, _wrong_type, _swap_names, _unknown_name, _rename, _cycle, _number,
-                  _expression, _control, _unknown_key, _sweep_size, _more_points]
+                  _expression, _control, _unknown_key, _sweep_size, _more_points, _degenerate,
+                  _scale]
 
 
 def _bytes_mutation(raw: bytes, rng: random.Random) -> bytes:
