@@ -70,7 +70,7 @@ from .limits import circuit
 from .report import analyze
 from .sweep import evaluate
 from .sweep import sweep as run_sweep
-from .terminal import clip_message, escape, shorten
+from .terminal import escape, one_line, shorten
 
 __all__ = ["COMMANDS", "build_parser", "main"]
 
@@ -79,6 +79,11 @@ TRACE_FORMATS = (".csv", ".json", ".npz")
 
 class UsageError(GeokinError):
     """A command-line argument that cannot be used."""
+
+
+def _free_text(text: str) -> str:
+    """Return a script's free text (name, description, units) as printed: escaped, not huge."""
+    return escape(shorten(text, 1000))
 
 
 def _print_lines(text: str, stream=None):
@@ -129,7 +134,8 @@ def _sample(lo, hi, samples=None, step=None, *, label="--range") -> np.ndarray:
         step = math.copysign(step, hi - lo)  # its size counts: the range gives the direction
         count = (hi - lo) / step * (1 + 1e-12) + 1e-9  # inf for a step too small to divide by
         if not count + 1 <= MAX_SAMPLES:
-            shown = f"{math.floor(count) + 1}" if math.isfinite(count) else "too many"
+            shown = (f"{math.floor(count) + 1}" if count < 1e15
+                     else f"about {count:.1e}" if math.isfinite(count) else "too many")
             raise UsageError(f"--step {_shortest(step)} makes {shown} samples; at most "
                              f"{MAX_SAMPLES}")
         return lo + step * np.arange(math.floor(count) + 1)
@@ -287,17 +293,17 @@ def _degrees_of_freedom(construction) -> str:
 def _check_one(path):
     c = load(path)
     compiled = c.compile()
-    print(escape(f"{path}: {c.name}"))
+    print(escape(f"{path}: {shorten(c.name, 1000)}"))
     if c.description:
-        print(f"  {escape(c.description)}")
+        print(f"  {_free_text(c.description)}")
     if c.units:
-        print(f"  lengths in {escape(c.units)}, angles in degrees")
+        print(f"  lengths in {_free_text(c.units)}, angles in degrees")
     if c.parameters:
         _print_lines("parameters: " + ", ".join(f"{p.name} = {p.value:g}"
                                                 for p in c.parameters.values()))
     print("inputs:" if c.inputs else "inputs: none")
     for inp in c.inputs.values():
-        unit = " deg" if inp.kind == "angle" else f" {escape(c.units)}" if c.units else ""
+        unit = " deg" if inp.kind == "angle" else f" {_free_text(c.units)}" if c.units else ""
         lo, hi = (_to_script(inp, v) for v in inp.range)
         if inp.step is not None:
             count = len(inp.values())
@@ -572,9 +578,9 @@ def run_plot(args) -> int:
     m, index = motion_of(args.script, args, at=args.at)
     if index is not None and not m.sweep.valid[index]:
         s = m.sweep
-        print(clip_message(f"geokin: warning: {_sample_text(m.construction, s, index)}: node "
-                           f"{s.failed_node[index]!r} cannot be assembled: "
-                           f"{s.failure_reason[index]}; the nearest assembled pose is drawn"),
+        print(one_line(f"geokin: warning: {_sample_text(m.construction, s, index)}: node "
+                       f"{s.failed_node[index]!r} cannot be assembled: "
+                       f"{s.failure_reason[index]}; the nearest assembled pose is drawn"),
               file=sys.stderr)
     from matplotlib.figure import Figure
 
@@ -655,8 +661,8 @@ def _range_end(info, value) -> str:
 
 
 def _report_text(construction, report) -> str:
-    units = f" {escape(construction.units)}" if construction.units else ""
-    lines = [escape(f"{report['construction']}"),
+    units = f" {_free_text(construction.units)}" if construction.units else ""
+    lines = [_free_text(f"{report['construction']}"),
              f"degrees of freedom: {report['mobility']['formula']}"]
     for name, info in report["inputs"].items():
         unit = " deg" if info["kind"] == "angle" else units
@@ -711,7 +717,7 @@ class _Parser(argparse.ArgumentParser):
 
     def error(self, message):
         """Print one line naming what is wrong, without the usage, and exit with status 2."""
-        self.exit(2, f"geokin: error: {clip_message(message)} (see '{self.prog} --help')\n")
+        self.exit(2, f"geokin: error: {one_line(message)} (see '{self.prog} --help')\n")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -741,12 +747,12 @@ def _print_error(err):
         message = f"cannot open {shorten(str(name), 1000)!r}: {err.strerror or _describe(err)}"
     else:
         message = _describe(err)
-    print(f"geokin: error: {clip_message(message)}", file=sys.stderr)
+    print(f"geokin: error: {one_line(message)}", file=sys.stderr)
 
 
 def _show_warning(message, category, filename, lineno, file=None, line=None):
     """Print a warning as one line, like an error, without the source line."""
-    print(clip_message(f"geokin: warning: {category.__name__}: {message}"), file=sys.stderr)
+    print(one_line(f"geokin: warning: {category.__name__}: {message}"), file=sys.stderr)
 
 
 class Terminated(BaseException):
@@ -818,9 +824,9 @@ def _run(argv) -> int:
     except Exception as err:  # a fault of geokin itself: say so, in one line
         if os.environ.get("GEOKIN_DEBUG"):
             raise
-        print(clip_message(f"geokin: internal error: {type(err).__name__}: {_describe(err)} "
-                           "(please report it with the script; set GEOKIN_DEBUG=1 to see the "
-                           "traceback)"), file=sys.stderr)
+        print(one_line(f"geokin: internal error: {type(err).__name__}: {_describe(err)} "
+                       "(please report it with the script; set GEOKIN_DEBUG=1 to see the "
+                       "traceback)"), file=sys.stderr)
         return 2
 
 

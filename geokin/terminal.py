@@ -19,7 +19,7 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["LONG_TEXT", "MAX_MESSAGE", "clip_message", "escape", "shorten"]
+__all__ = ["LONG_TEXT", "MAX_MESSAGE", "clip_message", "escape", "one_line", "shorten"]
 
 LONG_TEXT = 80
 """The most characters of one name or value quoted in a message."""
@@ -107,6 +107,22 @@ def _cut(text: str, limit: int) -> str | None:
     tail = (limit - 1) // 3
     head = limit - 1 - tail
     return f"{text[:head]}…{text[len(text) - tail:]}"
+
+
+def one_line(text: str, limit: int = MAX_MESSAGE) -> str:
+    r"""Return text fit to print as one line: shortened to ``limit`` characters, then escaped.
+
+    Unlike :func:`clip_message`, long words (a deep path) are kept whole
+    unless the whole text is too long.
+
+    Examples
+    --------
+    >>> print(one_line("geokin: error: bad\nname\x1b[2J"))
+    geokin: error: bad\nname\x1b[2J
+    >>> len(one_line("x" * 10_000_000)) < MAX_MESSAGE + 30
+    True
+    """
+    return escape(shorten(text, limit))
 
 
 _LONG_RUN = re.compile(rf"\S{{{LONG_TEXT + 1},}}")

@@ -507,12 +507,14 @@ def main(argv=None) -> int:
             source = rng.randrange(len(sources))
             raw = mutate(sources[source], rng)
             signal.setitimer(signal.ITIMER_REAL, args.limit)
+            cpu = time.process_time()
             try:
                 outcome = run_case(raw, pathlib.Path(folder))
             finally:
                 signal.setitimer(signal.ITIMER_REAL, 0)
+            cpu = time.process_time() - cpu
             tally[outcome.ending.split(" at ")[0] if outcome.error else outcome.ending] += 1
-            slowest = sorted([*slowest, (outcome.seconds, case, SOURCES[source].name)])[-5:]
+            slowest = sorted([*slowest, (outcome.seconds, cpu, case, SOURCES[source].name)])[-5:]
             if outcome.known:
                 known[(outcome.ending, outcome.where, outcome.known)] += 1
             elif outcome.unexpected:
@@ -525,13 +527,13 @@ def main(argv=None) -> int:
             if (case + 1) % 1000 == 0:
                 print(f"{case + 1} cases, {time.perf_counter() - began:.0f} s", file=sys.stderr)
     total = time.perf_counter() - began
-    print(f"{args.cases} cases (seed {args.seed}) in {total:.1f} s, "
-          f"{1000 * total / max(args.cases, 1):.1f} ms each on average")
+    print(f"{args.cases} cases (seed {args.seed}) in {total:.1f} s ({time.process_time():.1f} s "
+          f"of CPU), {1000 * total / max(args.cases, 1):.1f} ms each on average")
     for ending, count in tally.most_common():
         print(f"  {count:6d}  {ending}")
-    print("slowest: " + ", ".join(f"{s:.2f} s (case {c}, {name})" for s, c, name in
-                                   reversed(slowest)))
-    over = [s for s, _, _ in slowest if s > args.slow]
+    print("slowest: " + ", ".join(f"{s:.2f} s ({cpu:.2f} s of CPU; case {c}, {name})"
+                                  for s, cpu, c, name in reversed(slowest)))
+    over = [s for s, _, _, _ in slowest if s > args.slow]
     print(f"cases over {args.slow:g} s: {len(over)}{'+' if len(over) == 5 else ''}")
     for (ending, where, cause), count in known.items():
         print(f"known, not counted: {count} x {ending} ({where}): {cause}")

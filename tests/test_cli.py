@@ -185,6 +185,7 @@ def test_trace_derivatives_are_per_second_at_the_declared_speed(capsys):
                                                                    "integer, got '9999"),
     (["animate", SIXBAR, "-o", "out.gif", "--frames", "10000000"], "--frames: at most 1000000"),
     (["trace", SIXBAR, "--step", "1e-320"], "--step 1e-320 makes too many samples; at most"),
+    (["trace", SIXBAR, "--step", "1e-300"], "--step 1e-300 makes about 1.8e+303 samples; at "),
     (["trace", SIXBAR, "--samples", str(10**30)], "--samples: at most 1000000"),
     (["trace", SIXBAR, "--range", "-1e308", "1e308"], "--range -1e+308 1e+308: too wide"),
     (["trace", SIXBAR, "--range", "-inf", "0"], "--range: expected a finite number, got '-inf'"),
@@ -518,3 +519,14 @@ def test_a_signal_while_writing_a_large_csv_keeps_the_old_file(tmp_path, signum,
     assert (process.returncode, out, err) == (status, "", message)
     assert path.read_text() == old
     assert [p.name for p in tmp_path.iterdir()] == ["big.csv"]
+
+
+def test_a_deep_path_is_named_whole_in_an_error(capsys, tmp_path):
+    folder = tmp_path / ("deep" * 30)
+    folder.mkdir()
+    script = folder / "bad.toml"
+    script.write_text('[points]\nA = { op = "fixd", at = [0, 0] }\n')
+    status, _, err = run(capsys, "check", script)
+    assert status == 2 and err.startswith(f"geokin: error: {script}:2: [points] A.op: unknown")
+    status, _, err = run(capsys, "check", folder / "missing.toml")
+    assert err.startswith(f"geokin: error: cannot open '{folder / 'missing.toml'}'")
