@@ -29,7 +29,9 @@ Commands
 and ``--samples N`` or ``--step S`` for the first input (other inputs are
 swept over their own ranges with as many samples), or ``--circuit`` for the
 first input's whole circuit. Errors are printed on standard error without a
-traceback, and the exit status is 2.
+traceback, one line each with what came from a script escaped, and the exit
+status is 2. Every output file is written whole or not at all
+(:mod:`geokin.atomic`): Ctrl-C exits with status 130 and leaves the old file.
 
 Adding a command takes a function ``run_<name>(args) -> int`` and a
 function ``add_<name>(subparsers)`` that declares its arguments and sets
@@ -48,13 +50,18 @@ import json
 import math
 import os
 import pathlib
+import re
+import signal
 import sys
+import threading
+import warnings
 from dataclasses import dataclass
 
 import numpy as np
 
 from . import __version__
 from .analysis import degrees_of_freedom
+from .atomic import replacing
 from .construction import MAX_SAMPLES
 from .errors import GeokinError, did_you_mean
 from .io import _script_degrees, load
@@ -63,6 +70,7 @@ from .limits import circuit
 from .report import analyze
 from .sweep import evaluate
 from .sweep import sweep as run_sweep
+from .terminal import escape, one_line, shorten
 
 __all__ = ["COMMANDS", "build_parser", "main"]
 
@@ -71,6 +79,21 @@ TRACE_FORMATS = (".csv", ".json", ".npz")
 
 class UsageError(GeokinError):
     """A command-line argument that cannot be used."""
+
+
+def _free_text(text: str) -> str:
+    """Return a script's free text (name, description, units) as printed: escaped, not huge."""
+    return escape(shorten(text, 1000))
+
+
+def _print_lines(text: str, stream=None):
+    """Print text of several lines, each escaped: nothing from a script acts on the terminal.
+
+    Free text that may hold a newline of its own (a construction's name,
+    description or units) is escaped before it is put in ``text``.
+    """
+    stream = sys.stdout if stream is None else stream
+    stream.write("\n".join(escape(line) for line in text.split("\n")) + "\n")
 
 
 # -- sweeping from the command line -----------------------------------------------
@@ -93,17 +116,29 @@ def _from_script(inp, values):
     return np.radians(values) if inp.kind == "angle" else np.asarray(values, dtype=float)
 
 
-def _sample(lo, hi, samples=None, step=None) -> np.ndarray:
+def _shortest(value: float) -> str:
+    """Write a number as it reads back exactly: 16, 0.25, 1e-320."""
+    text = repr(float(value))
+    return text[:-2] if text.endswith(".0") else text
+
+
+def _sample(lo, hi, samples=None, step=None, *, label="--range") -> np.ndarray:
     if lo == hi:
-        raise UsageError(f"--range {lo:g} {hi:g}: the two ends are equal, nothing to sweep")
+        raise UsageError(f"{label} {lo:g} {hi:g}: the two ends are equal, nothing to sweep")
+    if not math.isfinite(hi - lo):
+        raise UsageError(f"{label} {lo:g} {hi:g}: too wide to compute with; the span must be "
+                         f"below {sys.float_info.max:.1e}")
     if step is not None:
         if not (math.isfinite(step) and step != 0):
             raise UsageError(f"--step must be a non-zero number, got {step:g}")
         step = math.copysign(step, hi - lo)  # its size counts: the range gives the direction
-        count = int(np.floor((hi - lo) / step * (1 + 1e-12) + 1e-9)) + 1
-        if count > MAX_SAMPLES:
-            raise UsageError(f"--step {step:g} makes {count} samples; at most {MAX_SAMPLES}")
-        return lo + step * np.arange(count)
+        count = (hi - lo) / step * (1 + 1e-12) + 1e-9  # inf for a step too small to divide by
+        if not count + 1 <= MAX_SAMPLES:
+            shown = (f"{math.floor(count) + 1}" if count < 1e15
+                     else f"about {count:.1e}" if math.isfinite(count) else "too many")
+            raise UsageError(f"--step {_shortest(step)} makes {shown} samples; at most "
+                             f"{MAX_SAMPLES}")
+        return lo + step * np.arange(math.floor(count) + 1)
     return np.linspace(lo, hi, samples)
 
 
@@ -118,18 +153,19 @@ def sweep_values(construction, args) -> dict:
     first, *others = inputs
     lo, hi = (args.range if args.range is not None
               else (_to_script(first, first.range[0]), _to_script(first, first.range[1])))
+    label = "--range" if args.range is not None else f"input {first.name}: range"
     if args.samples is not None:
-        values = _sample(lo, hi, samples=args.samples)
+        values = _sample(lo, hi, samples=args.samples, label=label)
     elif args.step is not None:
-        values = _sample(lo, hi, step=args.step)
+        values = _sample(lo, hi, step=args.step, label=label)
     elif first.step is not None:
-        values = _sample(lo, hi, step=_to_script(first, first.step))
+        values = _sample(lo, hi, step=_to_script(first, first.step), label=label)
     else:
-        values = _sample(lo, hi, samples=first.samples)
+        values = _sample(lo, hi, samples=first.samples, label=label)
     result = {first.name: values}
     for inp in others:
-        result[inp.name] = np.linspace(_to_script(inp, inp.range[0]),
-                                       _to_script(inp, inp.range[1]), len(values))
+        result[inp.name] = _sample(_to_script(inp, inp.range[0]), _to_script(inp, inp.range[1]),
+                                   samples=len(values), label=f"input {inp.name}: range")
     return result
 
 
@@ -257,16 +293,17 @@ def _degrees_of_freedom(construction) -> str:
 def _check_one(path):
     c = load(path)
     compiled = c.compile()
-    print(f"{path}: {c.name}")
+    print(escape(f"{path}: {shorten(c.name, 1000)}"))
     if c.description:
-        print(f"  {c.description}")
+        print(f"  {_free_text(c.description)}")
     if c.units:
-        print(f"  lengths in {c.units}, angles in degrees")
+        print(f"  lengths in {_free_text(c.units)}, angles in degrees")
     if c.parameters:
-        print("parameters: " + ", ".join(f"{p.name} = {p.value:g}" for p in c.parameters.values()))
+        _print_lines("parameters: " + ", ".join(f"{p.name} = {p.value:g}"
+                                                for p in c.parameters.values()))
     print("inputs:" if c.inputs else "inputs: none")
     for inp in c.inputs.values():
-        unit = " deg" if inp.kind == "angle" else f" {c.units}" if c.units else ""
+        unit = " deg" if inp.kind == "angle" else f" {_free_text(c.units)}" if c.units else ""
         lo, hi = (_to_script(inp, v) for v in inp.range)
         if inp.step is not None:
             count = len(inp.values())
@@ -274,11 +311,11 @@ def _check_one(path):
         else:
             spacing = f"{inp.samples} samples"
         rate = f"{_to_script(inp, inp.speed):g}{unit or ' length units'}/s"
-        print(f"  {inp.name} ({inp.kind}): {lo:g} to {hi:g}{unit}, {spacing}, {rate}")
-    print(compiled)
+        _print_lines(f"  {inp.name} ({inp.kind}): {lo:g} to {hi:g}{unit}, {spacing}, {rate}")
+    _print_lines(str(compiled))
     if c.traced:
-        print("traced: " + ", ".join(c.traced))
-    print(f"degrees of freedom: {_degrees_of_freedom(c)}")
+        _print_lines("traced: " + ", ".join(c.traced))
+    _print_lines(f"degrees of freedom: {_degrees_of_freedom(c)}")
     defaults = argparse.Namespace(range=None, samples=None, step=None)
     values = sweep_values(c, defaults)
     s = run_sweep(c, {k: _from_script(c.inputs[k], v) for k, v in values.items()} or None)
@@ -292,10 +329,10 @@ def _check_one(path):
                     f"{_sample_text(c, s, i)}: node {s.failed_node[i]!r}: "
                     f"{s.failure_reason[i]}")
     summary += f"; {len(s.events)} branch change{'s' if len(s.events) != 1 else ''}"
-    print(summary)
+    _print_lines(summary)
     for event in s.events:
-        print(f"  at {_sample_text(c, s, event.index)}: node {event.node!r} changes branch "
-              f"from {event.before} to {event.after}")
+        _print_lines(f"  at {_sample_text(c, s, event.index)}: node {event.node!r} changes "
+                     f"branch from {event.before} to {event.after}")
 
 
 def _sample_text(c, s, i) -> str:
@@ -313,8 +350,8 @@ def _sample_text(c, s, i) -> str:
 def _positive_int(text):
     try:
         value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected an integer, got {text!r}") from None
+    except ValueError:  # also for more digits than Python reads
+        raise argparse.ArgumentTypeError(f"expected an integer, got {shorten(text)!r}") from None
     if value < 2:
         raise argparse.ArgumentTypeError(f"expected at least 2, got {value}")
     if value > MAX_SAMPLES:
@@ -326,9 +363,9 @@ def _finite(text):
     try:
         value = float(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a number, got {text!r}") from None
+        raise argparse.ArgumentTypeError(f"expected a number, got {shorten(text)!r}") from None
     if not math.isfinite(value):
-        raise argparse.ArgumentTypeError(f"expected a finite number, got {text!r}")
+        raise argparse.ArgumentTypeError(f"expected a finite number, got {shorten(text)!r}")
     return value
 
 
@@ -442,16 +479,33 @@ def write_csv(columns: dict, stream, *, rows_per_write: int = 10_000):
         stream.write("".join(",".join(row) + "\n" for row in zip(*block, strict=True)))
 
 
-def write_json(columns: dict, stream):
-    """Write trace columns as one JSON object of arrays (null where not a number)."""
-    data = {}
-    for name, array in columns.items():
-        if name in ("valid", "flagged"):
-            data[name] = [bool(v) for v in array]
-        else:
-            data[name] = [None if math.isnan(v) else float(v) for v in np.asarray(array, float)]
-    json.dump(data, stream, allow_nan=False)
-    stream.write("\n")
+def _json_cells(name, array) -> list[str]:
+    """Format one column for JSON: true and false for flags, null for NaN and infinities."""
+    array = np.asarray(array)
+    if name in ("valid", "flagged"):
+        return np.where(array, "true", "false").tolist()
+    values = array.astype(float)
+    cells = [repr(value) for value in values.tolist()]
+    for i in np.flatnonzero(~np.isfinite(values)).tolist():
+        cells[i] = "null"
+    return cells
+
+
+def write_json(columns: dict, stream, *, values_per_write: int = 100_000):
+    """Write trace columns as one JSON object of arrays (null where not a finite number).
+
+    The text is written a block of values at a time, so that a long trace
+    never exists whole in memory as Python objects.
+    """
+    stream.write("{")
+    for k, (name, array) in enumerate(columns.items()):
+        stream.write(("" if k == 0 else ", ") + json.dumps(name) + ": [")
+        array = np.asarray(array)
+        for start in range(0, len(array), values_per_write):
+            cells = _json_cells(name, array[start:start + values_per_write])
+            stream.write(("" if start == 0 else ", ") + ", ".join(cells))
+        stream.write("]")
+    stream.write("}\n")
 
 
 def run_trace(args) -> int:
@@ -466,11 +520,14 @@ def run_trace(args) -> int:
         return 0
     path = pathlib.Path(args.output)
     if kind == ".npz":
-        np.savez(path, **{name: np.asarray(v) for name, v in columns.items()})
+        # to a file object: np.savez given a name would add ".npz" to "out.NPZ"
+        with replacing(path, "wb") as f:
+            np.savez(f, **{name: np.asarray(v) for name, v in columns.items()})
     else:
-        with open(path, "w", encoding="utf-8", newline="") as f:
+        with replacing(path, "w", encoding="utf-8", newline="") as f:
             (write_csv if kind == ".csv" else write_json)(columns, f)
-    print(f"wrote {path}: {len(m.sweep)} samples, {len(columns)} columns", file=sys.stderr)
+    print(escape(f"wrote {path}: {len(m.sweep)} samples, {len(columns)} columns"),
+          file=sys.stderr)
     return 0
 
 
@@ -516,21 +573,22 @@ def run_plot(args) -> int:
         if first is None:
             raise UsageError("--kinematics needs a construction with an input")
         fig, _ = plotting.figure_kinematics(motion(m.sweep, first), title=args.title)
-        print(f"wrote {plotting.save(fig, output)}", file=sys.stderr)
+        print(escape(f"wrote {plotting.save(fig, output)}"), file=sys.stderr)
         return 0
     m, index = motion_of(args.script, args, at=args.at)
     if index is not None and not m.sweep.valid[index]:
         s = m.sweep
-        print(f"geokin: warning: {_sample_text(m.construction, s, index)}: node "
-              f"{s.failed_node[index]!r} cannot be assembled: {s.failure_reason[index]}; "
-              "the nearest assembled pose is drawn", file=sys.stderr)
+        print(one_line(f"geokin: warning: {_sample_text(m.construction, s, index)}: node "
+                       f"{s.failed_node[index]!r} cannot be assembled: "
+                       f"{s.failure_reason[index]}; the nearest assembled pose is drawn"),
+              file=sys.stderr)
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=(8, 6), layout="constrained")
     ax = fig.add_subplot()
     plotting.plot_mechanism(m.sweep, index, ax=ax, title=args.title)
     path = plotting.save(fig, output)
-    print(f"wrote {path}", file=sys.stderr)
+    print(escape(f"wrote {path}"), file=sys.stderr)
     return 0
 
 
@@ -542,7 +600,8 @@ def add_animate(subparsers):
     p.add_argument("script", metavar="SCRIPT", help="construction script (.toml)")
     p.add_argument("-o", "--output", metavar="FILE", required=True,
                    help="FILE.gif, FILE.html or FILE.mp4")
-    p.add_argument("--fps", type=_finite, default=25.0, help="frames per second (default 25)")
+    p.add_argument("--fps", type=_finite, default=25.0,
+                   help="frames per second, from 0.01 to 100 (default 25)")
     p.add_argument("--frames", type=_positive_int, metavar="N",
                    help="number of frames, evenly chosen among the samples "
                         "(default: every sample, at most 300)")
@@ -553,13 +612,14 @@ def add_animate(subparsers):
 
 def run_animate(args) -> int:
     _output_kind(args.output, (".gif", ".html", ".mp4"), "an animation")
-    if args.fps <= 0:
-        raise UsageError(f"--fps must be positive, got {args.fps:g}")
     plotting = _plotting()
+    if not plotting.MIN_FPS <= args.fps <= plotting.MAX_FPS:
+        raise UsageError(f"--fps must be from {plotting.MIN_FPS:g} to {plotting.MAX_FPS:g} "
+                         f"frames per second, got {args.fps:g}")
     m, _ = motion_of(args.script, args)
     path = plotting.animate(m.sweep, args.output, fps=args.fps, frames=args.frames,
                             progress=not args.no_progress)
-    print(f"wrote {path}", file=sys.stderr)
+    print(escape(f"wrote {path}"), file=sys.stderr)
     return 0
 
 
@@ -588,7 +648,7 @@ def run_analyze(args) -> int:
                   default=lambda value: None)
         sys.stdout.write("\n")
     else:
-        sys.stdout.write(_report_text(construction, report))
+        _print_lines(_report_text(construction, report).rstrip("\n"))
     return 0
 
 
@@ -601,9 +661,10 @@ def _range_end(info, value) -> str:
 
 
 def _report_text(construction, report) -> str:
-    units = f" {construction.units}" if construction.units else ""
-    lines = [f"{report['construction']}", f"degrees of freedom: {report['mobility']['formula']}"]
-    lines += [f"warning: {warning}" for warning in report.get("warnings", [])]
+    units = f" {_free_text(construction.units)}" if construction.units else ""
+    lines = [_free_text(f"{report['construction']}"),
+             f"degrees of freedom: {report['mobility']['formula']}"]
+    lines += [f"warning: {_free_text(warning)}" for warning in report.get("warnings", [])]
     for name, info in report["inputs"].items():
         unit = " deg" if info["kind"] == "angle" else units
         if info["full_turn"]:
@@ -646,9 +707,23 @@ COMMANDS = [add_check, add_trace, add_plot, add_animate, add_analyze]
 """The functions that declare each command, in the order ``geokin --help`` lists them."""
 
 
+class _Parser(argparse.ArgumentParser):
+    """An argument parser that takes negative numbers as values and errs in one line."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        # so that `--range -1e3 0` and `--at -inf` are read as values, not as options
+        self._negative_number_matcher = re.compile(
+            r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE)
+
+    def error(self, message):
+        """Print one line naming what is wrong, without the usage, and exit with status 2."""
+        self.exit(2, f"geokin: error: {one_line(message)} (see '{self.prog} --help')\n")
+
+
 def build_parser() -> argparse.ArgumentParser:
     """Return the argument parser of the ``geokin`` command."""
-    parser = argparse.ArgumentParser(
+    parser = _Parser(
         prog="geokin",
         description="Kinematics of planar linkages described as construction scripts. "
                     "Angles are in degrees on the command line and in scripts.")
@@ -659,30 +734,73 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _describe(err: BaseException) -> str:
+    """Return an exception's message, whatever its ``__str__`` does."""
+    try:
+        return str(err)
+    except Exception:  # e.g. a message holding an integer too long to write out
+        return f"({type(err).__name__} with a message that cannot be shown)"
+
+
 def _print_error(err):
     if isinstance(err, OSError) and not isinstance(err, GeokinError):
         name = err.filename if err.filename is not None else ""
-        message = f"cannot open {str(name)!r}: {err.strerror or err}"
+        message = f"cannot open {shorten(str(name), 1000)!r}: {err.strerror or _describe(err)}"
     else:
-        message = str(err)
-    print(f"geokin: error: {message}", file=sys.stderr)
+        message = _describe(err)
+    print(f"geokin: error: {one_line(message)}", file=sys.stderr)
+
+
+def _show_warning(message, category, filename, lineno, file=None, line=None):
+    """Print a warning as one line, like an error, without the source line."""
+    print(one_line(f"geokin: warning: {category.__name__}: {message}"), file=sys.stderr)
+
+
+class Terminated(BaseException):
+    """SIGTERM arrived: raised like KeyboardInterrupt, so that partial outputs are removed.
+
+    :func:`main` then prints one line and ends the process by SIGTERM.
+    """
+
+
+def _terminate(signum, frame):
+    raise Terminated
 
 
 def main(argv=None) -> int:
     """Run the ``geokin`` command with ``argv`` (the process arguments by default).
 
+    Whatever happens, what reaches the terminal is one line per error, with
+    everything from a script or an argument escaped, and no traceback.
+
     Returns
     -------
     int
         The exit status: 0 on success, 2 for any error (printed on standard
-        error, without a traceback).
+        error) and 130 after Ctrl-C, which leaves every output file as it
+        was. SIGTERM cleans up the same way, then ends the process by that
+        signal.
     """
-    parser = build_parser()
+    sigterm = None
+    if threading.current_thread() is threading.main_thread():
+        if signal.getsignal(signal.SIGTERM) is signal.SIG_DFL:
+            sigterm = signal.signal(signal.SIGTERM, _terminate)
     try:
-        args = parser.parse_args(argv)
-    except SystemExit as exc:  # --help, --version, or a usage error already printed
-        return exc.code if isinstance(exc.code, int) else 2
+        with warnings.catch_warnings():
+            warnings.showwarning = _show_warning
+            return _run(argv)
+    finally:
+        if sigterm is not None:
+            signal.signal(signal.SIGTERM, sigterm)
+
+
+def _run(argv) -> int:
     try:
+        parser = build_parser()
+        try:
+            args = parser.parse_args(argv)
+        except SystemExit as exc:  # --help, --version, or a usage error already printed
+            return exc.code if isinstance(exc.code, int) else 2
         return args.run(args)
     except BrokenPipeError:  # pragma: no cover - e.g. `geokin trace ... | head`
         # the reader has gone: stop quietly, and keep Python from complaining at exit
@@ -694,11 +812,22 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("geokin: interrupted", file=sys.stderr)
         return 130
+    except Terminated:
+        print("geokin: terminated", file=sys.stderr)
+        # outputs are cleaned up: now end as SIGTERM asked, so the parent sees why
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)
+        os.kill(os.getpid(), signal.SIGTERM)
+        return 143
+    except MemoryError:
+        print("geokin: error: not enough memory for this job; ask for fewer samples, points "
+              "or frames", file=sys.stderr)
+        return 2
     except Exception as err:  # a fault of geokin itself: say so, in one line
         if os.environ.get("GEOKIN_DEBUG"):
             raise
-        print(f"geokin: internal error: {type(err).__name__}: {err} (please report it with "
-              "the script; set GEOKIN_DEBUG=1 to see the traceback)", file=sys.stderr)
+        print(one_line(f"geokin: internal error: {type(err).__name__}: {_describe(err)} "
+                       "(please report it with the script; set GEOKIN_DEBUG=1 to see the "
+                       "traceback)"), file=sys.stderr)
         return 2
 
 

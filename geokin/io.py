@@ -77,7 +77,16 @@ what is wrong and, for a misspelt name, the closest valid one::
     sixbar.toml:17: [points] B.radii[1]: unknown parameter or input 'l33'; did you mean 'l3'?
 
 The error's attributes ``source``, ``table``, ``key`` and ``line`` hold the
-same places (``line`` is None where it cannot be found).
+same places (``line`` is None where it cannot be found). What a message
+quotes from the script is escaped and shortened (see :mod:`geokin.terminal`),
+so that it stays one readable line whatever the script holds.
+
+Limits
+------
+A script has at most :data:`MAX_SCRIPT_BYTES` bytes; a byte-order mark at
+its start is skipped. An integer beyond the range of floating-point numbers
+(about ±1.8e308) is an error at its place, as is a ``step`` that would make
+more samples than a default sweep may have.
 
 Examples
 --------
@@ -105,14 +114,24 @@ from __future__ import annotations
 import math
 import os
 import re
+import sys
 import tomllib
 from collections.abc import Mapping
 
-from .construction import BRANCHES, Construction, Node
+from .construction import BRANCHES, MAX_SAMPLES, Construction, Node
 from .errors import ConstructionError, ScriptError, did_you_mean
 from .expressions import BinOp, Call, Expr, Name, Neg, Number
+from .terminal import clip_message, escape, shorten
 
-__all__ = ["OPS", "dump", "load", "loads"]
+__all__ = ["MAX_SCRIPT_BYTES", "OPS", "dump", "load", "loads"]
+
+MAX_SCRIPT_BYTES = 4_000_000
+"""The most bytes :func:`load` reads of a script (and characters :func:`loads` takes).
+
+A script of 20,000 points is about 1.4 MB; reading stops here, so that a
+device or a file that never ends (``/dev/zero``) is refused instead of
+filling the memory.
+"""
 
 OPS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
     "fixed": (("at",), ()),
@@ -156,7 +175,8 @@ def load(path) -> Construction:
     Raises
     ------
     ScriptError
-        If the script cannot be read; the message names the file, table and key.
+        If the script cannot be read; the message names the file, table and
+        key. Also for a file larger than :data:`MAX_SCRIPT_BYTES`.
     OSError
         If the file cannot be opened.
 
@@ -170,11 +190,15 @@ def load(path) -> Construction:
     """
     path = os.fspath(path)
     with open(path, "rb") as f:
-        data = f.read()
+        data = f.read(MAX_SCRIPT_BYTES + 1)
+    if len(data) > MAX_SCRIPT_BYTES:
+        raise _error(f"{_where(path)}: more than the {MAX_SCRIPT_BYTES:,} bytes a script may "
+                     "have; is it a construction script?", source=path)
     try:
         text = data.decode("utf-8")
     except UnicodeDecodeError as exc:
-        raise _error(f"{path}: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+        raise _error(f"{_where(path)}: not UTF-8 text ({exc.reason} at byte {exc.start})",
+                     source=path) from None
     stem = os.path.splitext(os.path.basename(path))[0]
     return loads(text, source=path, default_name=stem)
 
@@ -186,7 +210,8 @@ def loads(text: str, source: str = "<string>", *, default_name: str | None = Non
     Parameters
     ----------
     text : str
-        The script.
+        The script, at most :data:`MAX_SCRIPT_BYTES` characters. A
+        byte-order mark at its start is skipped.
     source : str
         The name used for the script in error messages.
     default_name : str, optional
@@ -209,7 +234,17 @@ def loads(text: str, source: str = "<string>", *, default_name: str | None = Non
     ...
     geokin.errors.ScriptError: demo.toml:2: [points] O.op: unknown op 'fixd'; did you mean ...
     """
+    if len(text) > MAX_SCRIPT_BYTES:
+        raise _error(f"{_where(source)}: more than the {MAX_SCRIPT_BYTES:,} characters a "
+                     "script may have", source=source)
+    if text.startswith("\ufeff"):  # a byte-order mark, as some editors write
+        text = text[1:]
     return _Reader(text, source, default_name or "construction").read()
+
+
+def _where(source: str) -> str:
+    """Return a script's name as it is shown in a message: escaped, not absurdly long."""
+    return escape(shorten(str(source), 1000))
 
 
 def _error(message, **attributes) -> ScriptError:
@@ -220,15 +255,17 @@ def _error(message, **attributes) -> ScriptError:
 
 
 def _kind_of(value) -> str:
-    """Describe a TOML value's type for messages."""
+    """Describe a TOML value's type for messages, quoting at most a short part of it."""
     if isinstance(value, bool):
         return f"the boolean {str(value).lower()}"
     if isinstance(value, int):
+        if value.bit_length() > 256:  # printing it in full could take thousands of digits
+            return f"an integer of {_digits(value)} digits"
         return f"the integer {value}"
     if isinstance(value, float):
         return f"the number {value!r}"
     if isinstance(value, str):
-        return f"the string {value!r}"
+        return f"the string {shorten(value)!r}"
     if isinstance(value, list):
         return f"an array of {len(value)}"
     if isinstance(value, dict):
@@ -238,6 +275,35 @@ def _kind_of(value) -> str:
 
 def _is_number(value) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool)
+
+
+def _digits(value: int) -> str:
+    """Return how many decimal digits an integer has, without writing it out.
+
+    Examples
+    --------
+    >>> _digits(10**400), _digits(-(10**5000))
+    ('401', 'about 5,001')
+    """
+    bits = abs(value).bit_length()
+    if bits <= 13_000:  # well within the 4,300 digits Python writes out
+        return f"{len(str(abs(value))):,}"
+    return f"about {int(bits * math.log10(2)) + 1:,}"
+
+
+def _overflowing(value, path=()):
+    """Yield the place of every integer in parsed TOML too large for a float."""
+    if isinstance(value, dict):
+        for key, item in value.items():
+            yield from _overflowing(item, (*path, key))
+    elif isinstance(value, list):
+        for i, item in enumerate(value):
+            yield from _overflowing(item, (*path, i))
+    elif isinstance(value, int) and not isinstance(value, bool):
+        try:
+            float(value)
+        except OverflowError:
+            yield path, value
 
 
 def _strip_where(err: ConstructionError) -> str:
@@ -267,10 +333,27 @@ class _Reader:
         """Return a ScriptError at ``[table] entry.sub``."""
         key = entry if sub is None else f"{entry}.{sub}" if entry else sub
         line = self.locate(table, entry, sub)
-        where = f"{self.source}:{line}" if line else self.source
-        place = f"[{table}]" + (f" {key}" if key else "")
-        return _error(f"{where}: {place}: {message}", source=self.source, table=table,
-                      key=key, line=line)
+        where = _where(self.source) + (f":{line}" if line else "")
+        place = f"[{escape(shorten(table))}]" + (f" {escape(shorten(key))}" if key else "")
+        return _error(f"{where}: {place}: {clip_message(message)}", source=self.source,
+                      table=table, key=key, line=line)
+
+    def fail_at(self, path: tuple, message: str):
+        """Return a ScriptError at a place in the parsed TOML: (table, entry, key, index...)."""
+        table, *rest = [str(p) for p in path[:1]] + list(path[1:])
+        if not rest:
+            return self.fail(table, None, message)
+        entry, *keys = rest
+        if isinstance(entry, int):  # an array right under a table: [construction] trace
+            return self.fail(table, None, message)
+        sub = ""
+        for key in keys:
+            sub += f"[{key}]" if isinstance(key, int) else f".{key}" if sub else str(key)
+        if table == "parameters" and sub == "value":
+            sub = ""  # the value of { value = ..., description = ... } is the parameter's
+        if sub.startswith("["):  # an entry's own array: [links] crank[1]
+            return self.fail(table, f"{entry}{sub}", message)
+        return self.fail(table, entry, message, sub or None)
 
     def locate(self, table: str, entry: str | None, sub: str | None) -> int | None:
         """Find the line of ``[table] entry`` (or of its ``sub`` key), best effort."""
@@ -354,10 +437,19 @@ class _Reader:
                 message = message.replace("(at end of document)", "(at the end)")
             if message.startswith("Cannot overwrite a value") and line:
                 key = self.text.splitlines()[line - 1].split("=", 1)[0].strip()
-                message += f": {key!r} is given twice in its table"
-            where = f"{self.source}:{line}" if line else self.source
-            raise _error(f"{where}: TOML syntax error: {message}", source=self.source,
+                message += f": {shorten(key)!r} is given twice in its table"
+            where = _where(self.source) + (f":{line}" if line else "")
+            raise _error(f"{where}: TOML syntax error: {clip_message(message)}",
+                         source=self.source, table=None, key=None, line=line) from None
+        except ValueError:  # an integer longer than Python reads (4,300 digits)
+            found = re.search(r"\d{4000,}", self.text)
+            line = self.text.count("\n", 0, found.start()) + 1 if found else None
+            where = _where(self.source) + (f":{line}" if line else "")
+            raise _error(f"{where}: a number of more than 4,000 digits", source=self.source,
                          table=None, key=None, line=line) from None
+        for path, value in _overflowing(data):
+            raise self.fail_at(path, f"{_kind_of(value)} is beyond the range of numbers "
+                                     f"(±{sys.float_info.max:.1e})")
         for table in data:
             if table not in TABLES and not isinstance(data[table], dict):
                 where = ("it belongs in the [construction] table" if table in CONSTRUCTION_KEYS
@@ -416,6 +508,8 @@ class _Reader:
             raise
         except ConstructionError as err:
             raise self.construction_error(err, table, name) from None
+        except OverflowError as err:  # a number too large or too small to compute with
+            raise self.fail(table, name, f"a number is out of range ({err})") from None
 
     def check_keys(self, table, entry, value: Mapping, required, optional):
         allowed = (*required, *optional)
@@ -479,6 +573,14 @@ class _Reader:
                     raise self.fail("inputs", name, f"expected a number, got "
                                     f"{_kind_of(spec[key])}", sub=key)
                 options[key] = scale(spec[key])
+        step = options.get("step")
+        if step and math.isfinite(step):
+            lo, hi = options.get("range", (0.0, 2 * math.pi))
+            count = abs(hi - lo) / abs(step)  # inf for a step too small to divide by
+            if not count < MAX_SAMPLES:
+                raise self.fail("inputs", name, f"step {spec['step']!r} makes more than the "
+                                f"{MAX_SAMPLES:,} samples a default sweep may have",
+                                sub="step")
         c.input(name, kind, **options)
 
     def point(self, c, name, spec):

@@ -42,15 +42,22 @@ Examples
 
 from __future__ import annotations
 
+import base64
+import contextlib
+import html
+import io
 import math
+import os
 import pathlib
-import re
+import shutil
 import sys
 import time
 
 import numpy as np
 
+from .atomic import replacing, replacing_path
 from .errors import GeokinError, did_you_mean
+from .terminal import escape, shorten
 
 __all__ = [
     "animate",
@@ -71,8 +78,18 @@ GROUND_COLOR = "#3b3b3b"
 INPUT_COLOR = "#c0392b"
 FIGSIZE = (8.0, 6.0)
 MAX_FRAMES = 300
+"""The most frames of an animation unless more are asked for."""
+
+MIN_FPS, MAX_FPS = 0.01, 100.0
+"""The frame rates an animation may have: a GIF counts delays in hundredths of a second."""
+
 SAVE_FORMATS = (".png", ".svg")
 ANIMATION_FORMATS = (".gif", ".html", ".htm", ".mp4")
+
+# bytes per pixel of one frame in the file: twice the most measured on constructions/ at
+# 800 x 600 (0.023 for a GIF, whose frames hold what changed since the last; 0.107 for a page,
+# a whole PNG in base64 per frame)
+_FILE_BYTES_PER_PIXEL = {".gif": 0.05, ".html": 0.25, ".htm": 0.25, ".mp4": 0.03}
 
 _GREEK = {"theta": "θ", "phi": "φ", "psi": "ψ", "alpha": "α", "beta": "β", "gamma": "γ",
           "omega": "ω"}
@@ -83,6 +100,11 @@ def _pyplot():
     import matplotlib.pyplot as plt
 
     return plt
+
+
+def _shown(text: str) -> str:
+    """Return text from a script as a figure shows it: escaped, at most 200 characters."""
+    return escape(shorten(str(text), 200))
 
 
 # -- what to draw (no matplotlib) -------------------------------------------
@@ -507,7 +529,8 @@ def _setup_axes(ax, layout, title):
     if title is None:
         title = layout.sweep.construction.name
     if title:
-        ax.set_title(title)
+        # a name is text, not mathtext: "$" in it must not stop the drawing
+        ax.set_title(_shown(title), parse_math=False)
 
 
 def _check_index(sweep, index):
@@ -636,7 +659,9 @@ def save(fig, path):
     Returns
     -------
     pathlib.Path
-        The path written.
+        The path written. The file is replaced whole once the picture is
+        complete (see :mod:`geokin.atomic`): an error or Ctrl-C leaves the
+        old file.
 
     Raises
     ------
@@ -660,7 +685,8 @@ def save(fig, path):
     if not path.parent.is_dir():
         raise GeokinError(f"cannot save {str(path)!r}: the folder {str(path.parent)!r} "
                           "does not exist")
-    fig.savefig(path, format=suffix[1:], dpi="figure")
+    with replacing(path, "wb") as f:
+        fig.savefig(f, format=suffix[1:], dpi="figure")
     return path
 
 
@@ -700,13 +726,241 @@ class _Progress:
             self.stream.flush()
 
 
+class _GifWriter:
+    """Write a GIF a frame at a time: each frame is encoded and written as it comes.
+
+    Only the previous frame is kept, to write each new one as the rectangle
+    that changed (with its own palette) over the last, which is what makes
+    an animation of a mechanism small.
+    """
+
+    def __init__(self, stream, fps):
+        self.stream = stream
+        self.duration = 1000.0 / fps  # milliseconds; the file keeps hundredths of a second
+        self.previous = None
+
+    def add(self, rgb):
+        from PIL import GifImagePlugin, Image
+
+        if self.previous is None:
+            image = _paletted(Image.fromarray(rgb))
+            header, _ = GifImagePlugin.getheader(image, None,
+                                                 {"loop": 0, "duration": self.duration})
+            self.stream.write(b"".join(header))
+            box, local = (0, 0), False
+        else:
+            changed = np.any(rgb != self.previous, axis=2)
+            rows, cols = np.flatnonzero(changed.any(axis=1)), np.flatnonzero(changed.any(axis=0))
+            if rows.size:
+                top, bottom, left, right = rows[0], rows[-1] + 1, cols[0], cols[-1] + 1
+            else:  # nothing changed: one pixel keeps the frame and its delay
+                top, bottom, left, right = 0, 1, 0, 1
+            image = _paletted(Image.fromarray(rgb[top:bottom, left:right]))
+            box, local = (int(left), int(top)), True
+        self.stream.write(b"".join(GifImagePlugin.getdata(
+            image, box, duration=self.duration, disposal=1, include_color_table=local)))
+        self.previous = rgb.copy()
+
+    def finish(self):
+        self.stream.write(b";")  # the GIF trailer
+
+
+def _paletted(image):
+    """Return an RGB image with an adaptive palette of at most 256 colours, undithered."""
+    from PIL import Image
+
+    return image.convert("P", palette=Image.Palette.ADAPTIVE, colors=256)
+
+
+_PAGE_HEAD = """<!DOCTYPE html>
+<html>
+<head>
+<meta charset="utf-8">
+<title>{title}</title>
+<style>
+body {{ font-family: sans-serif; margin: 1em; }}
+.player img {{ display: block; max-width: 100%; height: auto; border: 1px solid #dddddd; }}
+.player .controls {{ display: flex; gap: 0.3em; align-items: center; margin-top: 0.5em;
+                     max-width: {width}px; }}
+.player button {{ font-size: 1.1em; min-width: 2.4em; }}
+.player input[type=range] {{ flex: 1; }}
+</style>
+</head>
+<body>
+<div class="player">
+<img id="frame" width="{width}" height="{height}" alt="{title}">
+<div class="controls">
+<button id="first" title="first frame">&#x23EE;</button>
+<button id="back" title="one frame back">&#x23F4;&#x2502;</button>
+<button id="play" title="play or pause">&#x23F8;</button>
+<button id="forward" title="one frame forward">&#x2502;&#x23F5;</button>
+<button id="last" title="last frame">&#x23ED;</button>
+<input id="slider" type="range" min="0" max="{last}" value="0">
+<span id="counter"></span>
+<label><input id="loop" type="checkbox" checked> loop</label>
+</div>
+</div>
+<script>
+var frames = [
+"""
+
+_PAGE_TAIL = """];
+</script>
+<script>
+(function () {{
+  var interval = {interval};
+  var element = function (id) {{ return document.getElementById(id); }};
+  var image = element("frame"), slider = element("slider"), counter = element("counter");
+  var play = element("play"), loop = element("loop");
+  var current = 0, timer = null;
+  function show(i) {{
+    current = Math.min(Math.max(i, 0), frames.length - 1);
+    image.src = frames[current];
+    slider.value = current;
+    counter.textContent = (current + 1) + " / " + frames.length;
+  }}
+  function stop() {{
+    if (timer !== null) {{ clearInterval(timer); timer = null; }}
+    play.innerHTML = "&#x25B6;";
+  }}
+  function tick() {{
+    if (current + 1 < frames.length) {{ show(current + 1); }}
+    else if (loop.checked) {{ show(0); }}
+    else {{ stop(); }}
+  }}
+  function start() {{
+    if (timer === null) {{ timer = setInterval(tick, interval); play.innerHTML = "&#x23F8;"; }}
+  }}
+  play.onclick = function () {{ if (timer === null) {{ start(); }} else {{ stop(); }} }};
+  element("first").onclick = function () {{ stop(); show(0); }};
+  element("back").onclick = function () {{ stop(); show(current - 1); }};
+  element("forward").onclick = function () {{ stop(); show(current + 1); }};
+  element("last").onclick = function () {{ stop(); show(frames.length - 1); }};
+  slider.oninput = function () {{ stop(); show(parseInt(slider.value, 10)); }};
+  show(0);
+  start();
+}})();
+</script>
+</body>
+</html>
+"""
+
+
+class _PageWriter:
+    """Write an animation as one self-contained HTML page, a frame at a time.
+
+    The page holds every frame as a PNG in base64 and a small player
+    (play, pause, step, a slider, loop), and fetches nothing from the web.
+    Each frame is written out as soon as it is drawn.
+    """
+
+    def __init__(self, stream, fps, title, size, frames):
+        self.stream = stream
+        self.fps = fps
+        width, height = size
+        self.stream.write(_PAGE_HEAD.format(title=html.escape(_shown(title)), width=width,
+                                            height=height, last=frames - 1).encode("utf-8"))
+
+    def add(self, rgb):
+        from PIL import Image
+
+        png = io.BytesIO()
+        Image.fromarray(rgb).save(png, format="PNG")
+        self.stream.write(b'"data:image/png;base64,' + base64.b64encode(png.getvalue())
+                          + b'",\n')
+
+    def finish(self):
+        interval = f"{1000.0 / self.fps:.6g}"
+        self.stream.write(_PAGE_TAIL.format(interval=interval).encode("utf-8"))
+
+
+def _available_memory() -> int | None:
+    """Return the bytes of memory available to a new allocation, or None if unknown."""
+    with contextlib.suppress(OSError, ValueError):
+        with open("/proc/meminfo") as f:
+            for line in f:
+                if line.startswith("MemAvailable:"):
+                    return int(line.split()[1]) * 1024
+    with contextlib.suppress(AttributeError, ValueError, OSError):
+        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
+    return None
+
+
+def animation_estimate(frames, width, height, suffix, *, samples=0, traces=0):
+    """Estimate the file size and the memory of an animation, before drawing it.
+
+    Frames are streamed to the file, so the memory does not grow with their
+    number: it is a few copies of one frame, plus the traced paths that
+    matplotlib keeps while drawing them (``traces`` paths of up to
+    ``samples`` points). The file grows by about a frame's compressed size
+    per frame.
+
+    Parameters
+    ----------
+    frames : int
+    width, height : int
+        The size of a frame in pixels.
+    suffix : {".gif", ".html", ".htm", ".mp4"}
+    samples : int
+        The samples of the sweep animated.
+    traces : int
+        The number of traced paths.
+
+    Returns
+    -------
+    file_bytes, memory_bytes : int
+
+    Examples
+    --------
+    >>> file_bytes, memory_bytes = animation_estimate(3000, 800, 600, ".gif")
+    >>> f"{file_bytes / 1e6:.0f} MB, {memory_bytes / 1e6:.0f} MB"
+    '72 MB, 11 MB'
+    """
+    pixels = int(width) * int(height)
+    file_bytes = int(frames * pixels * _FILE_BYTES_PER_PIXEL[suffix]) + 4096
+    # the canvas (RGBA), this and the last frame (RGB), the palette or PNG copy
+    memory_bytes = pixels * (4 + 3 + 3 + 4 + 8) + 48 * samples * traces
+    return file_bytes, memory_bytes
+
+
+def _check_room(path, frames, width, height, suffix, samples, traces):
+    """Refuse, up front, an animation whose file or memory would not fit."""
+    file_bytes, memory_bytes = animation_estimate(frames, width, height, suffix,
+                                                  samples=samples, traces=traces)
+    what = (f"an animation of {frames:,} frames of {width} x {height} pixels needs about "
+            f"{_megabytes(file_bytes)} on disk and {_megabytes(memory_bytes)} of memory")
+    try:
+        free = shutil.disk_usage(path.parent).free
+    except OSError:
+        free = None
+    if free is not None and file_bytes > free:
+        raise GeokinError(f"cannot write {str(path)!r}: {what}, but only {_megabytes(free)} "
+                          f"are free there; ask for fewer frames, fewer pixels (a lower dpi) "
+                          f"or an .mp4")
+    available = _available_memory()
+    if available is not None and memory_bytes > available:
+        raise GeokinError(f"cannot write {str(path)!r}: {what}, but only "
+                          f"{_megabytes(available)} of memory are available; ask for fewer "
+                          "samples or fewer traced points")
+
+
+def _megabytes(count: int) -> str:
+    return f"{count / 1e6:,.0f} MB" if count >= 1e6 else f"{count / 1e6:.2f} MB"
+
+
 def animate(sweep, path, *, fps=25, frames=None, progress=True):
     """Write an animation of the motion, the traced paths growing with it.
 
-    The writer is chosen by the extension: ``.gif`` (Pillow), ``.html``
-    (one self-contained page with the frames embedded) or ``.mp4`` (needs
-    ffmpeg). Samples that cannot be assembled show the last assembled pose,
-    faded, with the reason.
+    The writer is chosen by the extension: ``.gif``, ``.html`` (one
+    self-contained page with the frames embedded and a player) or ``.mp4``
+    (needs ffmpeg). Samples that cannot be assembled show the last
+    assembled pose, faded, with the reason.
+
+    Each frame goes to the file as soon as it is drawn, so memory does not
+    grow with the number of frames; an animation whose file would not fit
+    on the disk, or whose drawing would not fit in memory, is refused
+    before anything is drawn (see :func:`animation_estimate`). The file is
+    written whole or not at all (see :mod:`geokin.atomic`).
 
     Parameters
     ----------
@@ -714,7 +968,7 @@ def animate(sweep, path, *, fps=25, frames=None, progress=True):
     path : str or os.PathLike
         The file to write, ending in ``.gif``, ``.html`` or ``.mp4``.
     fps : float
-        Frames per second.
+        Frames per second, from :data:`MIN_FPS` to :data:`MAX_FPS`.
     frames : int, optional
         The number of frames: that many samples, evenly chosen. By default
         every sample, at most 300.
@@ -730,8 +984,8 @@ def animate(sweep, path, *, fps=25, frames=None, progress=True):
     Raises
     ------
     GeokinError
-        For an unknown extension, an ``.mp4`` without ffmpeg, or bad
-        ``fps`` or ``frames``.
+        For an unknown extension, an ``.mp4`` without ffmpeg, bad ``fps``
+        or ``frames``, or an animation that would not fit.
 
     Examples
     --------
@@ -753,31 +1007,31 @@ def animate(sweep, path, *, fps=25, frames=None, progress=True):
     suffix = path.suffix.lower()
     if suffix not in ANIMATION_FORMATS:
         raise GeokinError(f"cannot animate to {str(path)!r}: use a .gif, .html or .mp4 file")
-    if isinstance(fps, bool) or not isinstance(fps, int | float) or not fps > 0:
-        raise GeokinError(f"fps must be a positive number, got {fps!r}")
+    if (isinstance(fps, bool) or not isinstance(fps, int | float)
+            or not MIN_FPS <= fps <= MAX_FPS):
+        raise GeokinError(f"fps must be a number from {MIN_FPS:g} to {MAX_FPS:g}, got {fps!r}")
     indices = _frame_indices(len(sweep), frames)
     from matplotlib import animation
 
-    if suffix == ".mp4":
-        if not animation.writers.is_available("ffmpeg"):
-            raise GeokinError(
-                f"cannot write {str(path)!r}: an .mp4 needs ffmpeg, which was not found. "
-                "Install ffmpeg (for example 'apt install ffmpeg' or 'conda install ffmpeg') "
-                "and make sure it is on PATH, or write a .gif or .html file instead")
-        writer = animation.FFMpegWriter(fps=fps)
-    elif suffix == ".gif":
-        writer = animation.PillowWriter(fps=fps)
-    else:
-        writer = animation.HTMLWriter(fps=fps, embed_frames=True)
+    if suffix == ".mp4" and not animation.writers.is_available("ffmpeg"):
+        raise GeokinError(
+            f"cannot write {str(path)!r}: an .mp4 needs ffmpeg, which was not found. "
+            "Install ffmpeg (for example 'apt install ffmpeg' or 'conda install ffmpeg') "
+            "and make sure it is on PATH, or write a .gif or .html file instead")
     if not path.parent.is_dir():
         raise GeokinError(f"cannot write {str(path)!r}: the folder {str(path.parent)!r} "
                           "does not exist")
 
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
     fig = Figure(figsize=FIGSIZE, layout="constrained")
+    canvas = FigureCanvasAgg(fig)
     ax = fig.add_subplot()
     scene = _Scene(sweep, ax)
+    width, height = canvas.get_width_height()
+    _check_room(path, len(indices), width, height, suffix, len(sweep),
+                len(scene.trace_lines))
     scene.update(int(indices[0]))
     _setup_axes(ax, scene.layout, None)
     if scene.trace_lines:
@@ -787,49 +1041,61 @@ def animate(sweep, path, *, fps=25, frames=None, progress=True):
     fig.draw_without_rendering()
     fig.set_layout_engine("none")
 
-    def draw(k):
-        scene.update(int(indices[k]), grow=True)
-        return scene.artists
+    def frames_drawn():
+        for k, index in enumerate(indices):
+            scene.update(int(index), grow=True)
+            yield k
 
-    movie = animation.FuncAnimation(fig, draw, frames=len(indices), init_func=lambda: [],
-                                    blit=False, repeat=False, cache_frame_data=False)
     bar = _Progress(f"writing {path.name}", progress)
     try:
-        movie.save(path, writer=writer, progress_callback=bar)
+        if suffix == ".mp4":
+            _write_movie(fig, path, fps, frames_drawn(), len(indices), bar)
+        else:
+            with replacing(path, "wb") as f:
+                if suffix == ".gif":
+                    writer = _GifWriter(f, fps)
+                else:
+                    writer = _PageWriter(f, fps, sweep.construction.name, (width, height),
+                                         len(indices))
+                for k in frames_drawn():
+                    canvas.draw()
+                    writer.add(np.asarray(canvas.buffer_rgba())[..., :3])
+                    bar(k, len(indices))
+                writer.finish()
     finally:
         bar.close()
-    if suffix in (".html", ".htm"):
-        _make_self_contained(path, sweep.construction.name)
     return path
 
 
-# matplotlib's page draws its buttons with icons from a stylesheet on the web;
-# text symbols keep the page whole when it is opened offline
-_BUTTON_ICONS = {
-    "fa fa-fast-backward": "&#x23EE;", "fa fa-step-backward": "&#x23F4;&#x2502;",
-    "fa fa-play fa-flip-horizontal": "&#x25C0;", "fa fa-pause": "&#x23F8;",
-    "fa fa-play": "&#x25B6;", "fa fa-step-forward": "&#x2502;&#x23F5;",
-    "fa fa-fast-forward": "&#x23ED;", "fa fa-minus": "&minus;", "fa fa-plus": "+",
-}
+def _write_movie(fig, path, fps, drawn, count, bar):
+    """Pipe the frames to ffmpeg, which writes a temporary file renamed into place."""
+    import subprocess
 
+    from matplotlib import animation
 
-def _make_self_contained(path, title):
-    """Make an HTML animation a whole page that needs nothing from the web.
-
-    matplotlib writes a fragment that loads its button icons from a web
-    stylesheet: the page gets its head and title, and text symbols for icons.
-    """
-    import html
-
-    page = path.read_text(encoding="utf-8")
-    page = re.sub(r"<link[^>]*stylesheet[^>]*>", "", page, flags=re.S)
-    for icon, symbol in _BUTTON_ICONS.items():
-        page = page.replace(f'<i class="{icon}"></i>', symbol)
-    if "<html" not in page:
-        page = (f'<!DOCTYPE html>\n<html>\n<head>\n<meta charset="utf-8">\n'
-                f"<title>{html.escape(title)}</title>\n</head>\n<body>\n{page}\n"
-                "</body>\n</html>\n")
-    path.write_text(page, encoding="utf-8")
+    with replacing_path(path) as temp:
+        writer = animation.FFMpegWriter(fps=fps)
+        writer.setup(fig, temp, dpi=fig.dpi)
+        stopped = False
+        try:
+            for k in drawn:
+                writer.grab_frame()
+                bar(k, count)
+        except BrokenPipeError:  # ffmpeg has stopped reading: finish() tells why
+            stopped = True
+        except BaseException:  # already failing: let ffmpeg go without hiding why
+            with contextlib.suppress(Exception):
+                writer.finish()
+            raise
+        try:
+            writer.finish()
+        except subprocess.CalledProcessError as err:
+            said = (err.stderr or "").strip().splitlines()
+            raise GeokinError(f"cannot write {str(path)!r}: ffmpeg stopped with status "
+                              f"{err.returncode}" + (f": {said[-1]}" if said else "")) from None
+        if stopped:
+            raise GeokinError(f"cannot write {str(path)!r}: ffmpeg stopped before the last "
+                              "frame")
 
 
 def plot_input_output(sweep, outputs, *, ax=None):
@@ -996,7 +1262,8 @@ def figure_kinematics(motion, *, links=None, title=None):
     axes[0].legend(fontsize=9, ncols=min(len(names), 4))
     axes[-1].set_xlabel("time (s)")
     heading = motion.sweep.construction.name if title is None else title
+    heading = _shown(heading)
     if motion.flagged.any():
         heading += f" ({int(motion.flagged.sum())} samples near a singular position left out)"
-    fig.suptitle(heading)
+    fig.suptitle(heading, parse_math=False)
     return fig, axes

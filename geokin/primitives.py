@@ -125,6 +125,8 @@ _PLAIN = (float, int)
 def _within(quantity, window) -> bool:
     """Whether every non-NaN element of ``quantity`` lies inside ``window``."""
     if type(quantity) is np.ndarray and quantity.ndim:
+        if quantity.size == 0:
+            return True
         low = np.fmin.reduce(quantity, axis=None)
         high = np.fmax.reduce(quantity, axis=None)
     else:

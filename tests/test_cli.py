@@ -5,7 +5,10 @@ import io
 import json
 import pathlib
 import shutil
+import signal
 import subprocess
+import sys
+import time
 
 import numpy as np
 import pytest
@@ -175,7 +178,17 @@ def test_trace_derivatives_are_per_second_at_the_declared_speed(capsys):
                                         ".svg file"),
     (["animate", SIXBAR], "the following arguments are required: -o/--output"),
     (["animate", SIXBAR, "-o", "out.avi"], "cannot write an animation to 'out.avi'"),
-    (["animate", SIXBAR, "-o", "out.gif", "--fps", "0"], "--fps must be positive"),
+    (["animate", SIXBAR, "-o", "out.gif", "--fps", "0"], "--fps must be from 0.01 to 100"),
+    (["animate", SIXBAR, "-o", "out.gif", "--fps", "1e-300"], "--fps must be from 0.01 to 100"),
+    (["animate", SIXBAR, "-o", "out.gif", "--fps", "1e300"], "--fps must be from 0.01 to 100"),
+    (["animate", SIXBAR, "-o", "out.gif", "--frames", "9" * 5000], "--frames: expected an "
+                                                                   "integer, got '9999"),
+    (["animate", SIXBAR, "-o", "out.gif", "--frames", "10000000"], "--frames: at most 1000000"),
+    (["trace", SIXBAR, "--step", "1e-320"], "--step 1e-320 makes too many samples; at most"),
+    (["trace", SIXBAR, "--step", "1e-300"], "--step 1e-300 makes about 1.8e+303 samples; at "),
+    (["trace", SIXBAR, "--samples", str(10**30)], "--samples: at most 1000000"),
+    (["trace", SIXBAR, "--range", "-1e308", "1e308"], "--range -1e+308 1e+308: too wide"),
+    (["trace", SIXBAR, "--range", "-inf", "0"], "--range: expected a finite number, got '-inf'"),
 ])
 def test_errors_exit_2_without_a_traceback(capsys, argv, message):
     status, out, err = run(capsys, *argv)
@@ -329,3 +342,191 @@ def test_plot_kinematics_draws_three_axes(capsys, tmp_path):
     status, _, err = run(capsys, "plot", "--kinematics", "--at", "10",
                          str(CONSTRUCTIONS / "crank_rocker.toml"), "-o", str(out))
     assert status == 2 and "one or the other" in err
+
+
+# -- hostile input, interrupted output ---------------------------------------------------
+
+HOSTILE = "\x1b]0;owned\x07\x1b[2J\u202e\n\x9b"
+
+
+def toml_string(text):
+    """A TOML basic string holding any text, control characters escaped."""
+    return '"' + "".join(c if c.isprintable() and c not in '"\\' else f"\\u{ord(c):04x}"
+                         for c in text) + '"'
+
+
+def hostile_script(tmp_path):
+    text = pathlib.Path(SIXBAR).read_text()
+    text = text.replace('name = "six-bar"', f"name = {toml_string('six' + HOSTILE)}")
+    text = text.replace('description = "Inverted', f"description = {toml_string(HOSTILE)} "
+                                                   '# "Inverted')
+    text = text.replace('units = "mm"', f"units = {toml_string('mm' + HOSTILE)}")
+    path = tmp_path / "hostile.toml"
+    path.write_text(text)
+    return path
+
+
+def printable_lines(text):
+    return all(line.isprintable() for line in text.splitlines())
+
+
+def test_check_and_analyze_escape_what_the_script_says(capsys, tmp_path):
+    path = hostile_script(tmp_path)
+    status, out, err = run(capsys, "check", path)
+    assert status == 0 and err == ""
+    assert printable_lines(out) and "\x1b" not in out and "\u202e" not in out
+    assert "six\\x1b]0;owned\\x07\\x1b[2J\\u202e\\n\\x9b" in out.splitlines()[0]
+    assert "lengths in mm\\x1b]0;owned" in out
+    assert "construction 'six-bar" not in out  # the name is the script's, escaped
+    status, out, err = run(capsys, "analyze", path)
+    assert status == 0 and printable_lines(out) and "\x1b" not in out
+    assert out.startswith("six\\x1b]0;owned")
+    status, out, err = run(capsys, "analyze", "--json", path)
+    assert status == 0 and printable_lines(out)
+    assert json.loads(out)["construction"] == "six" + HOSTILE  # data stays data
+
+
+def test_every_error_is_one_escaped_line(capsys, tmp_path, monkeypatch):
+    bad = tmp_path / "bad\x1b[31m.toml"
+    bad.write_text(f"[points]\n{toml_string('A' + HOSTILE)} = {{ op = \"fixed\", at = [0, 0] }}\n")
+    status, out, err = run(capsys, "check", bad)
+    assert status == 2 and out == ""
+    assert err.count("\n") == 1 and err.endswith("\n") and err[:-1].isprintable()
+    assert err.startswith("geokin: error: ") and "bad\\x1b[31m.toml" in err
+    # an argument the parser refuses: one line too, without the usage
+    status, _, err = run(capsys, "trace", SIXBAR, "--points", "M", "--samples", "x\x1b[2J")
+    assert status == 2 and err.count("\n") == 1 and err[:-1].isprintable()
+    assert err == ("geokin: error: argument --samples: expected an integer, got 'x\\x1b[2J' "
+                   "(see 'geokin trace --help')\n")
+    # a fault of geokin itself, however its message reads
+    def fail(*args, **kwargs):
+        raise ValueError("first line\nsecond line \x1b[2J" + "x" * 100_000)
+
+    monkeypatch.setattr("geokin.cli.load", fail)
+    status, _, err = run(capsys, "check", SIXBAR)
+    assert status == 2 and err.count("\n") == 1 and err[:-1].isprintable() and len(err) < 2100
+    assert err.startswith("geokin: internal error: ValueError: first line\\nsecond line \\x1b")
+
+
+def test_a_warning_is_one_line_too(capsys, monkeypatch):
+    import warnings
+
+    def warn(*args, **kwargs):
+        warnings.warn("overflow\nencountered \x1b[2J", RuntimeWarning, stacklevel=1)
+        raise geokin.ScriptError("given up")
+
+    monkeypatch.setattr("geokin.cli.load", warn)
+    status, _, err = run(capsys, "trace", SIXBAR)
+    assert status == 2
+    assert err == ("geokin: warning: RuntimeWarning: overflow\\nencountered \\x1b[2J\n"
+                   "geokin: error: given up\n")
+
+
+def test_running_out_of_memory_is_an_error_not_a_fault(capsys, monkeypatch):
+    def exhaust(*args, **kwargs):
+        raise MemoryError
+
+    monkeypatch.setattr("geokin.cli.run_sweep", exhaust)
+    status, _, err = run(capsys, "trace", SIXBAR)
+    assert status == 2 and err.startswith("geokin: error: not enough memory for this job")
+
+
+@pytest.mark.parametrize("value", ["-1e3", "-1000", "-1000.0", "-.1e4", "-1E+3"])
+def test_negative_numbers_are_option_values(capsys, value):
+    status, out, err = run(capsys, "trace", SIXBAR, "--points", "A", "--range", value, "0",
+                           "--samples", 3)
+    assert status == 0, err
+    _, data = read_csv(out)
+    np.testing.assert_array_equal(data[:, 0], [-1000, -500, 0])
+
+
+def test_a_negative_value_to_draw_at(capsys, tmp_path):
+    path = tmp_path / "at.svg"
+    status, _, err = run(capsys, "plot", CRANK, "--at", "-3.05e1", "-o", path)
+    assert status == 0, err
+    assert "-30.5" in path.read_text()
+
+
+def test_an_output_suffix_is_read_in_any_case_and_the_path_kept(capsys, tmp_path):
+    for name in ("out.NPZ", "out.Json", "out.CSV"):
+        path = tmp_path / name
+        status, _, err = run(capsys, "trace", SIXBAR, "--points", "M", "-o", path)
+        assert status == 0 and err == f"wrote {path}: 113 samples, 4 columns\n"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out.CSV", "out.Json", "out.NPZ"]
+    assert list(np.load(tmp_path / "out.NPZ")) == ["theta", "valid", "M.x", "M.y"]
+    assert list(json.loads((tmp_path / "out.Json").read_text())) == ["theta", "valid", "M.x",
+                                                                     "M.y"]
+
+
+def test_trace_json_writes_null_for_what_is_not_a_finite_number():
+    from geokin.cli import write_json
+
+    stream = io.StringIO()
+    write_json({"t": np.arange(5.0), "valid": np.array([1, 0, 1, 1, 1], bool),
+                "x": np.array([1.5, np.nan, np.inf, -np.inf, 1e300])}, stream,
+               values_per_write=2)
+    assert json.loads(stream.getvalue()) == {
+        "t": [0, 1, 2, 3, 4], "valid": [True, False, True, True, True],
+        "x": [1.5, None, None, None, 1e300]}
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".json", ".npz"])
+def test_a_failing_trace_leaves_the_old_file(capsys, tmp_path, monkeypatch, suffix):
+    path = tmp_path / f"old{suffix}"
+    path.write_bytes(b"the old file")
+
+    def half_then_fail(columns, stream, **kwargs):
+        stream.write("theta,valid\n0,1\n" if "b" not in getattr(stream, "mode", "") else b"PK")
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr("geokin.cli.write_csv", half_then_fail)
+    monkeypatch.setattr("geokin.cli.write_json", half_then_fail)
+    monkeypatch.setattr("geokin.cli.np.savez", lambda stream, **arrays: half_then_fail(
+        arrays, stream))
+    status, _, err = run(capsys, "trace", SIXBAR, "-o", path)
+    assert (status, err) == (130, "geokin: interrupted\n")
+    assert path.read_bytes() == b"the old file"
+    assert [p.name for p in tmp_path.iterdir()] == [path.name]
+
+
+@pytest.mark.parametrize("signum, status, message", [
+    (signal.SIGINT, 130, "geokin: interrupted\n"),
+    (signal.SIGTERM, -signal.SIGTERM, "geokin: terminated\n"),  # ended by the signal
+])
+def test_a_signal_while_writing_a_large_csv_keeps_the_old_file(tmp_path, signum, status,
+                                                                 message):
+    path = tmp_path / "big.csv"
+    old = "theta,valid\n0,1\n"
+    path.write_text(old)
+    process = subprocess.Popen(
+        [sys.executable, "-m", "geokin.cli", "trace", SIXBAR, "--samples", "1000000", "-o",
+         str(path)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+    try:
+        deadline = time.monotonic() + 120
+        while True:  # until the new file is well under way
+            partial = [p for p in tmp_path.iterdir() if p != path]
+            if partial and partial[0].stat().st_size > 1_000_000:
+                break
+            assert process.poll() is None, process.communicate()
+            assert time.monotonic() < deadline
+            time.sleep(0.02)
+        assert partial[0].name.startswith(".big.") and partial[0].name.endswith(".csv")
+        process.send_signal(signum)
+        out, err = process.communicate(timeout=60)
+    finally:
+        process.kill()
+        process.wait()
+    assert (process.returncode, out, err) == (status, "", message)
+    assert path.read_text() == old
+    assert [p.name for p in tmp_path.iterdir()] == ["big.csv"]
+
+
+def test_a_deep_path_is_named_whole_in_an_error(capsys, tmp_path):
+    folder = tmp_path / ("deep" * 30)
+    folder.mkdir()
+    script = folder / "bad.toml"
+    script.write_text('[points]\nA = { op = "fixd", at = [0, 0] }\n')
+    status, _, err = run(capsys, "check", script)
+    assert status == 2 and err.startswith(f"geokin: error: {script}:2: [points] A.op: unknown")
+    status, _, err = run(capsys, "check", folder / "missing.toml")
+    assert err.startswith(f"geokin: error: cannot open '{folder / 'missing.toml'}'")

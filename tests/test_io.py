@@ -488,3 +488,86 @@ def test_written_expressions_parse_back_to_the_same_tree(expr):
 def test_a_script_without_points_is_an_error(text):
     with pytest.raises(ScriptError, match=r"\[points\].*declares no points"):
         loads(text, source="empty.toml")
+
+
+# -- hostile scripts -----------------------------------------------------------------
+
+def test_a_script_larger_than_the_limit_is_refused_before_it_is_read_whole(tmp_path):
+    from geokin.io import MAX_SCRIPT_BYTES
+
+    path = tmp_path / "big.toml"
+    path.write_text(GOOD + "#" * MAX_SCRIPT_BYTES)
+    with pytest.raises(ScriptError, match=r"big\.toml: more than the 4,000,000 bytes"):
+        load(path)
+    with pytest.raises(ScriptError, match="more than the 4,000,000 characters"):
+        loads(GOOD + "#" * MAX_SCRIPT_BYTES)
+    path.write_text(GOOD + "#" * (MAX_SCRIPT_BYTES - len(GOOD) - 1) + "\n")
+    assert load(path).name == "test"  # at the limit, still read
+
+
+@pytest.mark.skipif(not pathlib.Path("/dev/zero").exists(), reason="no /dev/zero")
+def test_a_file_that_never_ends_is_refused():
+    with pytest.raises(ScriptError, match="/dev/zero: more than the 4,000,000 bytes"):
+        load("/dev/zero")
+
+
+def test_a_byte_order_mark_is_skipped(tmp_path):
+    path = tmp_path / "bom.toml"
+    path.write_bytes(b"\xef\xbb\xbf" + GOOD.encode())
+    assert load(path) == loads(GOOD)
+    assert loads("\ufeff" + GOOD) == loads(GOOD)
+    # only at the start: elsewhere it is still an error, on its line
+    assert error_of(GOOD.replace("[links]", "\ufeff[links]")).startswith("sixbar.toml:21: TOML")
+
+
+BIG = 10**400
+
+
+@pytest.mark.parametrize("old, new, place", [
+    ("l2 = 20", f"l2 = {BIG}", "sixbar.toml:6: [parameters] l2: "),
+    ("l2 = 20", f"l2 = {{ value = -{BIG} }}", "sixbar.toml:6: [parameters] l2: "),
+    ("range = [0, 360]", f"range = [0, {BIG}]", "sixbar.toml:12: [inputs] theta.range[1]: "),
+    ("samples = 37", f"samples = {BIG}", "sixbar.toml:13: [inputs] theta.samples: "),
+    ("samples = 37", f"step = {BIG}", "sixbar.toml:13: [inputs] theta.step: "),
+    ("samples = 37", f"samples = 37\nspeed = {BIG}", "sixbar.toml:14: [inputs] theta.speed: "),
+    ("at = [0, 30]", f"at = [{BIG}, 30]", "sixbar.toml:16: [points] A0.at[0]: "),
+    ('branch = "left"', f"near = [0, {BIG}]", "sixbar.toml:19: [points] B.near[1]: "),
+    ('branch = "left"', f"near = [0, 0x{'f' * 5000}]", "sixbar.toml:19: [points] B.near[1]: "),
+])
+def test_an_integer_beyond_float_range_names_its_place(old, new, place):
+    message = error_of(GOOD.replace(old, new))
+    assert message.startswith(place)
+    assert "digits is beyond the range of numbers (±1.8e+308)" in message
+    assert len(message) < 200  # the number itself is not written out
+
+
+def test_an_integer_longer_than_python_reads_names_its_line():
+    message = error_of(GOOD.replace("l4 = 100", "l4 = " + "9" * 5000))
+    assert message == "sixbar.toml:8: a number of more than 4,000 digits"
+
+
+@pytest.mark.parametrize("step", ["1e-320", "5e-300", "1e-5"])
+def test_a_step_too_small_for_the_sample_cap_is_a_script_error(step):
+    message = error_of(GOOD.replace("samples = 37", f"step = {step}"))
+    assert message.startswith("sixbar.toml:13: [inputs] theta.step: ")
+    assert "samples a default sweep may have" in message
+
+
+def test_a_huge_name_is_not_echoed_whole():
+    name = "A" + "x" * 3_000_000  # within the size of a script; ten million are refused
+    message = error_of(GOOD.replace('origin = "A0"', f'origin = "{name}"'))
+    # refused as too long a name, which the message shows cut short
+    assert message.startswith("sixbar.toml:18: [points] A.origin: ")
+    assert "'Axxx" in message and "3,000,001 characters" in message and len(message) < 300
+
+
+@pytest.mark.parametrize("hostile", ["\x1b]0;owned\x07", "\x1b[2J", "a\nb", "\u202etxt.exe",
+                                     "\x9b31m", "\x7f", "\u2028"])
+def test_control_characters_from_a_script_are_escaped_in_errors(hostile):
+    toml = hostile.encode("unicode_escape").decode().replace("\\x", "\\u00")
+    for text in (GOOD.replace('op = "fixed", at = [0, 30]', f'op = "{toml}", at = [0, 30]'),
+                 GOOD.replace("[sliders]", f'[sliders]\n"{toml}" = 1'),
+                 GOOD + f'\n["{toml}"]\nx = 1\n'):
+        message = error_of(text)
+        assert message.isprintable(), message
+        assert hostile not in message

@@ -344,3 +344,171 @@ def test_kinematics_figure_has_angle_velocity_and_acceleration_against_time():
     plt.close(fig)
     with pytest.raises(GeokinError, match="did you mean 'rocker'"):
         figure_kinematics(m, links=["roker"])
+
+
+# -- streamed, whole or nothing -------------------------------------------------------
+
+
+def test_gif_frames_are_what_was_drawn(tmp_path, small_frames, monkeypatch):
+    drawn = []
+    add = gp._GifWriter.add
+    monkeypatch.setattr(gp._GifWriter, "add", lambda self, rgb: (drawn.append(rgb.copy()),
+                                                                 add(self, rgb)))
+    path = gp.animate(sweep(four_bar(), samples(37)), tmp_path / "f.gif", frames=8, fps=20,
+                      progress=False)
+    with Image.open(path) as gif:
+        assert (gif.n_frames, gif.info["loop"]) == (8, 0)
+        for k, expected in enumerate(drawn):
+            gif.seek(k)
+            assert gif.info["duration"] == 50
+            decoded = np.asarray(gif.convert("RGB"), dtype=int)
+            # each frame holds what changed since the last, in a palette of 256 colours
+            assert np.abs(decoded - expected).mean() < 1.0
+    assert not np.array_equal(drawn[0], drawn[-1])
+
+
+def test_gif_writer_writes_each_frame_as_it_comes():
+    stream = io.BytesIO()
+    writer = gp._GifWriter(stream, fps=10)
+    sizes = []
+    rng = np.random.default_rng(0)
+    frame = rng.integers(0, 256, size=(60, 80, 3), dtype=np.uint8) // 64 * 64  # 64 colours
+    for _ in range(4):
+        frame[rng.integers(60), :] = rng.integers(256, size=3)  # a line changes
+        writer.add(frame)
+        sizes.append(stream.tell())
+    writer.finish()
+    assert sizes == sorted(set(sizes))  # bytes out after every frame, none held back
+    assert sizes[1] - sizes[0] < sizes[0] / 4  # a frame after the first: only its change
+    with Image.open(io.BytesIO(stream.getvalue())) as gif:
+        assert gif.n_frames == 4
+        gif.seek(3)
+        assert np.array_equal(np.asarray(gif.convert("RGB")), frame)
+
+
+def test_html_writer_writes_each_frame_as_it_comes():
+    stream = io.BytesIO()
+    writer = gp._PageWriter(stream, 25, "<b>crank</b> \x1b[2J", (80, 60), 3)
+    sizes = [stream.tell()]
+    for level in (0, 128, 255):
+        writer.add(np.full((60, 80, 3), level, np.uint8))
+        sizes.append(stream.tell())
+    writer.finish()
+    page = stream.getvalue().decode()
+    assert sizes == sorted(set(sizes))
+    assert page.count("data:image/png;base64,") == 3 and page.rstrip().endswith("</html>")
+    assert "<title>&lt;b&gt;crank&lt;/b&gt; \\x1b[2J</title>" in page
+    assert "var interval = 40;" in page
+
+
+@pytest.mark.parametrize("suffix", [".gif", ".html"])
+def test_an_animation_that_would_not_fit_on_the_disk_is_refused_up_front(
+        tmp_path, monkeypatch, suffix):
+    class Usage:
+        free = 1_000_000
+
+    monkeypatch.setattr(gp.shutil, "disk_usage", lambda folder: Usage)
+    drawn = []
+    monkeypatch.setattr(gp._Scene, "update", lambda self, *a, **k: drawn.append(a))
+    with pytest.raises(GeokinError) as error:
+        gp.animate(sweep(four_bar(), samples(3000)), tmp_path / f"big{suffix}", frames=3000)
+    message = str(error.value)
+    assert "an animation of 3,000 frames of 800 x 600 pixels needs about" in message
+    assert "but only 1 MB are free there; ask for fewer frames" in message
+    assert drawn == [] and list(tmp_path.iterdir()) == []
+
+
+def test_an_animation_that_would_not_fit_in_memory_is_refused_up_front(tmp_path, monkeypatch):
+    monkeypatch.setattr(gp, "_available_memory", lambda: 5_000_000)
+    with pytest.raises(GeokinError, match=r"of memory are available; ask for fewer samples"):
+        gp.animate(sweep(four_bar(), samples(30)), tmp_path / "a.gif", frames=3)
+    assert list(tmp_path.iterdir()) == []
+    file_bytes, memory_bytes = gp.animation_estimate(10, 800, 600, ".gif", samples=10**6,
+                                                     traces=2)
+    assert memory_bytes > 96e6  # the traced paths count, not only the frame
+
+
+@pytest.mark.parametrize("suffix", [".gif", ".html"])
+def test_an_interrupted_animation_leaves_the_old_file(tmp_path, small_frames, monkeypatch,
+                                                      suffix):
+    path = tmp_path / f"old{suffix}"
+    path.write_bytes(b"the old animation")
+    count = []
+
+    def update(self, index, grow=False):
+        count.append(index)
+        if len(count) == 3:
+            raise KeyboardInterrupt
+
+    monkeypatch.setattr(gp._Scene, "update", update)
+    with pytest.raises(KeyboardInterrupt):
+        gp.animate(sweep(four_bar(), samples(37)), path, frames=10, progress=False)
+    assert path.read_bytes() == b"the old animation"
+    assert [p.name for p in tmp_path.iterdir()] == [path.name]
+
+
+def test_a_failing_save_leaves_the_old_picture(tmp_path, monkeypatch):
+    fig, _ = gp.figure_mechanism(sweep(four_bar(), samples(5)))
+    path = tmp_path / "old.png"
+    path.write_bytes(b"the old picture")
+
+    def savefig(stream, **kwargs):
+        stream.write(b"\x89PNG half")
+        raise OSError("disk full")
+
+    monkeypatch.setattr(fig, "savefig", savefig)
+    with pytest.raises(OSError, match="disk full"):
+        gp.save(fig, path)
+    assert path.read_bytes() == b"the old picture"
+    assert [p.name for p in tmp_path.iterdir()] == ["old.png"]
+
+
+def test_fps_outside_what_a_gif_can_hold(tmp_path):
+    for fps in (1e-300, 0.001, 101, 1e300, float("nan")):
+        with pytest.raises(GeokinError, match="fps must be a number from 0.01 to 100"):
+            gp.animate(sweep(four_bar(), samples(5)), tmp_path / "a.gif", fps=fps)
+
+
+def test_a_title_is_text_not_mathtext_nor_terminal_codes(tmp_path):
+    c = four_bar()
+    c.name = r"$\frac$ costs 5$ and \x1b[2J" + "\x1b[2J" + "x" * 1000
+    fig, ax = gp.figure_mechanism(sweep(c, samples(5)))
+    gp.save(fig, tmp_path / "title.png")  # "$\frac$" would stop mathtext
+    title = ax.get_title()
+    assert title.startswith(r"$\frac$ costs 5$ and \x1b[2J\x1b[2Jxxx") and title.isprintable()
+    assert title.endswith("[1,032 characters]")
+
+
+@pytest.fixture
+def fake_ffmpeg(tmp_path, monkeypatch):
+    """An ffmpeg that copies the raw frames it is given to its output file, or fails."""
+    def install(script):
+        program = tmp_path / "bin" / "ffmpeg"
+        program.parent.mkdir(exist_ok=True)
+        program.write_text("#!/bin/sh\n" + script)
+        program.chmod(0o755)
+        monkeypatch.setitem(matplotlib.rcParams, "animation.ffmpeg_path", str(program))
+    return install
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="a shell script stands for ffmpeg")
+def test_mp4_frames_go_to_ffmpeg_and_its_file_into_place(tmp_path, small_frames, fake_ffmpeg):
+    fake_ffmpeg('for last; do :; done\ncat > "$last"\n')
+    path = tmp_path / "old.mp4"
+    path.write_bytes(b"the old movie")
+    gp.animate(sweep(four_bar(), samples(37)), path, frames=5, progress=False)
+    width, height = 200, 150  # 8 x 6 inches at 25 dpi
+    assert path.stat().st_size == 5 * width * height * 4  # five RGBA frames
+    assert [p.name for p in tmp_path.iterdir() if p.is_file()] == ["old.mp4"]
+
+
+@pytest.mark.skipif(sys.platform == "win32", reason="a shell script stands for ffmpeg")
+def test_a_failing_ffmpeg_is_an_error_and_leaves_the_old_file(tmp_path, small_frames,
+                                                              fake_ffmpeg):
+    fake_ffmpeg("echo 'Unknown encoder libx264' >&2\nexit 1\n")
+    path = tmp_path / "old.mp4"
+    path.write_bytes(b"the old movie")
+    with pytest.raises(GeokinError, match=r"ffmpeg stopped with status 1: Unknown encoder"):
+        gp.animate(sweep(four_bar(), samples(37)), path, frames=5, progress=False)
+    assert path.read_bytes() == b"the old movie"
+    assert [p.name for p in tmp_path.iterdir() if p.is_file()] == ["old.mp4"]
