@@ -26,10 +26,11 @@ Branch rules
    node's scale of each other: they meet there.
 4. Roots that meet at a sample (within :data:`MEET_RTOL`) meet there: the
    node changes branch after that sample if it can be assembled at the
-   samples on both sides (a graze on the path, or a toggle where the path
-   turns back). Roots meeting at the first or the last sample, or next to a
-   sample that cannot be assembled, change nothing; roots that stay together
-   over several samples count as one meeting at the last of them.
+   samples on both sides and the path goes on through the sample; where the
+   path turns back there, it keeps its branch, as it does turning back just
+   short of the meeting. Roots meeting at the first or the last sample, or
+   next to a sample that cannot be assembled, change nothing; consecutive
+   samples between which the roots stay together count as one meeting.
 5. Where a node cannot be assembled, the sample is invalid and the failing
    node and the reason are recorded. Beyond the gap the node resumes on the
    branch it had before the gap: an assembly mode is never reset silently.
@@ -690,7 +691,16 @@ class _Tracker:
         inner = self._meetings_inside(position, doubtful,
                                       np.maximum(pieces[doubtful], 2).astype(np.int64),
                                       reach[doubtful], apart, at_sample)
-        flip_after = _flips_at_samples(at_sample, present)
+        # consecutive meeting samples are one meeting where the roots stay together
+        # between them (looked at off the middle, where a meeting of its own would hide
+        # their parting), and two where they part
+        together = np.zeros(n - 1, dtype=bool)
+        pairs = np.flatnonzero(at_sample[:-1] & at_sample[1:])
+        if pairs.size:
+            inner_apart = self._apart(position, np.concatenate([pairs, pairs]),
+                                      np.repeat([0.382, 0.618], pairs.size))
+            together[pairs] = ~(inner_apart > MEET_RTOL).reshape(2, -1).any(axis=0)
+        flip_after = _flips_at_samples(at_sample, present, together, self.inputs)
         flips = flip_after[:-1].astype(np.int64)
         if inner.size:
             np.add.at(flips, np.floor(inner).astype(np.int64), 1)
@@ -890,20 +900,29 @@ def _node_scale(cand, n) -> float:
     return 1.0
 
 
-def _flips_at_samples(at_sample, present):
+def _flips_at_samples(at_sample, present, together, inputs):
     """Return where meetings at samples change the branch.
 
-    That is after the last sample of each run of meeting samples, between
-    samples where the node can be assembled.
+    Meeting samples joined by steps along which the roots stay together
+    (``together``, per step) are one meeting. Its branch changes after its
+    last sample if the node can be assembled at the samples on both sides
+    and the path goes on through it; where the path turns back there (its
+    steps before and after point opposite ways), the branch is kept, as it
+    is when the path turns back just short of the meeting.
     """
     n = at_sample.size
     flip = np.zeros(n, dtype=bool)
     if not at_sample.any():
         return flip
-    edges = np.diff(np.concatenate([[0], at_sample.astype(np.int8), [0]]))
-    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
+    joined = np.zeros(n, dtype=bool)  # sample i continues the meeting of sample i - 1
+    joined[1:] = at_sample[1:] & at_sample[:-1] & together
+    starts = np.flatnonzero(at_sample & ~joined)
+    ends = np.flatnonzero(at_sample & ~np.append(joined[1:], False))
     ok = (starts >= 1) & (ends <= n - 2)
     starts, ends = starts[ok], ends[ok]
     ok = present[starts - 1] & present[ends + 1]
-    flip[ends[ok]] = True
+    starts, ends = starts[ok], ends[ok]
+    onwards = sum((values[starts] - values[starts - 1]) * (values[ends + 1] - values[ends])
+                  for values in inputs.values())
+    flip[ends[~(np.asarray(onwards) < 0)]] = True
     return flip

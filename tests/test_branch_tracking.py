@@ -239,21 +239,27 @@ def test_a_swing_that_turns_back_short_of_the_toggle_keeps_its_branch():
     np.testing.assert_allclose(s["B"], closed_form_left(theta, 10, 8, 3, 9), atol=1e-9)
 
 
-def test_a_swing_that_reaches_the_toggle_at_a_sample_passes_it():
+def test_a_swing_that_turns_back_exactly_at_the_toggle_keeps_its_branch():
     # a Grashof double-rocker (ground 4, input 3, coupler 1.5, output 3.5) whose input
-    # reaches its toggle at 90 degrees, where |A - O4| = 5 = coupler + output
+    # reaches its toggle at 90 degrees, where |A - O4| = 5 = coupler + output: turning
+    # back there is the limit of turning back just short of it
     g, a, b, c = 4, 3, 1.5, 3.5
-    theta = np.r_[np.arange(80, 90, 1.0), 90, np.arange(89, 79, -1.0)] * DEG
-    s = sweep(fourbar(g, a, b, c), theta)
-    assert s.valid.all()
-    turn = 10
-    assert [(e.node, e.index) for e in s.events] == [("B", turn + 1)]
-    left = closed_form_left(theta, g, a, b, c)
-    np.testing.assert_allclose(s["B"][:turn + 1], left[:turn + 1], atol=1e-6)
-    # back on the other branch: the mirror image of the left root in the line A -> O4
-    assert (np.hypot(*(s["B"][turn + 1:] - left[turn + 1:]).T) > 1e-2).all()
-    for p, q, length in (("A", "B", b), ("O4", "B", c)):
-        np.testing.assert_allclose(np.hypot(*(s[p] - s[q]).T), length, rtol=1e-12)
+    for top in (90 - 1e-9, 90 - 1e-13, 90):
+        theta = np.r_[np.arange(80, 90, 1.0), top, np.arange(89, 79, -1.0)] * DEG
+        s = sweep(fourbar(g, a, b, c), theta)
+        assert s.valid.all() and s.events == []
+        np.testing.assert_allclose(s["B"], closed_form_left(theta, g, a, b, c), atol=1e-6)
+
+
+def test_a_path_through_a_graze_at_a_sample_changes_branch_there():
+    # the parallelogram crossing its change point exactly at a sample, onwards
+    theta = np.radians([150.0, 180.0, 210.0])
+    s = sweep(parallelogram(), theta)
+    assert [(e.index, e.fraction) for e in s.events] == [(2, 0.0)]
+    assert on_the_parallelogram(s).all()
+    # and turning back there: the parallelogram retraces its path
+    back = sweep(parallelogram(), np.radians([150.0, 180.0, 150.0]))
+    assert back.events == [] and on_the_parallelogram(back).all()
 
 
 def test_a_swing_that_turns_back_at_the_limit_found_keeps_its_branch():
@@ -279,6 +285,18 @@ def test_a_change_point_between_the_first_two_samples_is_passed():
     assert on_the_parallelogram(s).all()
     assert [e.index for e in s.events] == [1, 181]
     assert all(abs(e.fraction - 0.1) < 1e-4 for e in s.events)
+
+
+@pytest.mark.parametrize("degrees", [[90, 360, 450], [90, 180, 360, 450], [90, 180, 540, 630],
+                                     [0, 180, 360], [180, 180, 360, 360, 450],
+                                     [90, 180, 90, 180, 270]])
+def test_change_points_at_consecutive_samples_are_each_passed(degrees):
+    theta = np.radians(degrees)
+    s = sweep(parallelogram(), theta)
+    if degrees[0] % 180:  # started off a change point, on the parallelogram
+        assert on_the_parallelogram(s).all()
+    fine = sweep(parallelogram(), dense(theta))
+    np.testing.assert_allclose(s["B"], fine["B"][::200], atol=1e-9)
 
 
 @pytest.mark.parametrize("step", [60.0, 90.0, 170.0])
