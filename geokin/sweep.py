@@ -841,7 +841,7 @@ class _Tracker:
         np.maximum.at(g_high, group, high)
         g_owned = np.zeros(count, dtype=bool)
         np.logical_or.at(g_owned, group, owned)
-        keep = (g_low > 0) & (g_high < 1) & ~g_owned
+        keep = ~g_owned
         return np.sort(g_step[keep] + 0.5 * (g_low[keep] + g_high[keep]))
 
     def _apart(self, position, step, fraction):

@@ -416,3 +416,14 @@ def test_roots_meeting_at_the_first_or_last_sample_change_nothing(kind):
     assert forwards.events == [] and backwards.events == []
     assert (forwards.branch_names("X") == branch).all()
     assert (backwards.branch_names("X") == branch).all()
+
+
+def test_a_meeting_within_rounding_distance_of_a_sample_but_not_at_it_counts():
+    # the parallelogram (ground 6, crank 2, coupler 6, rocker 2) starting 2**-14 degrees
+    # short of its change point: the roots there are 2e-7 of the scale apart, just
+    # outside the tolerance, and meet 6e-5 of the step later
+    c = fourbar(6.0, 2.0, 6.0, 2.0)
+    theta = np.pi - 2.0**-14 * DEG + np.radians([0.0, 1.0])
+    s = sweep(c, theta)
+    assert len(s.events) == 1 and 0 < s.events[0].fraction < 1e-4
+    np.testing.assert_allclose(s["B"], s["A"] + [6.0, 0.0], atol=1e-9)
