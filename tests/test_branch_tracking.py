@@ -426,4 +426,6 @@ def test_a_meeting_within_rounding_distance_of_a_sample_but_not_at_it_counts():
     theta = np.pi - 2.0**-14 * DEG + np.radians([0.0, 1.0])
     s = sweep(c, theta)
     assert len(s.events) == 1 and 0 < s.events[0].fraction < 1e-4
-    np.testing.assert_allclose(s["B"], s["A"] + [6.0, 0.0], atol=1e-9)
+    # at the first sample the roots are 2e-7 of the scale apart: either is that close
+    np.testing.assert_allclose(s["B"][0], s["A"][0] + [6.0, 0.0], atol=1e-6)
+    np.testing.assert_allclose(s["B"][1], s["A"][1] + [6.0, 0.0], atol=1e-9)
