@@ -18,7 +18,7 @@ holds the whole closed coupler curve of that circuit with its input history.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -269,7 +269,7 @@ def limits(construction, input: str | None = None, *, range=None,
     if turn and ok[0] and ok[-1] and len(intervals) > 1:
         # the stretches through both ends of the turn are one interval
         last_lo, first_hi = intervals[-1][0], intervals[0][1]
-        wrapped = (Limit(last_lo.value - 2 * np.pi, last_lo.node, last_lo.kind), first_hi)
+        wrapped = (replace(last_lo, value=last_lo.value - 2 * np.pi), first_hi)
         intervals = [wrapped, *intervals[1:-1]]
     return Limits(name, intervals, False, held_branches)
 
@@ -415,11 +415,12 @@ def _through_toggle(compiled, name, held, labels, limit: Limit) -> dict:
     """
     before = _evaluate_at(compiled, name, [limit.value], held, labels)
     after = dict(labels)
-    for node in limit.nodes or (limit.node,):
+    toggled = limit.nodes or (limit.node,)
+    for node in toggled:
         after[node] ^= 1
     for step in compiled.steps:
         node = step.node.name
-        if step.node.roots != 2 or node in limit.nodes or not np.isfinite(
+        if step.node.roots != 2 or node in toggled or not np.isfinite(
                 before[node][0]).all():
             continue
         choices = []

@@ -77,6 +77,11 @@ EDGE_WIDTH = 2.0**-44
 is located inside a step, as a fraction of the step: about the rounding of
 the inputs."""
 
+PIECES_PER_BLOCK = 2**15
+"""How many pieces of doubtful steps are evaluated together, at most (about;
+one step's pieces stay together): memory stays bounded however coarse and
+long the sweep."""
+
 MAX_HALVINGS = 60
 """How often a doubtful piece of a step may be halved; what is still open
 then lies within rounding of the inputs, and counts as a meeting."""
@@ -431,6 +436,8 @@ def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
             else:
                 if branches is not None and node.name in branches:
                     label = branches[node.name]
+                    if tracker is not None:  # held: later nodes see it between samples too
+                        tracker.labels[node.name] = label
                 else:
                     start = _initial_label(node, cand, n, (initial or {}).get(node.name))
                     if tracker is None:
@@ -606,6 +613,7 @@ class _Tracker:
         # how far the path moves in each step, all inputs together, and where it turns
         travel = None
         self.turning = np.zeros(n - 1, dtype=bool) if n > 2 else np.ones(n - 1, dtype=bool)
+        self.finite = np.ones(n - 1, dtype=bool)  # steps between finite inputs
         for name, values in self.inputs.items():
             step = np.diff(values)
             low, high = step.min(), step.max()
@@ -613,8 +621,15 @@ class _Tracker:
                 moved = step if low >= 0 else -step
             else:
                 moved = np.abs(step)
-                turns = np.flatnonzero(step[1:] * step[:-1] < 0)
-                self.turning[turns] = self.turning[turns + 1] = True
+                if not np.isfinite(moved).all():
+                    self.finite &= np.isfinite(moved)
+                    moved = np.where(self.finite, moved, 0.0)
+                # where a step goes the other way from the last step that moved, the
+                # path turns back (repeated samples in between or not)
+                moving = np.flatnonzero(moved > 0)
+                sign = np.sign(step[moving])
+                turns = np.flatnonzero(sign[1:] * sign[:-1] < 0)
+                self.turning[moving[turns]] = self.turning[moving[turns + 1]] = True
             travel = moved if travel is None else travel + moved
             if compiled.inputs[name].kind == "angle":
                 self.angle_steps = moved if self.angle_steps is None else np.fmax(
@@ -685,12 +700,18 @@ class _Tracker:
             pieces = np.fmax(pieces, np.ceil(self.length_steps
                                              / (LENGTH_RESOLUTION / 2 * scale)))
             coarse = coarse | (pieces > 1)
-        doubtful = np.flatnonzero((both & ~settled) | edge | coarse)
+        doubtful = np.flatnonzero(((both & ~settled) | edge | coarse) & self.finite)
         at_sample = present & (apart <= MEET_RTOL)
-        # each doubtful step is looked into at two pieces at least
-        inner = self._meetings_inside(position, doubtful,
-                                      np.maximum(pieces[doubtful], 2).astype(np.int64),
-                                      reach[doubtful], apart, at_sample)
+        # each doubtful step is looked into at two pieces at least, so many steps at a
+        # time that their pieces stay within a block of memory
+        pieces = np.maximum(pieces[doubtful], 2).astype(np.int64)
+        block = np.cumsum(pieces) // PIECES_PER_BLOCK
+        cuts = np.flatnonzero(np.diff(block)) + 1
+        inner = np.concatenate([np.empty(0)] + [
+            self._meetings_inside(position, steps, counts, reach[steps], apart, at_sample)
+            for steps, counts in zip(np.split(doubtful, cuts), np.split(pieces, cuts),
+                                     strict=True) if steps.size])
+        inner.sort()
         # consecutive meeting samples are one meeting where the roots stay together
         # between them (looked at off the middle, where a meeting of its own would hide
         # their parting), and two where they part
@@ -770,9 +791,10 @@ class _Tracker:
             edge_step.append(step[found])
             edge_low.append(low[found])
             edge_high.append(high[found])
-            # a piece at the inputs' rounding that is not settled apart meets
-            meet |= present & ~settled & (high - low <= EDGE_WIDTH)
-            open_ = (present & ~meet & ~settled) | (straddling & ~found)
+            # a piece at the inputs' rounding is decided: it meets only if the roots
+            # are within the tolerance at one of its ends
+            open_ = (present & ~meet & ~settled & (high - low > EDGE_WIDTH)) | (
+                straddling & ~found)
             found_step.append(step[meet])
             found_low.append(low[meet])
             found_high.append(high[meet])
@@ -873,8 +895,10 @@ class _Tracker:
         label = self.labels[name]
         if np.ndim(label) == 0:
             return label
-        label = label[step] ^ self.flip_after[name][step]
-        meetings = self.meetings[name]
+        label = np.asarray(label)[step]
+        if name in self.flip_after:
+            label = label ^ self.flip_after[name][step]
+        meetings = self.meetings.get(name, np.empty(0))
         if meetings.size:
             before = (np.searchsorted(meetings, step + fraction)
                       - np.searchsorted(meetings, step.astype(float)))

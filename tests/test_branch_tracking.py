@@ -307,10 +307,10 @@ def test_every_change_point_is_passed_at_coarse_steps(step):
     assert len(s.events) == int((theta[-1] / DEG) // 180)
 
 
-def peaucellier():
+def peaucellier(turn=(-np.pi / 2, np.pi / 2)):
     """A Peaucellier-Lipkin inversor: its two dyads A, B reach their toggles together."""
     c = Construction("inversor")
-    c.input("theta", range=(-np.pi / 2, np.pi / 2))
+    c.input("theta", range=turn)
     c.fixed("O", 0, 0)
     c.fixed("C", 2.5, 0)
     c.polar("Q", "C", 2.5, "theta")
@@ -429,3 +429,52 @@ def test_a_meeting_within_rounding_distance_of_a_sample_but_not_at_it_counts():
     # at the first sample the roots are 2e-7 of the scale apart: either is that close
     np.testing.assert_allclose(s["B"][0], s["A"][0] + [6.0, 0.0], atol=1e-6)
     np.testing.assert_allclose(s["B"][1], s["A"][1] + [6.0, 0.0], atol=1e-9)
+
+
+def test_a_slider_crank_with_equal_crank_and_rod_passes_its_change_point():
+    # crank = rod: the block's two roots meet where the crank stands upright; the
+    # smooth motion there is the block's folding through the pivot (x = 2 r cos theta)
+    r = 2.789327214550029
+    c = Construction()
+    c.input("theta")
+    c.fixed("O", 0, 0)
+    c.fixed("P", -100, 0)
+    c.fixed("Q", 100, 0)
+    c.polar("A", "O", r, "theta")
+    c.line_circle("B", ("P", "Q"), "A", r, branch="second")
+    for theta in (np.radians(np.linspace(-81.4067157741687, -91.8858056090682, 201)),
+                  np.radians(np.linspace(60, 120, 3)), np.radians([60, 100, 89, 130])):
+        s = sweep(c, theta)
+        np.testing.assert_allclose(s["B"][:, 0], 2 * r * np.cos(theta), atol=1e-6)
+
+
+@pytest.mark.parametrize("degrees", [[-1, 1, 1, -1], [-1, 1, 1, -1, -1, 1], [1, -1, -1, -1, 1]])
+def test_repeated_samples_do_not_hide_where_the_path_turns_back(degrees):
+    theta = np.radians(degrees)
+    s = sweep(parallelogram(), theta)
+    fine = sweep(parallelogram(), dense(theta))
+    np.testing.assert_allclose(s["B"], fine["B"][::200], atol=1e-9)
+    assert len(s.events) == len(fine.events)
+
+
+def test_inputs_that_are_not_finite_are_samples_that_cannot_be_assembled():
+    for values in ([0.1, np.nan, 0.3, 0.4], [0.1, 0.2, 0.3, np.nan], [0.1, np.inf, 0.3]):
+        s = sweep(fourbar(), values)
+        assert list(s.valid) == list(np.isfinite(values)) and s.events == []
+
+
+def test_held_branches_are_seen_between_samples_by_later_nodes():
+    from geokin.sweep import evaluate
+
+    c = sixbar()
+    theta = {"theta": np.linspace(0, 10 * np.pi, 7)}
+    held = evaluate(c, theta, 7, branches={"B": 0})
+    free = sweep(c, theta["theta"])
+    np.testing.assert_allclose(held["M"], free["M"], atol=1e-9)
+
+
+def test_a_circuit_across_the_ends_of_the_turn_passes_both_dyads():
+    c = peaucellier(turn=(0.0, 2 * np.pi))
+    found = limits(c)
+    assert all(set(end.nodes) == {"A", "B"} for pair in found.intervals for end in pair)
+    assert circuit(c).valid.all()
