@@ -1201,8 +1201,8 @@ def _check_samples(samples, *, node, field):
         raise ConstructionError(f"samples must be an integer of at least 2, got {show(samples)}",
                                 node=node, field=field)
     if samples > MAX_SAMPLES:
-        raise ConstructionError(f"{show(samples)} samples is more than the {MAX_SAMPLES:,} a "
-                                "default sweep may have", node=node, field=field)
+        raise ConstructionError(f"a default sweep may have at most {MAX_SAMPLES:,} samples, "
+                                f"got {show(samples)}", node=node, field=field)
 
 
 def _pair_of_numbers(value, *, node, field) -> tuple[float, float]:
