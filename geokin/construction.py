@@ -719,7 +719,8 @@ class Construction:
             value = float(number.evaluate({}))
         if not np.isfinite(value):
             raise ConstructionError(f"a parameter's value must be a finite number; "
-                                    f"{str(number)!r} is {value}", node=name, field="value")
+                                    f"{quote(str(number), 60)} is {value}", node=name,
+                                    field="value")
         self.parameters[name] = Parameter(name, value, description)
 
     def input(self, name: str, kind: str = "angle", range: Sequence[float] | None = None,
@@ -999,7 +1000,7 @@ class Construction:
         if branch is not None and branch not in names:
             raise ConstructionError(f"unknown branch {show(branch)} for {kind}; use "
                                     f"{' or '.join(map(repr, names))}"
-                                    f"{did_you_mean(str(branch), names)}",
+                                    f"{did_you_mean(branch, names)}",
                                     node=node, field="branch")
         if near is not None:
             near = _pair_of_numbers(near, node=node, field="near")
