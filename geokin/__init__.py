@@ -17,7 +17,14 @@ array([[10.,  0.],
 """
 
 from .construction import Compiled, Construction, Input, Link, Parameter, Slider
-from .errors import AnalysisError, AssemblyError, ConstructionError, GeokinError, ScriptError
+from .errors import (
+    AnalysisError,
+    AssemblyError,
+    BudgetError,
+    ConstructionError,
+    GeokinError,
+    ScriptError,
+)
 from .io import dump, load, loads
 from .kinematics import Motion, motion
 from .limits import Limits, circuit, limits
@@ -27,6 +34,7 @@ from .sweep import BranchEvent, Sweep, sweep
 __all__ = [
     "AnalysisError",
     "AssemblyError",
+    "BudgetError",
     "BranchEvent",
     "Compiled",
     "Construction",

@@ -35,6 +35,7 @@ geokin.errors.BudgetError: a sweep of 2,000 points x 1,000,000 samples needs abo
 
 from __future__ import annotations
 
+import functools
 import os
 
 from .errors import BudgetError
@@ -82,11 +83,13 @@ BYTES_PER_SAMPLE = 64
 validity, failing step and reason, and the branch labels."""
 
 
+@functools.cache
 def physical_memory() -> int:
     """Return the memory this process can use at most, in bytes.
 
     The physical memory, or a container's (cgroup) memory limit when that is
-    lower; :data:`FALLBACK_MEMORY` where neither can be read.
+    lower; :data:`FALLBACK_MEMORY` where neither can be read. Read once, so
+    checking a budget before every sweep costs nothing.
 
     Examples
     --------

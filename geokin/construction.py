@@ -719,7 +719,8 @@ class Construction:
             value = float(number.evaluate({}))
         if not np.isfinite(value):
             raise ConstructionError(f"a parameter's value must be a finite number; "
-                                    f"{str(number)!r} is {value}", node=name, field="value")
+                                    f"{quote(str(number), 60)} is {value}", node=name,
+                                    field="value")
         self.parameters[name] = Parameter(name, value, description)
 
     def input(self, name: str, kind: str = "angle", range: Sequence[float] | None = None,
@@ -999,7 +1000,7 @@ class Construction:
         if branch is not None and branch not in names:
             raise ConstructionError(f"unknown branch {show(branch)} for {kind}; use "
                                     f"{' or '.join(map(repr, names))}"
-                                    f"{did_you_mean(str(branch), names)}",
+                                    f"{did_you_mean(branch, names)}",
                                     node=node, field="branch")
         if near is not None:
             near = _pair_of_numbers(near, node=node, field="near")
@@ -1201,8 +1202,8 @@ def _check_samples(samples, *, node, field):
         raise ConstructionError(f"samples must be an integer of at least 2, got {show(samples)}",
                                 node=node, field=field)
     if samples > MAX_SAMPLES:
-        raise ConstructionError(f"{show(samples)} samples is more than the {MAX_SAMPLES:,} a "
-                                "default sweep may have", node=node, field=field)
+        raise ConstructionError(f"a default sweep may have at most {MAX_SAMPLES:,} samples, "
+                                f"got {show(samples)}", node=node, field=field)
 
 
 def _pair_of_numbers(value, *, node, field) -> tuple[float, float]:

@@ -146,22 +146,36 @@ def show(value, limit: int = SHOWN_CHARACTERS) -> str:
     >>> show(16 ** 5000)
     'an integer of 6,021 digits'
     >>> show([0, 10 ** 5000])
-    'a list of 2 items'
+    '[0, an integer of 5,001 digits]'
     >>> show(list(range(100)))
     'a list of 100 items'
     """
     if isinstance(value, str):
         return quote(value, limit)
     if isinstance(value, int) and not isinstance(value, bool) and value.bit_length() > 3 * limit:
-        return f"an integer of {int(value.bit_length() * 0.3010299956639812) + 1:,} digits"
-    if isinstance(value, list | tuple) and len(value) > 8:
-        return f"a {type(value).__name__} of {len(value):,} items"
+        return _big_integer(value)
+    if isinstance(value, list | tuple):
+        items = [show(v, limit) for v in value[:9]]
+        if len(items) > 8 or sum(map(len, items)) > 2 * limit:
+            return f"a {type(value).__name__} of {len(value):,} items"
+        text = ", ".join(items)
+        return f"[{text}]" if isinstance(value, list) else f"({text}{',' * (len(items) == 1)})"
     try:
         text = repr(value)
     except Exception:  # noqa: BLE001 - a message must not fail on a strange value
-        size = f" of {len(value):,} items" if isinstance(value, list | tuple) else ""
-        return f"a {type(value).__name__}{size}"
+        return f"a {type(value).__name__}"
     return text if len(text) <= 2 * limit else f"{text[:2 * limit]}... (a {type(value).__name__})"
+
+
+def _big_integer(value: int) -> str:
+    """Describe a large integer by its number of digits, without printing it."""
+    bits = value.bit_length()
+    digits = int(bits * 0.3010299956639812) + 1  # or one more than there are
+    if bits > 100_000:  # counting exactly would take longer than a message should
+        return f"an integer of about {digits:,} digits"
+    if abs(value) < 10 ** (digits - 1):
+        digits -= 1
+    return f"an integer of {digits:,} digits"
 
 
 def closest_name(name: str, candidates: Iterable[str]) -> str | None:

@@ -113,7 +113,7 @@ are subnormal or their differences overflow; where a difference overflows,
 the answer is NaN, never a wrong number."""
 
 _CC_WINDOW = (1e-130, 1e130)  # circle_circle: scale, whose square must be normal
-_LC_WINDOW = (1e-140, 1e140)  # line_circle: squared scale, whose square must be normal
+_LC_WINDOW = (1e-140, 1e140)  # line_circle: squared length, and squared scale below
 _LL_WINDOW = (1e-140, 1e140)  # line_line: squared lengths, whose product must be normal
 _RP_WINDOW = (1e-280, 1e280)  # relative_point: squared length
 
@@ -123,19 +123,24 @@ _PLAIN = (float, int)
 
 
 def _within(quantity, window) -> bool:
-    """Whether every non-NaN element of ``quantity`` lies inside ``window``."""
+    """Whether every non-NaN element of ``quantity`` lies inside ``window``.
+
+    A window ``(None, high)`` has no lower end, and costs one reduction.
+    """
     if type(quantity) is np.ndarray and quantity.ndim:
         if quantity.size == 0:
             return True
-        low = np.fmin.reduce(quantity, axis=None)
+        low = None if window[0] is None else np.fmin.reduce(quantity, axis=None)
         high = np.fmax.reduce(quantity, axis=None)
     else:
         low = high = quantity
-    return not (low < window[0] or high > window[1])
+    return not ((window[0] is not None and low < window[0]) or high > window[1])
 
 
 def _outside(quantity, window, shape):
     """Return the mask, broadcast to ``shape``, of elements outside ``window``."""
+    if window[0] is None:
+        return np.broadcast_to(quantity > window[1], shape)
     return np.broadcast_to((quantity < window[0]) | (quantity > window[1]), shape)
 
 
@@ -252,16 +257,14 @@ def _nonnegative(r) -> bool:
 
 
 def _line_circle(x1, y1, dx, dy, wx, wy, r):
-    """Compute :func:`line_circle_xy`; also return the squared scale to check it on."""
+    """Compute :func:`line_circle_xy`; also return the squared length and scale to check."""
     length_sq = dx * dx + dy * dy
     # t of the foot of the perpendicular from the centre, and the centre's offset
     t_foot = (wx * dx + wy * dy) / length_sq
     offset_sq = (wy * dx - wx * dy) ** 2 / length_sq
     r_sq = r * r
     half_chord_sq = r_sq - offset_sq
-    # fmax: a zero or overflowing length_sq makes t_foot and offset_sq NaN, and
-    # the scale must then still show how small or large the configuration is
-    scale_sq = np.fmax(np.fmax(r_sq, offset_sq), np.fmax(t_foot * t_foot, 1.0) * length_sq)
+    scale_sq = np.maximum(np.maximum(r_sq, offset_sq), np.maximum(t_foot * t_foot, 1.0) * length_sq)
     margin = np.where(length_sq > DEGENERATE_RTOL**2 * scale_sq, half_chord_sq / scale_sq, np.nan)
     if not _nonnegative(r):
         margin = np.where(r >= 0, margin, np.nan)
@@ -270,13 +273,14 @@ def _line_circle(x1, y1, dx, dy, wx, wy, r):
     dt = np.sqrt(np.where(meet, np.maximum(half_chord_sq, 0.0), np.nan) / length_sq)
     ta = t_foot - dt
     tb = t_foot + dt
-    return (x1 + ta * dx, y1 + ta * dy, x1 + tb * dx, y1 + tb * dy, ta, tb, margin), scale_sq
+    outputs = (x1 + ta * dx, y1 + ta * dy, x1 + tb * dx, y1 + tb * dy, ta, tb, margin)
+    return outputs, length_sq, scale_sq
 
 
 def _line_circle_rescaled(x1, y1, dx, dy, wx, wy, r):
     s = _power_of_two(dx, dy, wx, wy, r)
-    (xa, ya, xb, yb, ta, tb, margin), _ = _line_circle(0.0, 0.0, dx / s, dy / s, wx / s,
-                                                       wy / s, r / s)
+    (xa, ya, xb, yb, ta, tb, margin), _, _ = _line_circle(0.0, 0.0, dx / s, dy / s, wx / s,
+                                                          wy / s, r / s)
     return x1 + xa * s, y1 + ya * s, x1 + xb * s, y1 + yb * s, ta, tb, margin
 
 
@@ -307,12 +311,15 @@ def line_circle_xy(x1, y1, x2, y2, cx, cy, r):
         dx = np.float64(dx)
     wx = cx - x1
     wy = cy - y1
-    outputs, scale_sq = _line_circle(x1, y1, dx, dy, wx, wy, r)
-    if _within(scale_sq, _LC_WINDOW):
+    outputs, length_sq, scale_sq = _line_circle(x1, y1, dx, dy, wx, wy, r)
+    # the scale is at least the length: within the window, nothing underflows; a
+    # length that overflows or vanishes can make the scale NaN, so it is checked first
+    below = (None, _LC_WINDOW[1])
+    if _within(length_sq, _LC_WINDOW) and _within(scale_sq, below):
         return outputs
     shape = np.shape(outputs[0])
-    return _patch(outputs, _outside(scale_sq, _LC_WINDOW, shape), shape,
-                  _line_circle_rescaled, x1, y1, dx, dy, wx, wy, r)
+    mask = _outside(length_sq, _LC_WINDOW, shape) | _outside(scale_sq, below, shape)
+    return _patch(outputs, mask, shape, _line_circle_rescaled, x1, y1, dx, dy, wx, wy, r)
 
 
 def _line_line(x1, y1, ax, ay, bx, by, wx, wy):

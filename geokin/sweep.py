@@ -47,6 +47,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .budgets import check_sweep_memory
 from .construction import REASONS, Compiled, Construction, failure_reasons
 from .errors import ConstructionError, did_you_mean
 
@@ -525,6 +526,12 @@ def sweep(construction, values=None, *, samples: int | None = None,
     -------
     Sweep
 
+    Raises
+    ------
+    BudgetError
+        If the sweep's arrays would not fit in memory (see
+        :func:`geokin.budgets.check_sweep_memory`).
+
     Examples
     --------
     >>> c = Construction("crank and rocker")
@@ -541,6 +548,8 @@ def sweep(construction, values=None, *, samples: int | None = None,
     """
     compiled = _compiled(construction)
     inputs, n = input_arrays(compiled, values, samples)
+    # refused before allocating, with the estimate and a block that would fit
+    check_sweep_memory(len(compiled.steps), n)
     initial = None
     if branches:
         initial = {}

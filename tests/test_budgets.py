@@ -109,3 +109,21 @@ def test_check_memory_names_what_and_how():
                                           r"than the 1 GB budget; stream the frames$"):
         check_memory(11 * 10**9, what="an animation of 3 frames", advice="stream the frames",
                      budget=10**9)
+
+
+def test_the_readme_states_the_limits_as_they_are():
+    from pathlib import Path
+
+    from geokin.budgets import BYTES_PER_POINT_SAMPLE, MEMORY_FRACTION
+    from geokin.primitives import SCALE_RANGE
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
+    limits = readme.split("### Limits", 1)[1].split("\n## ", 1)[0]
+    assert f"{MAX_SCRIPT_BYTES // 2**20} MiB (`MAX_SCRIPT_BYTES`)" in limits
+    assert f"{MAX_EXPRESSION_LENGTH:,} characters (`MAX_EXPRESSION_LENGTH`)" in limits
+    assert f"at most {MAX_EXPRESSION_DEPTH} levels" in limits
+    assert f"{MAX_NAME_LENGTH} characters (`MAX_NAME_LENGTH`)" in limits
+    assert f"about {BYTES_PER_POINT_SAMPLE} bytes per point and sample" in limits
+    assert MEMORY_FRACTION == 0.5 and "half the machine's memory" in limits
+    low, high = (f"{v:.0e}".replace("e+", "e").replace("e-0", "e-") for v in SCALE_RANGE)
+    assert f"up to {high};" in limits and f"at least {low} |" in limits

@@ -1,3 +1,4 @@
+import inspect
 import time
 
 import numpy as np
@@ -499,3 +500,44 @@ def test_forty_thousand_parameters_and_twenty_thousand_points_are_quick():
     compiled = c.compile()
     assert len(compiled) == 20_001
     assert time.process_time() - start < 5
+
+
+# -- whatever is declared, the outcome is a construction or a GeokinError ---------------
+
+hostile_number = st.one_of(
+    st.floats(), st.integers(), st.sampled_from([10**400, -(16**5000), 1e-320, 0, True]),
+)
+hostile_text = st.one_of(
+    st.text(max_size=12), st.sampled_from(["A", "B0", "l3", "theta", "В0", "ｌ3", "1/0",
+                                           "sqrt(-1)", "1e999", "0x" + "f" * 400, "if",
+                                           "a\x1b[2J", "+".join(["1"] * 300), "x" * 300]))
+_deep = as_expr("l3")
+for _ in range(150):
+    _deep = _deep * 2
+hostile = st.one_of(hostile_number, hostile_text, st.none(),
+                    st.sampled_from([_deep, as_expr("theta") / 0, np.float64("nan")]),
+                    st.lists(st.one_of(hostile_number, hostile_text), max_size=3))
+
+
+@given(st.lists(st.tuples(st.sampled_from(["parameter", "input", "fixed", "polar", "along",
+                                           "line_line", "circle_circle", "line_circle",
+                                           "link", "slider", "trace"]),
+                          st.lists(hostile, min_size=1, max_size=5)), max_size=6))
+def test_hostile_declarations_give_a_construction_or_a_geokin_error(declarations):
+    """Any arguments to any declaring method, then compile and sweep: no other exception."""
+    c = base()
+    for method, args in declarations:
+        declare = getattr(c, method)
+        try:
+            inspect.signature(declare).bind(*args)
+        except TypeError:
+            continue  # the wrong number of arguments: Python's own check, before geokin's
+        try:
+            declare(*args)
+        except GeokinError:
+            pass
+    try:
+        s = sweep(c, np.linspace(0, 1, 5))
+    except GeokinError:
+        return
+    assert s.valid.shape == (5,)

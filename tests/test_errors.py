@@ -23,11 +23,16 @@ def test_quote_escapes_control_characters():
 @pytest.mark.parametrize(("value", "expected"), [
     (16 ** 5000, "an integer of 6,021 digits"),  # str() of it raises ValueError
     (-(10 ** 400), "an integer of 401 digits"),
-    ([1, 10 ** 5000], "a list of 2 items"),
+    (2 ** 1328, "an integer of 400 digits"),  # 1329 bits, yet 400 digits
+    (10 ** 400 - 1, "an integer of 400 digits"),
+    ([1, 10 ** 5000], "[1, an integer of 5,001 digits]"),
+    ((0, "x" * 100_000), "(0, 'xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx...' (100,000 characters))"),
+    ([[1] * 100], "[a list of 100 items]"),
     (list(range(10 ** 6)), "a list of 1,000,000 items"),
     ((1.5, 2), "(1.5, 2)"),
-], ids=["hex-sized integer", "negative integer", "list with a huge integer", "long list",
-        "short tuple"])
+], ids=["hex-sized integer", "negative integer", "fewer digits than bits say", "all nines",
+        "list with a huge integer", "long string",
+        "nested list", "long list", "short tuple"])
 def test_show_summarises_what_cannot_or_should_not_be_printed(value, expected):
     assert show(value) == expected
 
