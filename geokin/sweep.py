@@ -42,6 +42,7 @@ Branch rules
 
 from __future__ import annotations
 
+import threading
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -621,17 +622,31 @@ class _Tracker:
         self.angle_steps = self.length_steps = None
         # how far the path moves in each step, all inputs together, and where it turns
         travel = None
+        # where the path turns back, and which steps are between finite inputs: made
+        # only for paths that need them, to spare a monotone sweep two arrays
         self.turning = np.zeros(n - 1, dtype=bool) if n > 2 else np.ones(n - 1, dtype=bool)
-        self.finite = np.ones(n - 1, dtype=bool)  # steps between finite inputs
+        self.finite: np.ndarray | bool = True
+        spans = []  # each input's shortest and longest step, where it runs one way
         for name, values in self.inputs.items():
-            step = np.diff(values)
-            low, high = step.min(), step.max()
+            if len(self.inputs) == 1:
+                # into memory kept from sweep to sweep: a fresh array of this size costs
+                # page faults that would double what tracking costs a sweep
+                step = np.subtract(values[1:], values[:-1], out=_scratch(n - 1))
+            else:
+                step = np.diff(values)
+            low, high = (step.min(), step.max()) if step.size else (0.0, 0.0)
+            steady = low * high > 0 and high - low <= 1e-9 * max(abs(low), abs(high))
+            if len(self.inputs) == 1 and not steady:
+                step = step.copy()  # kept beyond this sweep's scratch work
             if low >= 0 or high <= 0:
                 moved = step if low >= 0 else -step
+                spans.append((min(abs(low), abs(high)) if low * high > 0 else 0.0,
+                              max(abs(low), abs(high))))
             else:
+                spans.append(None)
                 moved = np.abs(step)
                 if not np.isfinite(moved).all():
-                    self.finite &= np.isfinite(moved)
+                    self.finite = self.finite & np.isfinite(moved)
                     moved = np.where(self.finite, moved, 0.0)
                 # where a step goes the other way from the last step that moved, the
                 # path turns back (repeated samples in between or not)
@@ -650,15 +665,31 @@ class _Tracker:
             travel = np.zeros(max(n - 1, 0))
         if self.angle_steps is None:
             self.angle_steps = np.zeros(n - 1)
+        scratch = None
+        if len(spans) == 1 and spans[0] is not None and np.isfinite(spans[0][1]):
+            # one input running one way (a linspace, most often): its extremes are known,
+            # and its steps can be held as numbers, freeing their array for scratch work
+            shortest, self.longest = spans[0]
+            self.even = self.longest - shortest <= 1e-9 * self.longest
+            if self.even:
+                scratch = travel
+                travel = np.broadcast_to(self.longest, travel.shape)
+                if self.length_steps is None:
+                    self.angle_steps = travel
+                else:
+                    self.length_steps = travel
+        else:
+            self.longest = float(travel.max(initial=0.0))
+            # steps of equal length need no rates per unit of travel
+            self.even = (self.longest - float(travel.min(initial=self.longest))
+                         <= 1e-9 * self.longest)
         self.travel = travel
-        self.longest = float(travel.max(initial=0.0))
-        # steps of equal length (a linspace) need no rates per unit of travel
-        self.even = self.longest - float(travel.min(initial=self.longest)) <= 1e-9 * self.longest
         self.any_coarse = (self.length_steps is not None or bool(self.turning.any())
-                           or float(self.angle_steps.max(initial=0.0))
+                           or (self.longest if self.even and scratch is not None else float(
+                               self.angle_steps.max(initial=0.0)))
                            > ANGLE_RESOLUTION * (1 + 1e-9))
-        self.coarse = self.turning | (self.angle_steps > ANGLE_RESOLUTION * (1 + 1e-9))
-        self.buffers = (np.empty(n), np.empty(n - 1)) if not self.any_coarse else None
+        if not self.any_coarse:
+            self.buffers = (None, np.empty(n - 1) if scratch is None else scratch)
 
     def track(self, position: int, cand, start: int):
         """Return the branch of node ``plan[position]`` at every sample, and its events."""
@@ -667,12 +698,19 @@ class _Tracker:
         margin = np.broadcast_to(cand.margin, (n,))
         if not self.any_coarse:
             # rule 3's test over the whole sweep at once, which settles most sweeps: the
-            # half-distance between the roots over the node's scale (the square root
-            # of the margin, NaN where the roots do not exist, which sends the sweep to
-            # the closer look below) against how fast it moves, in buffers reused from
-            # node to node
-            apart, moved = self.buffers
-            np.sqrt(margin, out=apart)
+            # half-distance between the roots over the node's scale, u (the square
+            # root of the margin; NaN where the roots do not exist, which sends the
+            # sweep to the closer look below), against how fast it moves. First on the
+            # margin itself, which spares a square root: |du| <= sqrt(|d(u**2)|)
+            moved = self.buffers[1]
+            np.subtract(margin[1:], margin[:-1], out=moved)
+            fastest = max(np.fmax.reduce(moved), -np.fmin.reduce(moved))
+            if not self.even:
+                fastest = float(np.fmax.reduce(np.abs(moved) / self.travel)) * self.longest
+            if np.min(margin) > (SAFETY * SAFETY) * fastest:
+                self.labels[node.name] = start
+                return start, []
+            apart = np.sqrt(margin)
             np.subtract(apart[1:], apart[:-1], out=moved)
             np.abs(moved, out=moved)
             if not self.even:
@@ -703,7 +741,7 @@ class _Tracker:
         # a step looked into is cut at half the resolution: a narrow dip of the roots'
         # distance shows at one cut at least
         pieces = np.ceil(self.angle_steps / (ANGLE_RESOLUTION / 2) - 1e-9)
-        coarse = self.coarse
+        coarse = self.turning | (self.angle_steps > ANGLE_RESOLUTION * (1 + 1e-9))
         if self.length_steps is not None:
             scale = _node_scale(cand, n)
             pieces = np.fmax(pieces, np.ceil(self.length_steps
@@ -913,6 +951,19 @@ class _Tracker:
                       - np.searchsorted(meetings, step.astype(float)))
             label = label ^ (before % 2).astype(np.int8)
         return label
+
+
+_SCRATCH = threading.local()
+
+
+def _scratch(size: int) -> np.ndarray:
+    """Return ``size`` floats of this thread's scratch memory, kept between sweeps."""
+    buffer = getattr(_SCRATCH, "buffer", None)
+    if buffer is None or buffer.size < size:
+        buffer = np.empty(size)
+        if size <= 2**22:
+            _SCRATCH.buffer = buffer
+    return buffer[:size]
 
 
 def _node_scale(cand, n) -> float:

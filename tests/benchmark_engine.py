@@ -13,10 +13,14 @@ from pathlib import Path
 import numpy as np
 
 sys.path.insert(0, str(Path(__file__).parent))
+# the shared interleaved CPU timer, where the project is checked out beside it
+sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "shared" / "bench"))
+from hand_fourbar import compare  # noqa: E402
 from mechanisms import coupler_fourbar, sixbar  # noqa: E402
 from mechanisms import fourbar as four_bar  # noqa: E402
 
 from geokin import sweep  # noqa: E402
+from geokin.sweep import evaluate  # noqa: E402
 
 
 def hand_written(theta):
@@ -67,6 +71,18 @@ def main():
     theta = np.linspace(0, np.radians(1800), 1_000_000)
     seconds = best_time(lambda: sweep(six, theta)["M"], 3)
     print(f"seed six-bar, 1,000,000 samples: {seconds:.3f} s")
+    # branch tracking's cost where it has nothing to do: the same evaluation with and
+    # without tracking, interleaved
+    print("branch tracking's share of a sweep without grazes (tracked / untracked, CPU):")
+    for n in (36_000, 360_000):
+        inputs = {"theta": np.linspace(0, 2 * np.pi, n)}
+        times = compare({
+            "tracked": lambda inputs=inputs, n=n: evaluate(fourbar, inputs, n),
+            "untracked": lambda inputs=inputs, n=n: evaluate(fourbar, inputs, n, track=False)},
+            rounds=15)
+        tracked, untracked = times["tracked"][1], times["untracked"][1]
+        print(f"{n:>9} samples: {tracked * 1e3:.3f} ms / {untracked * 1e3:.3f} ms = "
+              f"{tracked / untracked:.3f}")
     # branch tracking's cost where it has work to do: a parallelogram (ground 10,
     # crank 4, coupler 10, rocker 4) passes two change points in a turn, against the
     # benchmark four-bar (no graze) at the same N
