@@ -291,19 +291,20 @@ def _digits(value: int) -> str:
     return f"about {int(bits * math.log10(2)) + 1:,}"
 
 
-def _overflowing(value, path=()):
+def _overflowing(data):
     """Yield the place of every integer in parsed TOML too large for a float."""
-    if isinstance(value, dict):
-        for key, item in value.items():
-            yield from _overflowing(item, (*path, key))
-    elif isinstance(value, list):
-        for i, item in enumerate(value):
-            yield from _overflowing(item, (*path, i))
-    elif isinstance(value, int) and not isinstance(value, bool):
-        try:
-            float(value)
-        except OverflowError:
-            yield path, value
+    waiting = [((), data)]  # a stack, not recursion: TOML nests as deep as tomllib allows
+    while waiting:
+        path, value = waiting.pop()
+        if isinstance(value, dict):
+            waiting += reversed([((*path, k), v) for k, v in value.items()])
+        elif isinstance(value, list):
+            waiting += reversed([((*path, i), v) for i, v in enumerate(value)])
+        elif isinstance(value, int) and not isinstance(value, bool):
+            try:
+                float(value)
+            except OverflowError:
+                yield path, value
 
 
 def _strip_where(err: ConstructionError) -> str:
@@ -337,6 +338,14 @@ class _Reader:
         place = f"[{escape(shorten(table))}]" + (f" {escape(shorten(key))}" if key else "")
         return _error(f"{where}: {place}: {clip_message(message)}", source=self.source,
                       table=table, key=key, line=line)
+
+    def fail_on(self, pattern: str, message: str):
+        """Return a ScriptError at the first line where ``pattern`` matches the text."""
+        found = re.search(pattern, self.text)
+        line = self.text.count("\n", 0, found.start()) + 1 if found else None
+        where = _where(self.source) + (f":{line}" if line else "")
+        return _error(f"{where}: {message}", source=self.source, table=None, key=None,
+                      line=line)
 
     def fail_at(self, path: tuple, message: str):
         """Return a ScriptError at a place in the parsed TOML: (table, entry, key, index...)."""
@@ -442,11 +451,10 @@ class _Reader:
             raise _error(f"{where}: TOML syntax error: {clip_message(message)}",
                          source=self.source, table=None, key=None, line=line) from None
         except ValueError:  # an integer longer than Python reads (4,300 digits)
-            found = re.search(r"\d{4000,}", self.text)
-            line = self.text.count("\n", 0, found.start()) + 1 if found else None
-            where = _where(self.source) + (f":{line}" if line else "")
-            raise _error(f"{where}: a number of more than 4,000 digits", source=self.source,
-                         table=None, key=None, line=line) from None
+            raise self.fail_on(r"\d{4000,}", "a number of more than 4,000 digits") from None
+        except RecursionError:  # tomllib parses nested arrays and tables by recursion
+            raise self.fail_on(r"(?:[\[{][\s\w=\"',.-]*){100,}",
+                               "arrays or tables nested too deeply") from None
         for path, value in _overflowing(data):
             raise self.fail_at(path, f"{_kind_of(value)} is beyond the range of numbers "
                                      f"(±{sys.float_info.max:.1e})")

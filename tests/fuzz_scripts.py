@@ -371,7 +371,10 @@ def _bytes_mutation(raw: bytes, rng: random.Random) -> bytes:
         return raw.replace(b"\n", b"\r\n")
     if kind == 6:
         return raw + b"\n" + rng.choice([b"[points]\n", b"[[points]]\n", b"x = 1\n",
-                                         b'[inputs.t]\nrange = [0, 1e400]\n'])
+                                         b'[inputs.t]\nrange = [0, 1e400]\n',
+                                         b"[links]\nx = " + b"[" * 600 + b"]" * 600 + b"\n",
+                                         b"[sliders]\ns = " + b"{ a = " * 400 + b"1"
+                                         + b" }" * 400 + b"\n"])
     return raw.replace(b'"', b"'", rng.randrange(1, 4))
 
 

@@ -570,3 +570,11 @@ def test_control_characters_from_a_script_are_escaped_in_errors(hostile):
         message = error_of(text)
         assert message.isprintable(), message
         assert hostile not in message
+
+
+@pytest.mark.parametrize("nested", ["x = " + "[" * 600 + "]" * 600,
+                                    "x = " + "{ a = " * 600 + "1" + " }" * 600,
+                                    "x = " + '["a", ' * 5000 + "]" * 5000])
+def test_arrays_nested_too_deeply_are_a_script_error(nested):
+    message = error_of(GOOD.replace("[links]", f"[links]\n{nested}"))
+    assert message == "sixbar.toml:22: arrays or tables nested too deeply"
