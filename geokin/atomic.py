@@ -8,6 +8,10 @@ If anything goes wrong on the way, an error or Ctrl-C, the temporary file
 is removed and the target is untouched: an interrupted run leaves the old
 file or none, never half of a new one.
 
+A symbolic link is followed: the file it points to is replaced, and the link
+stays. A target that is not a regular file (a named pipe, a device) is
+written directly, as there is no old file to keep.
+
 Examples
 --------
 >>> import pathlib, tempfile
@@ -100,7 +104,8 @@ def replacing_path(path):
     Yields
     ------
     str
-        An empty file's path in the same folder, hidden.
+        An empty file's path in the same folder, hidden; or the target itself
+        if it is not a regular file.
 
     Raises
     ------
@@ -108,6 +113,15 @@ def replacing_path(path):
         If the folder cannot be written to; the target is then untouched.
     """
     target = os.fspath(path)
+    if os.path.islink(target):
+        target = os.path.realpath(target)
+    try:
+        special = not stat.S_ISREG(os.stat(target).st_mode)
+    except OSError:  # not there yet
+        special = False
+    if special:  # a pipe or a device: write into it
+        yield target
+        return
     temp = None
     try:
         fd, temp = _create_temporary(target)

@@ -530,3 +530,27 @@ def test_a_deep_path_is_named_whole_in_an_error(capsys, tmp_path):
     assert status == 2 and err.startswith(f"geokin: error: {script}:2: [points] A.op: unknown")
     status, _, err = run(capsys, "check", folder / "missing.toml")
     assert err.startswith(f"geokin: error: cannot open '{folder / 'missing.toml'}'")
+
+
+def test_trace_into_a_link_or_a_pipe(capsys, tmp_path):
+    import os
+    import threading
+
+    real = tmp_path / "real.csv"
+    real.write_text("old\n")
+    link = tmp_path / "link.csv"
+    link.symlink_to(real)
+    status, _, _ = run(capsys, "trace", SIXBAR, "--points", "M", "-o", link)
+    assert status == 0 and link.is_symlink()  # the file pointed to is replaced, not the link
+    assert real.read_text().startswith("theta,valid,M.x,M.y\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link.csv", "real.csv"]
+
+    pipe = tmp_path / "pipe.csv"
+    os.mkfifo(pipe)
+    received = []
+    reader = threading.Thread(target=lambda: received.append(pipe.read_text()))
+    reader.start()
+    status, _, _ = run(capsys, "trace", SIXBAR, "--points", "M", "-o", pipe)
+    reader.join(timeout=30)
+    assert status == 0 and received[0].startswith("theta,valid,M.x,M.y\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link.csv", "pipe.csv", "real.csv"]
