@@ -10,7 +10,9 @@ file or none, never half of a new one.
 
 A symbolic link is followed: the file it points to is replaced, and the link
 stays. A target that is not a regular file (a named pipe, a device) is
-written directly, as there is no old file to keep.
+written directly, as there is no old file to keep. A file that cannot be
+written (a folder that is read-only, a full disk) raises :class:`OutputError`
+naming the target, not the temporary file.
 
 Examples
 --------
@@ -39,7 +41,35 @@ import signal
 import stat
 import threading
 
-__all__ = ["replacing", "replacing_path"]
+from .errors import GeokinError
+
+__all__ = ["OutputError", "replacing", "replacing_path"]
+
+
+class OutputError(GeokinError, OSError):
+    """An output file cannot be written; the file it would replace is left as it was.
+
+    Parameters
+    ----------
+    errno : int
+    strerror : str
+        What the system said.
+    filename : str
+        The output file (not the temporary one).
+
+    Examples
+    --------
+    >>> import errno
+    >>> print(OutputError(errno.ENOSPC, "No space left on device", "big.csv"))
+    cannot write 'big.csv': No space left on device
+    """
+
+    def __str__(self):
+        return f"cannot write {self.filename!r}: {self.strerror}"
+
+
+def _output_error(err: OSError, target: str) -> OutputError:
+    return OutputError(err.errno, err.strerror or str(err), target)
 
 
 @contextlib.contextmanager
@@ -109,8 +139,8 @@ def replacing_path(path):
 
     Raises
     ------
-    OSError
-        If the folder cannot be written to; the target is then untouched.
+    OutputError
+        If the file cannot be written; the target is then untouched.
     """
     target = os.fspath(path)
     if os.path.islink(target):
@@ -124,11 +154,22 @@ def replacing_path(path):
         return
     temp = None
     try:
-        fd, temp = _create_temporary(target)
-        os.close(fd)
-        yield temp
+        try:
+            fd, temp = _create_temporary(target)
+            os.close(fd)
+        except OSError as err:
+            raise _output_error(err, target) from err
+        try:
+            yield temp
+        except OSError as err:
+            if err.filename is not None or isinstance(err, GeokinError):
+                raise  # about another file, or already said
+            raise _output_error(err, target) from err  # a write that failed: a full disk
         with _interrupts_held():
-            _finish(temp, target)
+            try:
+                _finish(temp, target)
+            except OSError as err:
+                raise _output_error(err, target) from err
     except BaseException:
         if temp is not None:
             with _interrupts_held(), contextlib.suppress(OSError):
@@ -156,8 +197,8 @@ def replacing(path, mode: str = "wb", **kwargs):
 
     Raises
     ------
-    OSError
-        If the folder cannot be written to; the target is then untouched.
+    OutputError
+        If the file cannot be written; the target is then untouched.
     """
     if mode not in ("w", "wb"):
         raise ValueError(f"mode must be 'w' or 'wb', got {mode!r}")
