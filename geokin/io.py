@@ -838,13 +838,30 @@ def _toml_expr(expr: Expr) -> str:
 
 
 def _script_degrees(radians: float) -> float:
-    """Return the shortest degree value that reads back as exactly ``radians``."""
+    """Return the shortest degree value that reads back as exactly ``radians``.
+
+    ``math.degrees`` may land an ulp or two off the value a script gave
+    (``radians(-645.6585625622657)`` comes back as ``-645.6585625622658``),
+    so its neighbours are tried too.
+
+    Examples
+    --------
+    >>> _script_degrees(math.radians(-645.6585625622657))
+    -645.6585625622657
+    >>> _script_degrees(math.pi / 2)
+    90.0
+    """
     degrees = math.degrees(radians)
+    exact, below, above = [], degrees, degrees
+    for _ in range(4):
+        exact += [d for d in (below, above) if math.radians(d) == radians and d not in exact]
+        below, above = math.nextafter(below, -math.inf), math.nextafter(above, math.inf)
     for digits in range(1, 18):
-        candidate = float(f"{degrees:.{digits}g}")
-        if math.radians(candidate) == radians:
-            return candidate
-    return degrees
+        for candidate in exact:
+            shortest = float(f"{candidate:.{digits}g}")
+            if math.radians(shortest) == radians:
+                return shortest
+    return exact[0] if exact else degrees  # some radians have no degree value exactly
 
 
 _PRECEDENCE = {"+": 1, "-": 1, "*": 2, "/": 2, "**": 4}

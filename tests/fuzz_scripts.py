@@ -384,7 +384,7 @@ def mutate(raw: bytes, rng: random.Random) -> bytes:
         if rng.random() < 0.75:
             try:
                 data = tomllib.loads(raw.decode("utf-8"))
-            except (UnicodeDecodeError, ValueError):  # already broken: mutate the bytes
+            except (UnicodeDecodeError, ValueError, RecursionError):  # broken: mutate bytes
                 raw = _bytes_mutation(raw, rng)
                 continue
             rng.choice(DATA_MUTATIONS)(data, rng)

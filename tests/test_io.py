@@ -578,3 +578,18 @@ def test_control_characters_from_a_script_are_escaped_in_errors(hostile):
 def test_arrays_nested_too_deeply_are_a_script_error(nested):
     message = error_of(GOOD.replace("[links]", f"[links]\n{nested}"))
     assert message == "sixbar.toml:22: arrays or tables nested too deeply"
+
+
+@given(st.floats(min_value=-1e6, max_value=1e6, allow_nan=False))
+def test_any_degree_value_of_a_script_is_written_back_exactly(degrees):
+    from geokin.io import _script_degrees
+
+    assert math.radians(_script_degrees(math.radians(degrees))) == math.radians(degrees)
+    c = loads(GOOD.replace("range = [0, 360]", f"range = [{degrees!r}, 2e6]"))
+    assert loads(dump(c)) == c
+
+
+def test_a_degree_value_that_math_degrees_misses_by_an_ulp():
+    c = loads(GOOD.replace("range = [0, 360]", "range = [-645.6585625622657, 132]"))
+    assert "range = [-645.6585625622657, 132]" in dump(c)
+    assert loads(dump(c)) == c
