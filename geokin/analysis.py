@@ -901,6 +901,8 @@ def _double_points(noded, least_angle=GRAZING_ANGLE) -> np.ndarray:
     directions: dict[tuple[float, float], list] = {}
     for part in shapely.get_parts(noded):
         coords = shapely.get_coordinates(part)
+        if len(coords) < 2:  # a path that never moves has no pieces to cross
+            continue
         for end, toward in ((coords[0], coords[1]), (coords[-1], coords[-2])):
             key = (float(end[0]), float(end[1]))
             step = toward - end

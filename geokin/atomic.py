@@ -8,6 +8,12 @@ If anything goes wrong on the way, an error or Ctrl-C, the temporary file
 is removed and the target is untouched: an interrupted run leaves the old
 file or none, never half of a new one.
 
+A symbolic link is followed: the file it points to is replaced, and the link
+stays. A target that is not a regular file (a named pipe, a device) is
+written directly, as there is no old file to keep. A file that cannot be
+written (a folder that is read-only, a full disk) raises :class:`OutputError`
+naming the target, not the temporary file.
+
 Examples
 --------
 >>> import pathlib, tempfile
@@ -35,7 +41,35 @@ import signal
 import stat
 import threading
 
-__all__ = ["replacing", "replacing_path"]
+from .errors import GeokinError
+
+__all__ = ["OutputError", "replacing", "replacing_path"]
+
+
+class OutputError(GeokinError, OSError):
+    """An output file cannot be written; the file it would replace is left as it was.
+
+    Parameters
+    ----------
+    errno : int
+    strerror : str
+        What the system said.
+    filename : str
+        The output file (not the temporary one).
+
+    Examples
+    --------
+    >>> import errno
+    >>> print(OutputError(errno.ENOSPC, "No space left on device", "big.csv"))
+    cannot write 'big.csv': No space left on device
+    """
+
+    def __str__(self):
+        return f"cannot write {self.filename!r}: {self.strerror}"
+
+
+def _output_error(err: OSError, target: str) -> OutputError:
+    return OutputError(err.errno, err.strerror or str(err), target)
 
 
 @contextlib.contextmanager
@@ -100,21 +134,42 @@ def replacing_path(path):
     Yields
     ------
     str
-        An empty file's path in the same folder, hidden.
+        An empty file's path in the same folder, hidden; or the target itself
+        if it is not a regular file.
 
     Raises
     ------
-    OSError
-        If the folder cannot be written to; the target is then untouched.
+    OutputError
+        If the file cannot be written; the target is then untouched.
     """
     target = os.fspath(path)
+    if os.path.islink(target):
+        target = os.path.realpath(target)
+    try:
+        special = not stat.S_ISREG(os.stat(target).st_mode)
+    except OSError:  # not there yet
+        special = False
+    if special:  # a pipe or a device: write into it
+        yield target
+        return
     temp = None
     try:
-        fd, temp = _create_temporary(target)
-        os.close(fd)
-        yield temp
+        try:
+            fd, temp = _create_temporary(target)
+            os.close(fd)
+        except OSError as err:
+            raise _output_error(err, target) from err
+        try:
+            yield temp
+        except OSError as err:
+            if err.filename is not None or isinstance(err, GeokinError):
+                raise  # about another file, or already said
+            raise _output_error(err, target) from err  # a write that failed: a full disk
         with _interrupts_held():
-            _finish(temp, target)
+            try:
+                _finish(temp, target)
+            except OSError as err:
+                raise _output_error(err, target) from err
     except BaseException:
         if temp is not None:
             with _interrupts_held(), contextlib.suppress(OSError):
@@ -142,8 +197,8 @@ def replacing(path, mode: str = "wb", **kwargs):
 
     Raises
     ------
-    OSError
-        If the folder cannot be written to; the target is then untouched.
+    OutputError
+        If the file cannot be written; the target is then untouched.
     """
     if mode not in ("w", "wb"):
         raise ValueError(f"mode must be 'w' or 'wb', got {mode!r}")

@@ -511,6 +511,10 @@ def write_json(columns: dict, stream, *, values_per_write: int = 100_000):
 def run_trace(args) -> int:
     kind = ".csv" if args.output is None else _output_kind(args.output, TRACE_FORMATS,
                                                            "a trace")
+    folder = pathlib.Path(args.output or ".").parent
+    if not folder.is_dir():  # say so before a long sweep, not after
+        raise UsageError(f"cannot write {args.output!r}: the folder {str(folder)!r} does not "
+                         "exist")
     m, _ = motion_of(args.script, args)
     points = _selected_points(m.construction, args.points)
     columns = trace_columns(m, points, args.derivatives, args.circuit)

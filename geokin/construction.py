@@ -660,7 +660,8 @@ class Construction:
             name, str) else name, field="name")
         if not name.isidentifier():
             raise ConstructionError(
-                f"a {what} name must be an identifier (letters, digits, _), got {quote(given)}",
+                f"{'an' if what[0] in 'aeiou' else 'a'} {what} name must be an identifier "
+                f"(letters, digits, _), got {quote(given)}",
                 node=given, field="name")
         if keyword.iskeyword(name):
             raise ConstructionError(f"{quote(name)} is a reserved word of expressions; choose "

@@ -118,6 +118,7 @@ import sys
 import tomllib
 from collections.abc import Mapping
 
+from .budgets import MAX_SCRIPT_BYTES
 from .construction import BRANCHES, MAX_SAMPLES, Construction, Node
 from .errors import ConstructionError, ScriptError, did_you_mean
 from .expressions import BinOp, Call, Expr, Name, Neg, Number
@@ -125,7 +126,6 @@ from .terminal import clip_message, escape, shorten
 
 __all__ = ["MAX_SCRIPT_BYTES", "OPS", "dump", "load", "loads"]
 
-MAX_SCRIPT_BYTES = 4_000_000
 """The most bytes :func:`load` reads of a script (and characters :func:`loads` takes).
 
 A script of 20,000 points is about 1.4 MB; reading stops here, so that a
@@ -291,19 +291,20 @@ def _digits(value: int) -> str:
     return f"about {int(bits * math.log10(2)) + 1:,}"
 
 
-def _overflowing(value, path=()):
+def _overflowing(data):
     """Yield the place of every integer in parsed TOML too large for a float."""
-    if isinstance(value, dict):
-        for key, item in value.items():
-            yield from _overflowing(item, (*path, key))
-    elif isinstance(value, list):
-        for i, item in enumerate(value):
-            yield from _overflowing(item, (*path, i))
-    elif isinstance(value, int) and not isinstance(value, bool):
-        try:
-            float(value)
-        except OverflowError:
-            yield path, value
+    waiting = [((), data)]  # a stack, not recursion: TOML nests as deep as tomllib allows
+    while waiting:
+        path, value = waiting.pop()
+        if isinstance(value, dict):
+            waiting += reversed([((*path, k), v) for k, v in value.items()])
+        elif isinstance(value, list):
+            waiting += reversed([((*path, i), v) for i, v in enumerate(value)])
+        elif isinstance(value, int) and not isinstance(value, bool):
+            try:
+                float(value)
+            except OverflowError:
+                yield path, value
 
 
 def _strip_where(err: ConstructionError) -> str:
@@ -337,6 +338,14 @@ class _Reader:
         place = f"[{escape(shorten(table))}]" + (f" {escape(shorten(key))}" if key else "")
         return _error(f"{where}: {place}: {clip_message(message)}", source=self.source,
                       table=table, key=key, line=line)
+
+    def fail_on(self, pattern: str, message: str):
+        """Return a ScriptError at the first line where ``pattern`` matches the text."""
+        found = re.search(pattern, self.text)
+        line = self.text.count("\n", 0, found.start()) + 1 if found else None
+        where = _where(self.source) + (f":{line}" if line else "")
+        return _error(f"{where}: {message}", source=self.source, table=None, key=None,
+                      line=line)
 
     def fail_at(self, path: tuple, message: str):
         """Return a ScriptError at a place in the parsed TOML: (table, entry, key, index...)."""
@@ -442,11 +451,10 @@ class _Reader:
             raise _error(f"{where}: TOML syntax error: {clip_message(message)}",
                          source=self.source, table=None, key=None, line=line) from None
         except ValueError:  # an integer longer than Python reads (4,300 digits)
-            found = re.search(r"\d{4000,}", self.text)
-            line = self.text.count("\n", 0, found.start()) + 1 if found else None
-            where = _where(self.source) + (f":{line}" if line else "")
-            raise _error(f"{where}: a number of more than 4,000 digits", source=self.source,
-                         table=None, key=None, line=line) from None
+            raise self.fail_on(r"\d{4000,}", "a number of more than 4,000 digits") from None
+        except RecursionError:  # tomllib parses nested arrays and tables by recursion
+            raise self.fail_on(r"(?:[\[{][\s\w=\"',.-]*){100,}",
+                               "arrays or tables nested too deeply") from None
         for path, value in _overflowing(data):
             raise self.fail_at(path, f"{_kind_of(value)} is beyond the range of numbers "
                                      f"(±{sys.float_info.max:.1e})")
@@ -830,13 +838,30 @@ def _toml_expr(expr: Expr) -> str:
 
 
 def _script_degrees(radians: float) -> float:
-    """Return the shortest degree value that reads back as exactly ``radians``."""
+    """Return the shortest degree value that reads back as exactly ``radians``.
+
+    ``math.degrees`` may land an ulp or two off the value a script gave
+    (``radians(-645.6585625622657)`` comes back as ``-645.6585625622658``),
+    so its neighbours are tried too.
+
+    Examples
+    --------
+    >>> _script_degrees(math.radians(-645.6585625622657))
+    -645.6585625622657
+    >>> _script_degrees(math.pi / 2)
+    90.0
+    """
     degrees = math.degrees(radians)
+    exact, below, above = [], degrees, degrees
+    for _ in range(4):
+        exact += [d for d in (below, above) if math.radians(d) == radians and d not in exact]
+        below, above = math.nextafter(below, -math.inf), math.nextafter(above, math.inf)
     for digits in range(1, 18):
-        candidate = float(f"{degrees:.{digits}g}")
-        if math.radians(candidate) == radians:
-            return candidate
-    return degrees
+        for candidate in exact:
+            shortest = float(f"{candidate:.{digits}g}")
+            if math.radians(shortest) == radians:
+                return shortest
+    return exact[0] if exact else degrees  # some radians have no degree value exactly
 
 
 _PRECEDENCE = {"+": 1, "-": 1, "*": 2, "/": 2, "**": 4}

@@ -88,7 +88,8 @@ ANIMATION_FORMATS = (".gif", ".html", ".htm", ".mp4")
 
 # bytes per pixel of one frame in the file: twice the most measured on constructions/ at
 # 800 x 600 (0.023 for a GIF, whose frames hold what changed since the last; 0.107 for a page,
-# a whole PNG in base64 per frame)
+# a whole PNG in base64 per frame); for an .mp4, a guess well above what H.264 makes of such
+# drawings
 _FILE_BYTES_PER_PIXEL = {".gif": 0.05, ".html": 0.25, ".htm": 0.25, ".mp4": 0.03}
 
 _GREEK = {"theta": "θ", "phi": "φ", "psi": "ψ", "alpha": "α", "beta": "β", "gamma": "γ",

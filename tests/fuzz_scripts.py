@@ -41,15 +41,10 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 SOURCES = sorted([*ROOT.glob("constructions/*.toml"), *ROOT.glob("examples/*.toml")])
 TABLES = ("construction", "parameters", "inputs", "points", "links", "sliders")
 
-KNOWN = {
-    # Faults of the layers below the edge, filed in issue 8 and fixed there. Each entry is
-    # (exception, file of geokin where it is raised): only exactly these are let through,
-    # and the long run lists them apart.
-    ("ZeroDivisionError", "primitives.py"):
-        "issue 8, item 1: constant operands divide Python floats by zero",
-    ("RecursionError", "expressions.py"):
-        "issue 8, item 3: printing an expression of some 600 terms recurses too deep",
-}
+KNOWN: dict[tuple[str, str], str] = {}
+"""Faults known in the layers below the edge, as (exception, file of geokin raising
+it) -> cause: only exactly these would be let through, and the long run lists them
+apart. None are known."""
 """Exceptions known to come from a fault filed elsewhere, by (class name, geokin file)."""
 
 
@@ -371,7 +366,10 @@ def _bytes_mutation(raw: bytes, rng: random.Random) -> bytes:
         return raw.replace(b"\n", b"\r\n")
     if kind == 6:
         return raw + b"\n" + rng.choice([b"[points]\n", b"[[points]]\n", b"x = 1\n",
-                                         b'[inputs.t]\nrange = [0, 1e400]\n'])
+                                         b'[inputs.t]\nrange = [0, 1e400]\n',
+                                         b"[links]\nx = " + b"[" * 600 + b"]" * 600 + b"\n",
+                                         b"[sliders]\ns = " + b"{ a = " * 400 + b"1"
+                                         + b" }" * 400 + b"\n"])
     return raw.replace(b'"', b"'", rng.randrange(1, 4))
 
 
@@ -381,7 +379,7 @@ def mutate(raw: bytes, rng: random.Random) -> bytes:
         if rng.random() < 0.75:
             try:
                 data = tomllib.loads(raw.decode("utf-8"))
-            except (UnicodeDecodeError, ValueError):  # already broken: mutate the bytes
+            except (UnicodeDecodeError, ValueError, RecursionError):  # broken: mutate bytes
                 raw = _bytes_mutation(raw, rng)
                 continue
             rng.choice(DATA_MUTATIONS)(data, rng)

@@ -412,3 +412,10 @@ def test_a_path_run_back_over_itself_has_no_double_points():
     t = np.linspace(0, 2 * np.pi, 201)
     eight = np.c_[np.sin(t), np.sin(t) * np.cos(t)]
     assert len(curve_measures(eight).double_points) == 1
+
+
+def test_a_traced_point_that_never_moves_has_a_path_of_no_length():
+    from geokin.analysis import curve_measures
+
+    curve = curve_measures(np.zeros((5, 2)))
+    assert curve.length == 0 and len(curve.double_points) == 0

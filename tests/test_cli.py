@@ -171,7 +171,9 @@ def test_trace_derivatives_are_per_second_at_the_declared_speed(capsys):
     (["trace", SIXBAR, "--step", "0"], "--step must be a non-zero number, got 0"),
     (["trace", SIXBAR, "--step", "1e-6"], "samples; at most 1000000"),
     (["trace"], "the following arguments are required: SCRIPT"),
-    (["trace", SIXBAR, "-o", "/no/such/folder/out.csv"], "cannot open '/no/such/folder"),
+    (["trace", SIXBAR, "-o", "/no/such/folder/out.csv"], "cannot write '/no/such/folder/out"
+                                                        ".csv': the folder '/no/such/folder' "
+                                                        "does not exist"),
     (["frobnicate"], "invalid choice: 'frobnicate'"),
     ([], "the following arguments are required: COMMAND"),
     (["plot", SIXBAR, "-o", "out.jpg"], "cannot write a picture to 'out.jpg': use a .png or "
@@ -530,3 +532,53 @@ def test_a_deep_path_is_named_whole_in_an_error(capsys, tmp_path):
     assert status == 2 and err.startswith(f"geokin: error: {script}:2: [points] A.op: unknown")
     status, _, err = run(capsys, "check", folder / "missing.toml")
     assert err.startswith(f"geokin: error: cannot open '{folder / 'missing.toml'}'")
+
+
+def test_trace_into_a_link_or_a_pipe(capsys, tmp_path):
+    import os
+    import threading
+
+    real = tmp_path / "real.csv"
+    real.write_text("old\n")
+    link = tmp_path / "link.csv"
+    link.symlink_to(real)
+    status, _, _ = run(capsys, "trace", SIXBAR, "--points", "M", "-o", link)
+    assert status == 0 and link.is_symlink()  # the file pointed to is replaced, not the link
+    assert real.read_text().startswith("theta,valid,M.x,M.y\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link.csv", "real.csv"]
+
+    pipe = tmp_path / "pipe.csv"
+    os.mkfifo(pipe)
+    received = []
+    reader = threading.Thread(target=lambda: received.append(pipe.read_text()))
+    reader.start()
+    status, _, _ = run(capsys, "trace", SIXBAR, "--points", "M", "-o", pipe)
+    reader.join(timeout=30)
+    assert status == 0 and received[0].startswith("theta,valid,M.x,M.y\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["link.csv", "pipe.csv", "real.csv"]
+
+
+def test_a_full_disk_or_a_closed_folder_names_the_output(capsys, tmp_path, monkeypatch):
+    import errno
+
+    path = tmp_path / "old.csv"
+    path.write_text("the old file")
+
+    def full(columns, stream, **kwargs):
+        stream.write("theta,valid\n")
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr("geokin.cli.write_csv", full)
+    status, _, err = run(capsys, "trace", SIXBAR, "-o", path)
+    assert (status, err) == (2, f"geokin: error: cannot write '{path}': No space left on "
+                                "device\n")
+    assert path.read_text() == "the old file" and len(list(tmp_path.iterdir())) == 1
+    monkeypatch.undo()
+
+    def closed(name, *args, **kwargs):
+        raise PermissionError(errno.EACCES, "Permission denied", name)
+
+    monkeypatch.setattr("geokin.atomic.os.open", closed)
+    status, _, err = run(capsys, "plot", SIXBAR, "-o", tmp_path / "new.png")
+    assert (status, err) == (2, f"geokin: error: cannot write '{tmp_path / 'new.png'}': "
+                                "Permission denied\n")

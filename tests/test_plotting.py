@@ -1,6 +1,7 @@
 """Tests of geokin.plotting: figures, files and animations, headless (Agg)."""
 
 import io
+import shutil
 import subprocess
 import sys
 
@@ -512,3 +513,46 @@ def test_a_failing_ffmpeg_is_an_error_and_leaves_the_old_file(tmp_path, small_fr
         gp.animate(sweep(four_bar(), samples(37)), path, frames=5, progress=False)
     assert path.read_bytes() == b"the old movie"
     assert [p.name for p in tmp_path.iterdir() if p.is_file()] == ["old.mp4"]
+
+
+PLAYER_CHECK = """
+const fs = require("fs");
+const page = fs.readFileSync(process.argv[2], "utf8");
+const scripts = [...page.matchAll(/<script>([\\s\\S]*?)<\\/script>/g)].map(m => m[1]);
+const elements = {};
+const document = { getElementById: id => (elements[id] = elements[id] ||
+  { id: id, value: "0", checked: id === "loop", innerHTML: "", textContent: "", src: "" }) };
+let timer = null, interval = null;
+const setInterval = (f, ms) => { timer = f; interval = ms; return 1; };
+const clearInterval = () => { timer = null; };
+const frames = new Function("document", "setInterval", "clearInterval",
+  scripts.join("\\n") + "; return frames;")(document, setInterval, clearInterval);
+const seen = [];
+const shown = () => seen.push([frames.indexOf(elements.frame.src), elements.counter.textContent]);
+shown(); timer(); shown(); timer(); timer(); shown();  // plays on, loops to the start
+elements.play.onclick(); shown(); seen.push(timer === null);
+elements.last.onclick(); shown(); elements.back.onclick(); shown();
+elements.slider.value = "0"; elements.slider.oninput(); shown();
+console.log(JSON.stringify({seen: seen, interval: interval, frames: frames.length,
+                            distinct: new Set(frames).size}));
+"""
+
+
+@pytest.mark.skipif(shutil.which("node") is None, reason="node runs the page's player")
+def test_the_html_player_plays_steps_and_loops(tmp_path, small_frames):
+    import base64
+    import json
+
+    path = gp.animate(sweep(four_bar(), samples(37)), tmp_path / "p.html", frames=3, fps=20,
+                      progress=False)
+    check = tmp_path / "check.js"
+    check.write_text(PLAYER_CHECK)
+    done = subprocess.run(["node", str(check), str(path)], capture_output=True, text=True,
+                          timeout=60)
+    assert done.returncode == 0, done.stderr
+    result = json.loads(done.stdout)
+    for frame in path.read_text().split('"data:image/png;base64,')[1:]:
+        assert base64.b64decode(frame.split('"')[0]).startswith(b"\x89PNG")
+    assert (result["frames"], result["distinct"], result["interval"]) == (3, 3, 50)
+    assert result["seen"] == [[0, "1 / 3"], [1, "2 / 3"], [0, "1 / 3"], [0, "1 / 3"], True,
+                              [2, "3 / 3"], [1, "2 / 3"], [0, "1 / 3"]]
