@@ -79,6 +79,11 @@ EDGE_WIDTH = 2.0**-44
 is located inside a step, as a fraction of the step: about the rounding of
 the inputs."""
 
+MAX_PIECES = 2**16
+"""The most pieces one step is cut into before halving (a step of 180 turns at
+:data:`ANGLE_RESOLUTION`): a longer step cannot be resolved, and is not looked
+into (the node keeps its branch across it)."""
+
 PIECES_PER_BLOCK = 2**15
 """How many pieces of doubtful steps are evaluated together, at most (about;
 one step's pieces stay together): memory stays bounded however coarse and
@@ -425,9 +430,9 @@ def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
     compiled = _compiled(construction)
     plan = _plan(compiled)
     env = _environment(compiled, inputs)
-    tracker = _Tracker(compiled, plan, inputs, n, origin) if track and n >= 2 else None
     coords, labels, margins, parameters, events, results = {}, {}, {}, {}, [], []
     with np.errstate(all="ignore"):
+        tracker = _Tracker(compiled, plan, inputs, n, origin) if track and n >= 2 else None
         for position, step in enumerate(plan):
             node = step.node
             values = _step_values(step, env)
@@ -635,12 +640,13 @@ class _Tracker:
             else:
                 step = np.diff(values)
             low, high = (step.min(), step.max()) if step.size else (0.0, 0.0)
-            steady = low * high > 0 and high - low <= 1e-9 * max(abs(low), abs(high))
+            one_way = (low > 0 and high > 0) or (low < 0 and high < 0)
+            steady = one_way and high - low <= 1e-9 * max(abs(low), abs(high))
             if len(self.inputs) == 1 and not steady:
                 step = step.copy()  # kept beyond this sweep's scratch work
             if low >= 0 or high <= 0:
                 moved = step if low >= 0 else -step
-                spans.append((min(abs(low), abs(high)) if low * high > 0 else 0.0,
+                spans.append((min(abs(low), abs(high)) if one_way else 0.0,
                               max(abs(low), abs(high))))
             else:
                 spans.append(None)
@@ -747,7 +753,9 @@ class _Tracker:
             pieces = np.fmax(pieces, np.ceil(self.length_steps
                                              / (LENGTH_RESOLUTION / 2 * scale)))
             coarse = coarse | (pieces > 1)
-        doubtful = np.flatnonzero(((both & ~settled) | edge | coarse) & self.finite)
+        # a step of more than MAX_PIECES pieces (hundreds of turns) is past resolving
+        doubtful = np.flatnonzero(((both & ~settled) | edge | coarse) & self.finite
+                                  & (pieces <= MAX_PIECES))
         at_sample = present & (apart <= MEET_RTOL)
         # each doubtful step is looked into at two pieces at least, so many steps at a
         # time that their pieces stay within a block of memory

@@ -478,3 +478,14 @@ def test_a_circuit_across_the_ends_of_the_turn_passes_both_dyads():
     found = limits(c)
     assert all(set(end.nodes) == {"A", "B"} for pair in found.intervals for end in pair)
     assert circuit(c).valid.all()
+
+
+@pytest.mark.parametrize("values", [[1e308, -1e308, 1e308, 0.5], [0.0, 1e30, 0.5],
+                                    [0.0, 1e6, 2e6]])
+def test_steps_of_any_size_never_change_a_branch_whose_roots_never_meet(values):
+    s = sweep(fourbar(), values)
+    with np.errstate(invalid="ignore"):
+        exact = closed_form_left(np.asarray(values), 24.0, 10.55, 25.0, 14.0)
+    assert s.valid.all()
+    # a crank-rocker's roots never meet: the closed form, to the inputs' own rounding
+    np.testing.assert_allclose(s["B"], exact, atol=1e-6)
