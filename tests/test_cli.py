@@ -502,7 +502,10 @@ def test_a_signal_while_writing_a_large_csv_keeps_the_old_file(tmp_path, signum,
     path.write_text(old)
     process = subprocess.Popen(
         [sys.executable, "-m", "geokin.cli", "trace", SIXBAR, "--samples", "1000000", "-o",
-         str(path)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+         str(path)], stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True,
+        # a job started in the background inherits SIGINT ignored, and so would the
+        # child: give it the default, as a terminal's foreground job has
+        preexec_fn=lambda: signal.signal(signal.SIGINT, signal.SIG_DFL))
     try:
         deadline = time.monotonic() + 120
         while True:  # until the new file is well under way
