@@ -331,15 +331,20 @@ def _check_one(path):
     summary += f"; {len(s.events)} branch change{'s' if len(s.events) != 1 else ''}"
     _print_lines(summary)
     for event in s.events:
-        _print_lines(f"  at {_sample_text(c, s, event.index)}: node {event.node!r} changes "
-                     f"branch from {event.before} to {event.after}")
+        _print_lines(f"  at {_inputs_text(c, s.event_inputs(event), event.index)}: node "
+                     f"{event.node!r} changes branch from {event.before} to {event.after}")
 
 
 def _sample_text(c, s, i) -> str:
+    return _inputs_text(c, {name: values[i] for name, values in s.inputs.items()}, i)
+
+
+def _inputs_text(c, values, i) -> str:
+    """Say input values in the script's units, or the sample ``i`` without inputs."""
     parts = []
-    for name, values in s.inputs.items():
+    for name, value in values.items():
         inp = c.inputs[name]
-        value = math.degrees(values[i]) if inp.kind == "angle" else values[i]
+        value = math.degrees(value) if inp.kind == "angle" else value
         parts.append(f"{name} = {_format_value(inp, round(float(value), 9))}")
     return ", ".join(parts) or f"sample {i}"
 

@@ -198,6 +198,31 @@ class Sweep:
         """Return why each sample failed, as text ('' where valid)."""
         return np.array(REASONS, dtype=object)[self.reason_code]
 
+    def event_inputs(self, event: BranchEvent) -> dict[str, float]:
+        """Return the input values where the roots of a branch change meet.
+
+        They lie on the straight path from sample ``event.index - 1`` to
+        ``event.index``, at ``event.fraction`` of it.
+
+        Examples
+        --------
+        A parallelogram (ground 10, crank 4, coupler 10, rocker 4) passes its
+        change point at 180 degrees, three tenths of the way along a step:
+
+        >>> c = Construction()
+        >>> c.input("theta")
+        >>> c.fixed("O2", 0, 0)
+        >>> c.fixed("O4", 10, 0)
+        >>> c.polar("A", "O2", 4, "theta")
+        >>> c.circle_circle("B", ("A", "O4"), (10, 4), branch="left")
+        >>> s = sweep(c, np.radians([177.0, 187.0]))
+        >>> round(float(np.degrees(s.event_inputs(s.events[0])["theta"])), 4)
+        180.0
+        """
+        before, after = event.index - 1, event.index
+        return {name: float(values[before] + event.fraction * (values[after] - values[before]))
+                for name, values in self.inputs.items()}
+
     def branch_names(self, node: str) -> np.ndarray:
         """Return the branch of a two-root node at each sample, by name."""
         step = self._step(node)

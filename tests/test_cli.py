@@ -586,3 +586,18 @@ def test_a_full_disk_or_a_closed_folder_names_the_output(capsys, tmp_path, monke
     status, _, err = run(capsys, "plot", SIXBAR, "-o", tmp_path / "new.png")
     assert (status, err) == (2, f"geokin: error: cannot write '{tmp_path / 'new.png'}': "
                                 "Permission denied\n")
+
+
+def test_check_says_where_the_roots_meet_not_where_the_new_branch_is_first_seen(
+        capsys, tmp_path):
+    script = tmp_path / "parallelogram.toml"
+    script.write_text('[inputs.theta]\nrange = [0, 360]\nstep = 50\n[points]\n'
+                      'O2 = { op = "fixed", at = [0, 0] }\n'
+                      'O4 = { op = "fixed", at = [10, 0] }\n'
+                      'A = { op = "polar", origin = "O2", distance = 4, angle = "theta" }\n'
+                      'B = { op = "circle_circle", centers = ["A", "O4"], radii = [10, 4], '
+                      'branch = "left" }\n')
+    status, out, err = run(capsys, "check", str(script))
+    assert status == 0
+    # the change point lies at 180 degrees, between the samples at 150 and 200
+    assert "  at theta = 180 deg: node 'B' changes branch from left to right" in out
