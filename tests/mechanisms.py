@@ -53,23 +53,27 @@ def coupler_fourbar():
 R1, R2, R3, R4 = 7.0, 5.0, 6.0, 5.0  # seed 000: ground, crank, coupler, follower
 
 
-def triple_rocker(driver, branch="left"):
-    """Seed 000's four-bar with the crank, coupler or follower driving."""
+def triple_rocker(driver, branch="left", input_range=None):
+    """Seed 000's four-bar with the crank, coupler or follower driving.
+
+    ``input_range`` (radians) is the driving input's declared range, one turn
+    from 0 by default.
+    """
     c = Construction(f"triple rocker, {driver} driving")
     c.fixed("A", 0, 0)
     c.fixed("D", R1, 0)
     if driver == "crank":
-        c.input("theta2")
+        c.input("theta2", range=input_range)
         c.polar("B", "A", R2, "theta2")
         c.circle_circle("C", ("B", "D"), (R3, R4), branch=branch)
     elif driver == "coupler":
-        c.input("theta3")
+        c.input("theta3", range=input_range)
         # B is r3 behind C along the coupler: it lies on the follower circle shifted back
         c.polar("Dp", "D", R3, "theta3 + pi")
         c.circle_circle("B", ("A", "Dp"), (R2, R4), branch=branch)
         c.polar("C", "B", R3, "theta3")
     else:
-        c.input("theta4")
+        c.input("theta4", range=input_range)
         c.polar("C", "D", R4, "theta4")
         c.circle_circle("B", ("A", "C"), (R2, R3), branch=branch)
     c.link("crank", "A", "B")

@@ -8,7 +8,7 @@ import pytest
 import shapely
 
 import geokin
-from geokin import sweep
+from geokin import analysis, sweep
 
 CONSTRUCTIONS = pathlib.Path(__file__).resolve().parent.parent / "constructions"
 
@@ -121,14 +121,12 @@ def test_sixbar_reproduces_the_seed_program():
 
 
 def test_sixbar_has_one_degree_of_freedom():
-    analysis = pytest.importorskip("geokin.analysis")
     mobility = analysis.degrees_of_freedom(load("sixbar"))
     assert (mobility.moving_links, mobility.lower_pairs, mobility.dof) == (5, 7, 1)
 
 
 @pytest.mark.parametrize("path", sorted(CONSTRUCTIONS.glob("*.toml")), ids=lambda p: p.name)
 def test_every_construction_has_as_many_degrees_of_freedom_as_inputs(path):
-    analysis = pytest.importorskip("geokin.analysis")
     c = geokin.load(path)
     assert analysis.degrees_of_freedom(c).dof == len(c.inputs)
 

@@ -28,10 +28,8 @@ def test_seed_000_crank_range_is_plus_minus_132_1774_degrees():
 @pytest.mark.parametrize("driver", ["crank", "coupler", "follower"])
 @pytest.mark.parametrize("branch", ["left", "right"])
 def test_limits_match_the_closed_form_to_1e_9(driver, branch):
-    c = triple_rocker(driver, branch)
-    if driver == "follower":
-        c.inputs["theta4"] = c.inputs["theta4"].__class__("theta4", range=(0, 2 * np.pi))
-        c._compiled = None
+    c = triple_rocker(driver, branch, input_range=(0, 2 * np.pi) if driver == "follower"
+                      else None)
     found = limits(c)
     assert not found.full_turn
     [(lo, hi)] = found.intervals

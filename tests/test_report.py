@@ -46,7 +46,19 @@ def test_crank_rocker_turns_fully_and_has_a_time_ratio():
     assert report["inputs"]["theta2"]["full_turn"]
     assert report["four_bars"][0]["class"] == "crank-rocker"
     follower = report["strokes"]["follower.angle"]
-    assert follower["time_ratio"] is not None and follower["stroke"] > 0
+    # the follower's dead positions: crank and coupler in line, B at 10 + 35 or 35 - 10
+    # from A; B above the ground, on the left of A -> D as declared
+    angles, cranks = [], []
+    for reach, crank_turn in ((45.0, 0.0), (25.0, np.pi)):
+        cos_b = (40**2 + 30**2 - reach**2) / (2 * 40 * 30)  # angle at D in triangle A-D-B
+        angles.append(np.pi - np.arccos(cos_b))  # direction D -> B
+        bx, by = 40 + 30 * np.cos(angles[-1]), 30 * np.sin(angles[-1])
+        cranks.append(np.arctan2(by, bx) + crank_turn)  # A on the line A-B, or against it
+    low, high = min(angles), max(angles)
+    assert follower["min"] == pytest.approx(low, abs=1e-6)
+    assert follower["max"] == pytest.approx(high, abs=1e-6)
+    forward = (cranks[angles.index(high)] - cranks[angles.index(low)]) % (2 * np.pi)
+    assert follower["time_ratio"] == pytest.approx(forward / (2 * np.pi - forward), rel=1e-6)
 
 
 def test_quick_return_time_ratio_matches_the_closed_form():

@@ -198,12 +198,17 @@ def test_no_branch_change_where_roots_stay_apart():
     assert s.events == [] and (s.branches["B"] == 0).all()
 
 
-def test_sweep_is_vectorized_not_one_sample_at_a_time():
-    c = coupler_fourbar()
+def test_a_whole_sweep_matches_the_closed_form_four_bar():
+    """The benchmark four-bar's coupler point by the law of cosines, independently."""
     theta = np.linspace(0, 2 * np.pi, 1001)
-    whole = sweep(c, theta)
-    one_by_one = np.array([sweep(c, [t])["P"][0] for t in theta[::50]])
-    np.testing.assert_allclose(whole["P"][::50], one_by_one, atol=1e-12)
+    whole = sweep(coupler_fourbar(), theta)
+    ax, ay = 10 * np.cos(theta), 10 * np.sin(theta)
+    d = np.hypot(40 - ax, -ay)
+    # B left of A -> O4: the direction to O4 turned by the angle at A of triangle A-B-O4
+    at_a = np.arctan2(-ay, 40 - ax) + np.arccos((35**2 + d**2 - 30**2) / (2 * 35 * d))
+    p_angle = at_a + np.radians(30)
+    expected = np.c_[ax + 20 * np.cos(p_angle), ay + 20 * np.sin(p_angle)]
+    np.testing.assert_allclose(whole["P"], expected, atol=1e-12)
 
 
 def test_inputs_mapping_and_errors():
