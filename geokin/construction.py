@@ -6,10 +6,9 @@ point found from points already known. Declaring checks each node on its
 own (names, arity, branch); :meth:`Construction.compile` checks the whole
 graph (unknown names, cycles) and orders it into :class:`Step` objects.
 
-Angles are radians in the Python API. A construction loaded from a script
-keeps its expressions in degrees (``angle_unit == "deg"``); the sweep then
-hands its angle inputs to the expressions in degrees and converts every
-angle field back to radians, so expressions mean what the script says.
+Every angle inside geokin is radians: input ranges, steps and speeds, input
+values and angle fields. A script's degrees are converted when it is read
+(:func:`geokin.io.load`) and back when one is written.
 
 Examples
 --------
@@ -517,15 +516,12 @@ class Compiled:
         Every point node, each after the points it is built on.
     parameters : dict of str to float
     inputs : dict of str to Input
-    angle_unit : {"rad", "deg"}
-        The unit of angle values inside the expressions.
     """
 
     name: str
     steps: tuple[Step, ...]
     parameters: Mapping[str, float]
     inputs: Mapping[str, Input]
-    angle_unit: str = "rad"
     links: tuple[Link, ...] = ()
     sliders: tuple[Slider, ...] = ()
     _values: Mapping[str, Mapping[str, Expr]] = field(default_factory=dict, repr=False)
@@ -589,23 +585,18 @@ class Construction:
     ----------
     name : str
         A name for messages and pictures.
-    angle_unit : {"rad", "deg"}
-        The unit of angle values inside expressions: "rad" for a construction
-        built in Python; "deg" for one loaded from a script, whose
-        expressions keep the script's degrees. Angle values declared later on
-        a loaded construction are read in its unit, degrees, while input
-        ranges, steps and speeds are radians in the Python API whatever the
-        unit.
+    description, units : str
+        Free text, and the label of the length unit.
+
+    Every angle is radians, whether the construction is built in Python or
+    loaded from a script (whose degrees are converted as it is read).
     """
 
-    def __init__(self, name: str = "construction", *, angle_unit: str = "rad",
-                 description: str = "", units: str = ""):
-        if angle_unit not in ("rad", "deg"):
-            raise ConstructionError(f"angle_unit must be 'rad' or 'deg', got {angle_unit!r}")
+    def __init__(self, name: str = "construction", *, description: str = "",
+                 units: str = ""):
         self.name = name
         self.description = description
         self.units = units
-        self.angle_unit = angle_unit
         self.parameters: dict[str, Parameter] = {}
         self.inputs: dict[str, Input] = {}
         self.nodes: dict[str, Node] = {}
@@ -623,10 +614,10 @@ class Construction:
     def __eq__(self, other):
         if not isinstance(other, Construction):
             return NotImplemented
-        mine = (self.name, self.angle_unit, self.parameters, self.inputs, self.nodes,
-                self.links, self.sliders, self.traced)
-        theirs = (other.name, other.angle_unit, other.parameters, other.inputs, other.nodes,
-                  other.links, other.sliders, other.traced)
+        mine = (self.name, self.parameters, self.inputs, self.nodes, self.links,
+                self.sliders, self.traced)
+        theirs = (other.name, other.parameters, other.inputs, other.nodes, other.links,
+                  other.sliders, other.traced)
         return mine == theirs
 
     __hash__ = None
@@ -1051,7 +1042,7 @@ class Construction:
         steps = tuple(Step(i + 1, self.nodes[name]) for i, name in enumerate(order))
         self._compiled = Compiled(
             self.name, steps, {k: p.value for k, p in self.parameters.items()},
-            dict(self.inputs), self.angle_unit, tuple(self.links.values()),
+            dict(self.inputs), tuple(self.links.values()),
             tuple(self.sliders.values()),
             {n: node.value_fields() for n, node in self.nodes.items()}, self.traced)
         return self._compiled

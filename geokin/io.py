@@ -14,8 +14,9 @@ input is handed to expressions in degrees, so ``angle = "theta + 90"`` means
 90 degrees ahead of the input. The trigonometric functions still take
 radians: write ``sin(radians(theta))``. Lengths are in the script's
 ``units`` (a label such as ``"mm"``), speeds in degrees (or length units)
-per second. In the Python API the same construction holds its input
-ranges in radians.
+per second. The construction a script gives holds radians, as every
+construction does: its angle inputs, ranges and angle fields are converted
+as the script is read, and back when one is written.
 
 An annotated script
 -------------------
@@ -111,6 +112,7 @@ True
 
 from __future__ import annotations
 
+import dataclasses
 import math
 import os
 import re
@@ -170,7 +172,8 @@ def load(path) -> Construction:
     Returns
     -------
     Construction
-        With ``angle_unit == "deg"``: its expressions keep the script's text.
+        In radians, as every construction: angle inputs and angle fields
+        are converted from the script's degrees.
 
     Raises
     ------
@@ -477,7 +480,7 @@ class _Reader:
             if key in meta and not isinstance(meta[key], str):
                 raise self.fail("construction", key,
                                 f"expected a string, got {_kind_of(meta[key])}")
-        c = Construction(meta.get("name", self.default_name), angle_unit="deg",
+        c = Construction(meta.get("name", self.default_name),
                          description=meta.get("description", ""), units=meta.get("units", ""))
         for name, value in data.get("parameters", {}).items():
             self.declare(c, "parameters", name, self.parameter, value)
@@ -501,6 +504,10 @@ class _Reader:
                     raise self.fail("construction", f"trace[{i}]",
                                     f"expected a point name (a string), got {_kind_of(p)}")
             c.trace(*trace)
+        # inside geokin every angle is radians: the script's degrees end here
+        to_radians = _ToRadians(c)
+        for name, node in list(c.nodes.items()):
+            c.nodes[name] = to_radians.node(node)
         try:
             c.compile()
         except ScriptError:
@@ -676,12 +683,12 @@ class _Reader:
 def dump(construction: Construction) -> str:
     """Write a construction as a script that :func:`loads` reads back.
 
-    A construction read from a script (``angle_unit == "deg"``) is written
-    back as the same construction. One built in Python (radians) becomes an
-    equivalent script in degrees: angle inputs appear in degrees, and each
-    angle field is rewritten, for example ``theta + pi / 2`` as
-    ``theta + 90``, or wrapped in ``degrees(...)`` with the angle inputs
-    referenced as ``radians(name)`` where no simpler form is known.
+    Every construction holds radians; the script is written in degrees:
+    angle inputs appear in degrees, and each angle field is rewritten, for
+    example ``theta + pi / 2`` as ``theta + 90``, or wrapped in
+    ``degrees(...)`` with the angle inputs referenced as ``radians(name)``
+    where no simpler form is known. A construction read from a script is
+    written back as the script it was read from.
 
     Parameters
     ----------
@@ -718,7 +725,7 @@ def dump(construction: Construction) -> str:
     if not isinstance(construction, Construction):
         raise TypeError(f"expected a Construction, got {type(construction).__name__}")
     c = construction
-    convert = _Converter(c) if c.angle_unit == "rad" else None
+    convert = _Converter(c)
     out = ["[construction]", f"name = {_toml_string(c.name)}"]
     if c.description:
         out.append(f"description = {_toml_string(c.description)}")
@@ -968,6 +975,68 @@ class _Converter:
             if expr.op == "/":
                 return _fold("/", self.angle(expr.left), self.plain(expr.right))
         return Call("degrees", (self.plain(expr),))
+
+
+class _ToRadians:
+    """Rewrite the expressions of a degrees script for a radians construction.
+
+    The inverse of :class:`_Converter`: in the script every angle input holds
+    degrees, so each use of one in an expression becomes ``degrees(name)``
+    (and ``radians(degrees(name))`` just ``name``); an angle field ``e``
+    becomes ``radians(e)``, simplified where the rewriting is exact and
+    obvious (``theta + 90`` becomes ``theta + 1.5707963267948966``).
+    """
+
+    def __init__(self, construction: Construction):
+        self.angles = frozenset(n for n, i in construction.inputs.items() if i.kind == "angle")
+
+    def plain(self, expr: Expr) -> Expr:
+        """Return ``expr`` with each angle input ``t`` read as ``degrees(t)``."""
+        if isinstance(expr, Name) and expr.name in self.angles:
+            return Call("degrees", (expr,))
+        if isinstance(expr, Neg):
+            return Neg(self.plain(expr.operand))
+        if isinstance(expr, BinOp):
+            return BinOp(expr.op, self.plain(expr.left), self.plain(expr.right))
+        if isinstance(expr, Call):
+            (first, *_) = expr.args
+            if (expr.function == "radians" and isinstance(first, Name)
+                    and first.name in self.angles):
+                return first
+            return Call(expr.function, tuple(self.plain(a) for a in expr.args))
+        return expr
+
+    def angle(self, expr: Expr) -> Expr:
+        """Return an expression of the construction equal to ``radians(expr)``."""
+        if isinstance(expr, Number):
+            return Number(math.radians(expr.value))
+        if isinstance(expr, Name):
+            if expr.name in self.angles:
+                return expr
+            return Call("radians", (expr,))
+        if isinstance(expr, Call) and expr.function == "degrees":
+            return self.plain(expr.args[0])
+        if isinstance(expr, Neg):
+            inner = self.angle(expr.operand)
+            return Number(-inner.value) if isinstance(inner, Number) else Neg(inner)
+        if isinstance(expr, BinOp):
+            if expr.op in "+-":
+                return _fold(expr.op, self.angle(expr.left), self.angle(expr.right))
+            if expr.op == "/":
+                return _fold("/", self.angle(expr.left), self.plain(expr.right))
+        return Call("radians", (self.plain(expr),))
+
+    def node(self, node: Node) -> Node:
+        """Return ``node`` with every value field rewritten."""
+        changes = {}
+        for field in dataclasses.fields(node):
+            value = getattr(node, field.name)
+            convert = self.angle if field.name in node.angle_fields() else self.plain
+            if isinstance(value, Expr):
+                changes[field.name] = convert(value)
+            elif isinstance(value, tuple) and value and all(isinstance(v, Expr) for v in value):
+                changes[field.name] = tuple(convert(v) for v in value)
+        return dataclasses.replace(node, **changes)
 
 
 def _nice_degrees(radians: float) -> float:

@@ -369,7 +369,7 @@ class _PlannedStep:
     index: int
     node: object
     constants: dict
-    varying: tuple  # (field, expression, factor to radians or None)
+    varying: tuple  # (field, expression)
 
 
 def _plan(compiled: Compiled) -> tuple[_PlannedStep, ...]:
@@ -377,19 +377,16 @@ def _plan(compiled: Compiled) -> tuple[_PlannedStep, ...]:
     plan = compiled.cache.get("plan")
     if plan is not None:
         return plan
-    to_radians = np.pi / 180 if compiled.angle_unit == "deg" else None
     planned = []
     with np.errstate(all="ignore"):
         for step in compiled.steps:
             node = step.node
             constants, varying = {}, []
             for field_name, expr in compiled._values[node.name].items():
-                factor = to_radians if field_name in node.angle_fields() else None
                 if expr.names() <= compiled.parameters.keys():
-                    value = expr.evaluate(compiled.parameters)
-                    constants[field_name] = float(value * factor if factor else value)
+                    constants[field_name] = float(expr.evaluate(compiled.parameters))
                 else:
-                    varying.append((field_name, expr, factor))
+                    varying.append((field_name, expr))
             planned.append(_PlannedStep(step.index, node, constants, tuple(varying)))
     compiled.cache["plan"] = plan = tuple(planned)
     return plan
@@ -397,10 +394,7 @@ def _plan(compiled: Compiled) -> tuple[_PlannedStep, ...]:
 
 def _environment(compiled: Compiled, inputs):
     env = dict(compiled.parameters)
-    for name, value in inputs.items():
-        if compiled.angle_unit == "deg" and compiled.inputs[name].kind == "angle":
-            value = np.degrees(value)
-        env[name] = value
+    env.update(inputs)
     return env
 
 
@@ -409,9 +403,8 @@ def _step_values(step: _PlannedStep, env) -> Mapping:
     if not step.varying:
         return step.constants
     values = dict(step.constants)
-    for field_name, expr, factor in step.varying:
-        value = expr.evaluate(env)
-        values[field_name] = value * factor if factor else value
+    for field_name, expr in step.varying:
+        values[field_name] = expr.evaluate(env)
     return values
 
 
