@@ -953,7 +953,8 @@ class _Converter:
     def angle(self, expr: Expr) -> Expr:
         """Return an expression of the script equal to ``degrees(expr)``."""
         if isinstance(expr, Number):
-            return Number(_nice_degrees(expr.value))
+            # the shortest degree value that reads back as exactly this number
+            return Number(_script_degrees(expr.value))
         if isinstance(expr, Name):
             if expr.name in self.angles:
                 return expr
@@ -1037,12 +1038,6 @@ class _ToRadians:
             elif isinstance(value, tuple) and value and all(isinstance(v, Expr) for v in value):
                 changes[field.name] = tuple(convert(v) for v in value)
         return dataclasses.replace(node, **changes)
-
-
-def _nice_degrees(radians: float) -> float:
-    degrees = math.degrees(radians)
-    nice = float(f"{degrees:.12g}")
-    return nice if abs(nice - degrees) <= 1e-12 * max(1.0, abs(degrees)) else degrees
 
 
 def _fold(op: str, left: Expr, right: Expr) -> Expr:

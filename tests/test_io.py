@@ -631,3 +631,10 @@ Q = { op = "polar", origin = "A", distance = "5 + sin(radians(theta))", angle = 
     a, b = sweep(script, theta), sweep(c, theta)
     for name in c.nodes:
         np.testing.assert_array_equal(a[name], b[name])
+
+
+@pytest.mark.parametrize("degrees", [1e300, 659.6771749607451, -645.6585625622657, 1e-300, 90])
+def test_every_degree_value_of_a_script_comes_back_from_a_round_trip(degrees):
+    c = loads(GOOD + f'\n[points.Z]\nop = "polar"\norigin = "A0"\ndistance = 1\n'
+                     f'angle = {degrees!r}\n')
+    assert loads(dump(c)) == c
