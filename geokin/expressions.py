@@ -40,7 +40,6 @@ import math
 import unicodedata
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
-from typing import ClassVar
 
 import numpy as np
 
@@ -80,8 +79,10 @@ class Expr:
 
     __slots__ = ()
 
-    depth: ClassVar[int] = 0
-    """Levels of operations and calls from the whole to a number or a name."""
+    @property
+    def depth(self) -> int:
+        """Levels of operations and calls from the whole to a number or a name."""
+        return 0
 
     def names(self) -> frozenset[str]:
         """Return the names of parameters and inputs this value depends on."""
@@ -317,9 +318,10 @@ def _ast_depth(tree: ast.AST) -> int:
     answer is at most one more than the limit.
     """
     deepest = 0
-    stack = [(tree, 0)]
+    stack: list[tuple[ast.AST, int]] = [(tree, 0)]
     while stack:
         item, depth = stack.pop()
+        children: tuple[ast.expr, ...]
         if isinstance(item, ast.BinOp):
             children = (item.left, item.right)
         elif isinstance(item, ast.UnaryOp):
