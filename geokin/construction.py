@@ -279,8 +279,8 @@ class Node:
 class Fixed(Node):
     """A fixed point (a ground pivot) at ``(x, y)``."""
 
-    x: Expr = None
-    y: Expr = None
+    x: Expr
+    y: Expr
     kind: ClassVar[str] = "fixed"
 
     def value_fields(self):
@@ -301,9 +301,9 @@ class Polar(Node):
     ``reference=(P, Q)``, measured from the direction of the line P -> Q.
     """
 
-    origin: str = ""
-    distance: Expr = None
-    angle: Expr = None
+    origin: str
+    distance: Expr
+    angle: Expr
     reference: tuple[str, str] | None = None
     kind: ClassVar[str] = "polar"
 
@@ -339,8 +339,8 @@ class Polar(Node):
 class Along(Node):
     """The point at a signed ``distance`` from ``line[0]`` towards ``line[1]``."""
 
-    line: tuple[str, str] = ()
-    distance: Expr = None
+    line: tuple[str, str]
+    distance: Expr
     kind: ClassVar[str] = "along"
 
     def point_fields(self):
@@ -362,8 +362,8 @@ class Along(Node):
 class LineLine(Node):
     """The intersection of the lines ``first[0]-first[1]`` and ``second[0]-second[1]``."""
 
-    first: tuple[str, str] = ()
-    second: tuple[str, str] = ()
+    first: tuple[str, str]
+    second: tuple[str, str]
     kind: ClassVar[str] = "line_line"
 
     def point_fields(self):
@@ -390,8 +390,8 @@ class _TwoRoot(Node):
         """Return the names of the two roots, in the primitive's order."""
         return BRANCHES[self.kind]
 
-    def choice(self) -> str:
-        """Return how the initial branch is chosen, as text."""
+    def choice(self) -> str | None:
+        """Return how the initial branch is chosen, as text (None if neither is given)."""
         if self.near is not None:
             return f"near ({self.near[0]:g}, {self.near[1]:g})"
         return self.branch
@@ -405,8 +405,9 @@ class CircleCircle(_TwoRoot):
     second, ``right`` right of it.
     """
 
-    centers: tuple[str, str] = ()
-    radii: tuple[Expr, Expr] = ()
+    # after the optional branch and near: given by keyword
+    centers: tuple[str, str] = field(kw_only=True)
+    radii: tuple[Expr, Expr] = field(kw_only=True)
     kind: ClassVar[str] = "circle_circle"
 
     def point_fields(self):
@@ -433,9 +434,10 @@ class _LineCircle(_TwoRoot):
     Branch ``first`` comes first along the line's direction, ``second`` after it.
     """
 
-    line: tuple[str, str] = ()
-    center: str = ""
-    radius: Expr = None
+    # after the optional branch and near: given by keyword
+    line: tuple[str, str] = field(kw_only=True)
+    center: str = field(kw_only=True)
+    radius: Expr = field(kw_only=True)
     low: ClassVar[float] = -np.inf
     high: ClassVar[float] = np.inf
 
@@ -559,8 +561,8 @@ class Compiled:
         rows = []
         for step in self.steps:
             node = step.node
-            row = (node.name, node.kind, *node.depends_on())
-            if node.roots == 2:
+            row: tuple[str | None, ...] = (node.name, node.kind, *node.depends_on())
+            if isinstance(node, _TwoRoot):
                 row += (node.choice(),)
             rows.append(row)
         return rows
@@ -629,7 +631,8 @@ class Construction:
                   other.links, other.sliders, other.traced)
         return mine == theirs
 
-    __hash__ = None
+    # unhashable, as it is mutable; typeshed types object.__hash__ as a method only
+    __hash__: ClassVar[None] = None  # type: ignore[assignment]
 
     # -- names -------------------------------------------------------------
 
@@ -832,7 +835,7 @@ class Construction:
         >>> c.polar("A", "O", 10, "theta")
         >>> c.polar("P", "A", 20, "radians(30)", reference=("A", "Q"))
         """
-        ref = None if reference is None else self._points(reference, name, "reference", 2)
+        ref = None if reference is None else self._point_pair(reference, name, "reference")
         self._add(Polar(name, self._point(origin, name, "origin"),
                         self._value(distance, name, "distance"),
                         self._value(angle, name, "angle"), ref))
@@ -849,7 +852,7 @@ class Construction:
         >>> print(c.compile().steps[-1].node.describe())
         along(A->B, 2.5)
         """
-        self._add(Along(name, self._points(line, name, "line", 2),
+        self._add(Along(name, self._point_pair(line, name, "line"),
                         self._value(distance, name, "distance")))
 
     def line_line(self, name: str, first: Sequence[str], second: Sequence[str]) -> None:
@@ -864,8 +867,8 @@ class Construction:
         ...     c.fixed(name, x, y)
         >>> c.line_line("X", ("P", "Q"), ("R", "S"))
         """
-        self._add(LineLine(name, self._points(first, name, "first", 2),
-                           self._points(second, name, "second", 2)))
+        self._add(LineLine(name, self._point_pair(first, name, "first"),
+                           self._point_pair(second, name, "second")))
 
     def circle_circle(self, name: str, centers: Sequence[str], radii: Sequence,
                       branch: str | None = None, near: Sequence[float] | None = None) -> None:
@@ -883,9 +886,9 @@ class Construction:
             Instead of ``branch``: a sketch position; the root nearer to it at
             the first assemblable sample is taken.
         """
-        radii = self._values(radii, name, "radii", 2)
+        radii = self._value_pair(radii, name, "radii")
         self._add(CircleCircle(name, *self._branch("circle_circle", name, branch, near),
-                               centers=self._points(centers, name, "centers", 2), radii=radii))
+                               centers=self._point_pair(centers, name, "centers"), radii=radii))
 
     def line_circle(self, name: str, line: Sequence[str], center: str, radius,
                     branch: str | None = None, near: Sequence[float] | None = None) -> None:
@@ -934,7 +937,7 @@ class Construction:
         """
         name = self._claim(name, "slider")
         self.sliders[name] = Slider(name, self._point(point, name, "point"),
-                                    self._points(along, name, "along", 2))
+                                    self._point_pair(along, name, "along"))
 
     def trace(self, *points: str) -> None:
         """Name the points whose paths are traced (coupler points) in plots and reports."""
@@ -951,7 +954,7 @@ class Construction:
 
     def _line_circle(self, cls, name, line, center, radius, branch, near):
         self._add(cls(name, *self._branch(cls.kind, name, branch, near),
-                      line=self._points(line, name, "line", 2),
+                      line=self._point_pair(line, name, "line"),
                       center=self._point(center, name, "center"),
                       radius=self._value(radius, name, "radius")))
 
@@ -967,6 +970,14 @@ class Construction:
             raise ConstructionError(f"expected {count} values, got {len(values)}", node=node,
                                     field=field_name)
         return tuple(self._value(v, node, f"{field_name}[{i}]") for i, v in enumerate(values))
+
+    def _value_pair(self, values, node, field_name) -> tuple[Expr, Expr]:
+        first, second = self._values(values, node, field_name, 2)
+        return first, second
+
+    def _point_pair(self, points, node, field_name) -> tuple[str, str]:
+        first, second = self._points(points, node, field_name, 2)
+        return first, second
 
     @staticmethod
     def _point(point, node, field_name) -> str:
