@@ -238,6 +238,13 @@ class Node:
     name: str
     kind: ClassVar[str] = ""
     roots: ClassVar[int] = 1
+    low: ClassVar[float] = -np.inf
+    """Where along its line a root counts, as the line's parameter: ``low <= t <= high``."""
+    high: ClassVar[float] = np.inf
+
+    def branch_names(self) -> tuple[str, ...]:
+        """Return the names of the roots, in the primitive's order (none for one root)."""
+        return ()
 
     def point_fields(self) -> dict[str, tuple[str, ...]]:
         """Return the points this node is built on, by field."""
@@ -438,8 +445,6 @@ class _LineCircle(_TwoRoot):
     line: tuple[str, str] = field(kw_only=True)
     center: str = field(kw_only=True)
     radius: Expr = field(kw_only=True)
-    low: ClassVar[float] = -np.inf
-    high: ClassVar[float] = np.inf
 
     def point_fields(self):
         return {"line": self.line, "center": (self.center,)}

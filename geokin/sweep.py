@@ -49,7 +49,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .budgets import check_sweep_memory
-from .construction import REASONS, Compiled, Construction, failure_reasons
+from .construction import REASONS, Compiled, Construction, Node, failure_reasons
 from .errors import ConstructionError, did_you_mean
 
 __all__ = ["BranchEvent", "Sweep", "evaluate", "sweep"]
@@ -367,7 +367,7 @@ class _PlannedStep:
     """A step with its constant values evaluated once and its varying ones listed."""
 
     index: int
-    node: object
+    node: Node
     constants: dict
     varying: tuple  # (field, expression, factor to radians or None)
 
@@ -455,6 +455,8 @@ def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
     compiled = _compiled(construction)
     plan = _plan(compiled)
     env = _environment(compiled, inputs)
+    coords: dict[str, tuple[np.ndarray, np.ndarray]]
+    label: np.ndarray | int | None
     coords, labels, margins, parameters, events, results = {}, {}, {}, {}, [], []
     with np.errstate(all="ignore"):
         tracker = _Tracker(compiled, plan, inputs, n, origin) if track and n >= 2 else None
@@ -656,7 +658,8 @@ class _Tracker:
         # only for paths that need them, to spare a monotone sweep two arrays
         self.turning = np.zeros(n - 1, dtype=bool) if n > 2 else np.ones(n - 1, dtype=bool)
         self.finite: np.ndarray | bool = True
-        spans = []  # each input's shortest and longest step, where it runs one way
+        # each input's shortest and longest step, where it runs one way
+        spans: list[tuple[float, float] | None] = []
         for name, values in self.inputs.items():
             if len(self.inputs) == 1:
                 # into memory kept from sweep to sweep: a fresh array of this size costs
@@ -771,6 +774,7 @@ class _Tracker:
             return start, []
         # a step looked into is cut at half the resolution: a narrow dip of the roots'
         # distance shows at one cut at least
+        assert self.angle_steps is not None  # __init__ sets it
         pieces = np.ceil(self.angle_steps / (ANGLE_RESOLUTION / 2) - 1e-9)
         coarse = self.turning | (self.angle_steps > ANGLE_RESOLUTION * (1 + 1e-9))
         if self.length_steps is not None:
