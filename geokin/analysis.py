@@ -403,7 +403,7 @@ def transmission_angles(sweep: Sweep) -> dict[str, TransmissionAngle]:
             lo, hi = int(np.nanargmin(angle)), int(np.nanargmax(angle))
             low, high = float(angle[lo]), float(angle[hi])
         result[node.name] = TransmissionAngle(
-            node.name, tuple(node.centers), angle, low, high, lo, hi,
+            node.name, node.centers, angle, low, high, lo, hi,
             {k: float(v[lo]) for k, v in sweep.inputs.items()},
             {k: float(v[hi]) for k, v in sweep.inputs.items()})
     return result

@@ -336,8 +336,8 @@ def motion(sweep: Sweep, input: str | None = None, *, speed=None, acceleration=0
     accel = dict(d.second)
     if any(np.any(c != 0) for c in changes.values()):
         # the inputs' own accelerations add a first derivative along them
-        moving = {name: c for name, c in changes.items() if np.any(c != 0)}
-        extra = _along(sweep, moving, _time_step(sweep, moving, step), input)
+        accelerating = {name: c for name, c in changes.items() if np.any(c != 0)}
+        extra = _along(sweep, accelerating, _time_step(sweep, accelerating, step), input)
         accel = {p: accel[p] + extra.first[p] for p in accel}
     angle, angular_velocity, angular_acceleration = {}, {}, {}
     for link in sweep.construction.links:
