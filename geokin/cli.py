@@ -55,20 +55,22 @@ import signal
 import sys
 import threading
 import warnings
+import zipfile
 from dataclasses import dataclass
+from typing import BinaryIO
 
 import numpy as np
 
 from . import __version__
 from .analysis import degrees_of_freedom
 from .atomic import replacing
-from .construction import MAX_SAMPLES
+from .construction import MAX_SAMPLES, Construction
 from .errors import GeokinError, did_you_mean
 from .io import _script_degrees, load
 from .kinematics import motion
 from .limits import circuit
 from .report import analyze
-from .sweep import evaluate
+from .sweep import Sweep, evaluate
 from .sweep import sweep as run_sweep
 from .terminal import escape, one_line, shorten
 
@@ -103,9 +105,9 @@ def _print_lines(text: str, stream=None):
 class ScriptSweep:
     """A sweep of a script's construction, with its input values in script units."""
 
-    construction: object
-    sweep: object
-    inputs: dict  # name -> values in script units
+    construction: Construction
+    sweep: Sweep
+    inputs: dict[str, np.ndarray]  # name -> values in script units
 
 
 def _to_script(inp, value: float) -> float:
@@ -513,6 +515,18 @@ def write_json(columns: dict, stream, *, values_per_write: int = 100_000):
     stream.write("}\n")
 
 
+def _write_npz(stream: BinaryIO, columns: dict) -> None:
+    """Write columns as an uncompressed NumPy archive, as ``np.savez`` does.
+
+    ``np.savez(f, **columns)`` would take a column named ``allow_pickle`` as
+    its option, and fail on one named ``file``; any input name is a column.
+    """
+    with zipfile.ZipFile(stream, "w", zipfile.ZIP_STORED, allowZip64=True) as archive:
+        for name, values in columns.items():
+            with archive.open(f"{name}.npy", "w", force_zip64=True) as member:
+                np.lib.format.write_array(member, np.asarray(values), allow_pickle=False)
+
+
 def run_trace(args) -> int:
     kind = ".csv" if args.output is None else _output_kind(args.output, TRACE_FORMATS,
                                                            "a trace")
@@ -531,7 +545,7 @@ def run_trace(args) -> int:
     if kind == ".npz":
         # to a file object: np.savez given a name would add ".npz" to "out.NPZ"
         with replacing(path, "wb") as f:
-            np.savez(f, **{name: np.asarray(v) for name, v in columns.items()})
+            _write_npz(f, columns)
     else:
         with replacing(path, "w", encoding="utf-8", newline="") as f:
             (write_csv if kind == ".csv" else write_json)(columns, f)
