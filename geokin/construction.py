@@ -39,11 +39,12 @@ import heapq
 import keyword
 import math
 import unicodedata
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import ClassVar, TypeAlias
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import primitives as prim
 from .errors import ConstructionError, did_you_mean, quote, show
@@ -52,6 +53,7 @@ from .expressions import (
     FUNCTIONS,
     Expr,
     Number,
+    ValueLike,
     as_expr,
     look_alike,
     normal_name,
@@ -172,6 +174,12 @@ class Slider:
     along: tuple[str, str]
 
 
+Coords: TypeAlias = Mapping[str, tuple[np.ndarray, np.ndarray]]
+"""The x and y arrays of the points already found, by name."""
+Values: TypeAlias = Mapping[str, np.ndarray | float]
+"""A node's evaluated value fields, angles in radians."""
+
+
 @dataclass(frozen=True, slots=True)
 class Candidates:
     """What a node computes for every sample, before a branch is chosen.
@@ -200,7 +208,8 @@ class Candidates:
     t: tuple | None = None
 
 
-def failure_reasons(cand: Candidates, values: Mapping, root) -> np.ndarray:
+def failure_reasons(cand: Candidates, values: Mapping[str, ArrayLike],
+                    root: int | np.ndarray) -> np.ndarray:
     """Say why the chosen roots do not exist, as codes into ``REASONS``.
 
     Parameters
@@ -269,7 +278,7 @@ class Node:
         """Return the node's right-hand side, as a step list shows it."""
         raise NotImplementedError
 
-    def candidates(self, coords, values) -> Candidates:
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
         """Compute every root for all samples.
 
         Parameters
@@ -290,13 +299,13 @@ class Fixed(Node):
     y: Expr
     kind: ClassVar[str] = "fixed"
 
-    def value_fields(self):
+    def value_fields(self) -> dict[str, Expr]:
         return {"x": self.x, "y": self.y}
 
-    def describe(self):
+    def describe(self) -> str:
         return f"fixed({self.x}, {self.y})"
 
-    def candidates(self, coords, values):
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
         return Candidates((values["x"],), (values["y"],))
 
 
@@ -314,23 +323,23 @@ class Polar(Node):
     reference: tuple[str, str] | None = None
     kind: ClassVar[str] = "polar"
 
-    def point_fields(self):
-        fields = {"origin": (self.origin,)}
+    def point_fields(self) -> dict[str, tuple[str, ...]]:
+        fields: dict[str, tuple[str, ...]] = {"origin": (self.origin,)}
         if self.reference is not None:
             fields["reference"] = self.reference
         return fields
 
-    def value_fields(self):
+    def value_fields(self) -> dict[str, Expr]:
         return {"distance": self.distance, "angle": self.angle}
 
-    def angle_fields(self):
+    def angle_fields(self) -> frozenset[str]:
         return frozenset({"angle"})
 
-    def describe(self):
+    def describe(self) -> str:
         ref = "" if self.reference is None else f" from {self.reference[0]}->{self.reference[1]}"
         return f"polar({self.origin}, {self.distance}, {self.angle}{ref})"
 
-    def candidates(self, coords, values):
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
         ox, oy = coords[self.origin]
         distance, angle = values["distance"], values["angle"]
         if self.reference is None:
@@ -350,16 +359,16 @@ class Along(Node):
     distance: Expr
     kind: ClassVar[str] = "along"
 
-    def point_fields(self):
+    def point_fields(self) -> dict[str, tuple[str, ...]]:
         return {"line": self.line}
 
-    def value_fields(self):
+    def value_fields(self) -> dict[str, Expr]:
         return {"distance": self.distance}
 
-    def describe(self):
+    def describe(self) -> str:
         return f"along({self.line[0]}->{self.line[1]}, {self.distance})"
 
-    def candidates(self, coords, values):
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
         (x1, y1), (x2, y2) = coords[self.line[0]], coords[self.line[1]]
         x, y = prim.relative_point_xy(x1, y1, x1, y1, x2, y2, values["distance"], 0.0)
         return Candidates((x,), (y,))
@@ -373,13 +382,13 @@ class LineLine(Node):
     second: tuple[str, str]
     kind: ClassVar[str] = "line_line"
 
-    def point_fields(self):
+    def point_fields(self) -> dict[str, tuple[str, ...]]:
         return {"first": self.first, "second": self.second}
 
-    def describe(self):
+    def describe(self) -> str:
         return f"line_line({self.first[0]}-{self.first[1]}; {self.second[0]}-{self.second[1]})"
 
-    def candidates(self, coords, values):
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
         args = [c for name in (*self.first, *self.second) for c in coords[name]]
         x, y, _, _, _ = prim.line_line_xy(*args)
         return Candidates((x,), (y,))
@@ -417,17 +426,17 @@ class CircleCircle(_TwoRoot):
     radii: tuple[Expr, Expr] = field(kw_only=True)
     kind: ClassVar[str] = "circle_circle"
 
-    def point_fields(self):
+    def point_fields(self) -> dict[str, tuple[str, ...]]:
         return {"centers": self.centers}
 
-    def value_fields(self):
+    def value_fields(self) -> dict[str, Expr]:
         return {"radii[0]": self.radii[0], "radii[1]": self.radii[1]}
 
-    def describe(self):
+    def describe(self) -> str:
         (a, b), (ra, rb) = self.centers, self.radii
         return f"circle_circle({a}, {ra}; {b}, {rb})  [{self.choice()}]"
 
-    def candidates(self, coords, values):
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
         (x1, y1), (x2, y2) = coords[self.centers[0]], coords[self.centers[1]]
         r1, r2 = values["radii[0]"], values["radii[1]"]
         xl, yl, xr, yr, margin = prim.circle_circle_xy(x1, y1, r1, x2, y2, r2)
@@ -446,18 +455,18 @@ class _LineCircle(_TwoRoot):
     center: str = field(kw_only=True)
     radius: Expr = field(kw_only=True)
 
-    def point_fields(self):
+    def point_fields(self) -> dict[str, tuple[str, ...]]:
         return {"line": self.line, "center": (self.center,)}
 
-    def value_fields(self):
+    def value_fields(self) -> dict[str, Expr]:
         return {"radius": self.radius}
 
-    def describe(self):
+    def describe(self) -> str:
         joint = {"line_circle": "-", "segment_circle": "..", "ray_circle": "->"}[self.kind]
         return (f"{self.kind}({self.line[0]}{joint}{self.line[1]}; {self.center}, {self.radius})"
                 f"  [{self.choice()}]")
 
-    def candidates(self, coords, values):
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
         (x1, y1), (x2, y2) = coords[self.line[0]], coords[self.line[1]]
         cx, cy = coords[self.center]
         r = values["radius"]
@@ -509,7 +518,7 @@ class Step:
     index: int
     node: Node
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"<Step {self.index}: {self.node.name} = {self.node.describe()}>"
 
 
@@ -540,10 +549,10 @@ class Compiled:
     cache: dict = field(default_factory=dict, repr=False, compare=False)
     """Whatever later layers derive once from this construction (evaluation plans)."""
 
-    def __len__(self):
+    def __len__(self) -> int:
         return len(self.steps)
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[Step]:
         return iter(self.steps)
 
     @property
@@ -572,7 +581,7 @@ class Compiled:
             rows.append(row)
         return rows
 
-    def __str__(self):
+    def __str__(self) -> str:
         width = max((len(s.node.name) for s in self.steps), default=0)
         lines = [f"construction {self.name!r}: {len(self.steps)} steps"]
         for step in self.steps:
@@ -580,7 +589,7 @@ class Compiled:
                          f"{step.node.name:<{width}} = {step.node.describe()}")
         return "\n".join(lines)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"<Compiled {self.name!r}: {len(self.steps)} steps>"
 
 
@@ -623,11 +632,11 @@ class Construction:
         # names that are not plain ASCII, by their skeleton (see expressions.skeleton)
         self._skeletons: dict[str, str] = {}
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return (f"<Construction {self.name!r}: {len(self.parameters)} parameters, "
                 f"{len(self.inputs)} inputs, {len(self.nodes)} points>")
 
-    def __eq__(self, other):
+    def __eq__(self, other: object) -> bool:
         if not isinstance(other, Construction):
             return NotImplemented
         mine = (self.name, self.angle_unit, self.parameters, self.inputs, self.nodes,
@@ -794,7 +803,7 @@ class Construction:
                                     f"sets its sign), got {speed:g}", node=name, field="speed")
         self.inputs[name] = Input(name, kind, lo_hi, int(samples), speed, step)
 
-    def fixed(self, name: str, x, y) -> None:
+    def fixed(self, name: str, x: ValueLike, y: ValueLike) -> None:
         """Declare a fixed point (a ground pivot).
 
         Parameters
@@ -814,7 +823,7 @@ class Construction:
         """
         self._add(Fixed(name, self._value(x, name, "x"), self._value(y, name, "y")))
 
-    def polar(self, name: str, origin: str, distance, angle,
+    def polar(self, name: str, origin: str, distance: ValueLike, angle: ValueLike,
               reference: Sequence[str] | None = None) -> None:
         """Declare the point at ``distance`` and ``angle`` from ``origin``.
 
@@ -845,7 +854,7 @@ class Construction:
                         self._value(distance, name, "distance"),
                         self._value(angle, name, "angle"), ref))
 
-    def along(self, name: str, line: Sequence[str], distance) -> None:
+    def along(self, name: str, line: Sequence[str], distance: ValueLike) -> None:
         """Declare the point at a signed ``distance`` from ``line[0]`` towards ``line[1]``.
 
         Examples
@@ -875,7 +884,7 @@ class Construction:
         self._add(LineLine(name, self._point_pair(first, name, "first"),
                            self._point_pair(second, name, "second")))
 
-    def circle_circle(self, name: str, centers: Sequence[str], radii: Sequence,
+    def circle_circle(self, name: str, centers: Sequence[str], radii: Sequence[ValueLike],
                       branch: str | None = None, near: Sequence[float] | None = None) -> None:
         """Declare an intersection of two circles.
 
@@ -895,7 +904,7 @@ class Construction:
         self._add(CircleCircle(name, *self._branch("circle_circle", name, branch, near),
                                centers=self._point_pair(centers, name, "centers"), radii=radii))
 
-    def line_circle(self, name: str, line: Sequence[str], center: str, radius,
+    def line_circle(self, name: str, line: Sequence[str], center: str, radius: ValueLike,
                     branch: str | None = None, near: Sequence[float] | None = None) -> None:
         """Declare an intersection of the line through ``line`` with a circle.
 
@@ -904,12 +913,12 @@ class Construction:
         """
         self._line_circle(LineCircle, name, line, center, radius, branch, near)
 
-    def ray_circle(self, name: str, line: Sequence[str], center: str, radius,
+    def ray_circle(self, name: str, line: Sequence[str], center: str, radius: ValueLike,
                    branch: str | None = None, near: Sequence[float] | None = None) -> None:
         """Declare an intersection of the ray ``line[0]`` through ``line[1]`` with a circle."""
         self._line_circle(RayCircle, name, line, center, radius, branch, near)
 
-    def segment_circle(self, name: str, line: Sequence[str], center: str, radius,
+    def segment_circle(self, name: str, line: Sequence[str], center: str, radius: ValueLike,
                        branch: str | None = None, near: Sequence[float] | None = None) -> None:
         """Declare an intersection of the segment ``line[0]..line[1]`` with a circle."""
         self._line_circle(SegmentCircle, name, line, center, radius, branch, near)
