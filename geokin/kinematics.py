@@ -30,6 +30,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .analysis import unwrap_valid
 from .errors import ConstructionError
@@ -263,8 +264,8 @@ def _direction_of_travel(values: np.ndarray) -> np.ndarray:
     return direction[last]
 
 
-def motion(sweep: Sweep, input: str | None = None, *, speed=None, acceleration=0.0,
-           step: float | None = None) -> Motion:
+def motion(sweep: Sweep, input: str | None = None, *, speed: ArrayLike | None = None,
+           acceleration: ArrayLike = 0.0, step: float | None = None) -> Motion:
     """Velocity and acceleration of every point and declared link over a sweep.
 
     Parameters
