@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import shapely
+from numpy.typing import ArrayLike
 
 from .construction import CircleCircle, Compiled, Construction, Fixed
 from .errors import AnalysisError, did_you_mean
@@ -403,7 +404,7 @@ def transmission_angles(sweep: Sweep) -> dict[str, TransmissionAngle]:
             lo, hi = int(np.nanargmin(angle)), int(np.nanargmax(angle))
             low, high = float(angle[lo]), float(angle[hi])
         result[node.name] = TransmissionAngle(
-            node.name, tuple(node.centers), angle, low, high, lo, hi,
+            node.name, node.centers, angle, low, high, lo, hi,
             {k: float(v[lo]) for k, v in sweep.inputs.items()},
             {k: float(v[hi]) for k, v in sweep.inputs.items()})
     return result
@@ -500,7 +501,7 @@ class Mobility:
         """Return whether the count equals the number of inputs."""
         return self.dof == self.inputs
 
-    def __str__(self):
+    def __str__(self) -> str:
         return (f"DOF = 3({self.moving_links}) - 2({self.lower_pairs}) - {self.higher_pairs} "
                 f"= {self.dof}; {self.inputs} input{'s' if self.inputs != 1 else ''}"
                 f"{'' if self.matches_inputs else ' (mismatch)'}")
@@ -633,7 +634,7 @@ def _vertex(x, y):
     return x0 + t * h, float(poly(t))
 
 
-def stroke(output, input, *, period: float = 2 * np.pi) -> Stroke:
+def stroke(output: ArrayLike, input: ArrayLike, *, period: float = 2 * np.pi) -> Stroke:
     """Return the extremes, stroke and time ratio of an output over one input turn.
 
     Parameters
@@ -693,7 +694,7 @@ def stroke(output, input, *, period: float = 2 * np.pi) -> Stroke:
                   float(y_max - y_min), forward, float(back), forward / back)
 
 
-def time_ratio(output, input, *, period: float = 2 * np.pi) -> float:
+def time_ratio(output: ArrayLike, input: ArrayLike, *, period: float = 2 * np.pi) -> float:
     """Return the forward over return time of an output over one input turn.
 
     The forward stroke runs from the output's minimum to its maximum; see
@@ -711,7 +712,7 @@ def time_ratio(output, input, *, period: float = 2 * np.pi) -> float:
 # -- link angles -----------------------------------------------------------------------
 
 
-def unwrap_valid(angle) -> np.ndarray:
+def unwrap_valid(angle: np.ndarray) -> np.ndarray:
     """Unwrap angles across the finite samples, keeping NaN where they are not.
 
     Examples
@@ -808,7 +809,7 @@ def _runs(points):
     return runs
 
 
-def curve_measures(points, *, tol: float | None = None) -> Curve:
+def curve_measures(points: ArrayLike, *, tol: float | None = None) -> Curve:
     """Measure a curve given as a polyline: length, area, bounds, double points.
 
     Parameters

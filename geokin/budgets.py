@@ -37,6 +37,7 @@ from __future__ import annotations
 
 import functools
 import os
+import sys
 
 from .errors import BudgetError
 
@@ -116,6 +117,8 @@ def physical_memory() -> int:
 
 def _windows_memory() -> int | None:
     """Return the physical memory on Windows, or None elsewhere or on failure."""
+    if sys.platform != "win32":
+        return None
     try:
         import ctypes
 

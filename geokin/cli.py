@@ -55,26 +55,32 @@ import signal
 import sys
 import threading
 import warnings
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import Any, TextIO, TypeAlias
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import __version__
 from .analysis import degrees_of_freedom
 from .atomic import replacing
-from .construction import MAX_SAMPLES
+from .construction import MAX_SAMPLES, Construction
 from .errors import GeokinError, did_you_mean
 from .io import _script_degrees, load
 from .kinematics import motion
 from .limits import circuit
 from .report import analyze
-from .sweep import evaluate
+from .sweep import Sweep, evaluate
 from .sweep import sweep as run_sweep
 from .terminal import escape, one_line, shorten
 
 __all__ = ["COMMANDS", "build_parser", "main"]
 
 TRACE_FORMATS = (".csv", ".json", ".npz")
+
+Subparsers: TypeAlias = "argparse._SubParsersAction[_Parser]"
+"""What ``ArgumentParser.add_subparsers`` returns, to which each command adds itself."""
 
 
 class UsageError(GeokinError):
@@ -103,9 +109,9 @@ def _print_lines(text: str, stream=None):
 class ScriptSweep:
     """A sweep of a script's construction, with its input values in script units."""
 
-    construction: object
-    sweep: object
-    inputs: dict  # name -> values in script units
+    construction: Construction
+    sweep: Sweep
+    inputs: dict[str, np.ndarray]  # name -> values in script units
 
 
 def _to_script(inp, value: float) -> float:
@@ -142,7 +148,7 @@ def _sample(lo, hi, samples=None, step=None, *, label="--range") -> np.ndarray:
     return np.linspace(lo, hi, samples)
 
 
-def sweep_values(construction, args) -> dict:
+def sweep_values(construction: Construction, args: argparse.Namespace) -> dict[str, np.ndarray]:
     """Return the input values, in script units, asked for by the sweep options."""
     inputs = list(construction.inputs.values())
     given = any(getattr(args, k, None) is not None for k in ("samples", "step", "range"))
@@ -169,7 +175,8 @@ def sweep_values(construction, args) -> dict:
     return result
 
 
-def motion_of(path, args, at=None) -> tuple[ScriptSweep, int | None]:
+def motion_of(path: str | os.PathLike[str], args: argparse.Namespace,
+              at: float | None = None) -> tuple[ScriptSweep, int | None]:
     """Load a script and sweep it; with ``at``, make sure the first input takes that value.
 
     Returns the motion and the index of the sample at ``at`` (None without it).
@@ -255,7 +262,7 @@ def _format_value(inp, value) -> str:
 # -- check -------------------------------------------------------------------------
 
 
-def add_check(subparsers):
+def add_check(subparsers: Subparsers) -> None:
     p = subparsers.add_parser(
         "check", help="validate scripts; print steps, inputs and degrees of freedom",
         description="Validate construction scripts and print their compiled steps, inputs, "
@@ -264,7 +271,7 @@ def add_check(subparsers):
     p.set_defaults(run=run_check)
 
 
-def run_check(args) -> int:
+def run_check(args: argparse.Namespace) -> int:
     status = 0
     for i, path in enumerate(args.scripts):
         if i:
@@ -391,7 +398,7 @@ def _add_sweep_options(p):
                             "branch, until it returns (--samples then counts per pass)")
 
 
-def add_trace(subparsers):
+def add_trace(subparsers: Subparsers) -> None:
     p = subparsers.add_parser(
         "trace", help="the motion as data (CSV, JSON or NPZ)",
         description="Sweep a construction and write the motion: the input (script units), "
@@ -433,7 +440,8 @@ def _selected_points(construction, text):
     return chosen
 
 
-def trace_columns(m: ScriptSweep, points, derivatives=False, circuit_mode=False) -> dict:
+def trace_columns(m: ScriptSweep, points: Sequence[str], derivatives: bool = False,
+                  circuit_mode: bool = False) -> dict[str, np.ndarray]:
     """Return the columns of ``geokin trace`` as a dict of name to array."""
     columns = dict(m.inputs)
     columns["valid"] = m.sweep.valid.copy()
@@ -471,7 +479,8 @@ def _csv_cells(name, array) -> list[str]:
     return [cell[:-2] if cell.endswith(".0") else cell for cell in cells]
 
 
-def write_csv(columns: dict, stream, *, rows_per_write: int = 10_000):
+def write_csv(columns: Mapping[str, ArrayLike], stream: TextIO, *,
+              rows_per_write: int = 10_000) -> None:
     """Write trace columns as CSV: a header, then one row per sample."""
     names = list(columns)
     stream.write(",".join(names) + "\n")
@@ -496,7 +505,8 @@ def _json_cells(name, array) -> list[str]:
     return cells
 
 
-def write_json(columns: dict, stream, *, values_per_write: int = 100_000):
+def write_json(columns: Mapping[str, ArrayLike], stream: TextIO, *,
+               values_per_write: int = 100_000) -> None:
     """Write trace columns as one JSON object of arrays (null where not a finite number).
 
     The text is written a block of values at a time, so that a long trace
@@ -513,7 +523,7 @@ def write_json(columns: dict, stream, *, values_per_write: int = 100_000):
     stream.write("}\n")
 
 
-def run_trace(args) -> int:
+def run_trace(args: argparse.Namespace) -> int:
     kind = ".csv" if args.output is None else _output_kind(args.output, TRACE_FORMATS,
                                                            "a trace")
     folder = pathlib.Path(args.output or ".").parent
@@ -531,7 +541,11 @@ def run_trace(args) -> int:
     if kind == ".npz":
         # to a file object: np.savez given a name would add ".npz" to "out.NPZ"
         with replacing(path, "wb") as f:
-            np.savez(f, **{name: np.asarray(v) for name, v in columns.items()})
+            # np.savez takes the columns as keywords: a column named allow_pickle or file
+            # (an input may be) is taken for its argument. Kept as it was; Any lets the
+            # call type-check, where mypy rightly flags a str-keyed dict of arrays.
+            arrays: dict[str, Any] = {name: np.asarray(v) for name, v in columns.items()}
+            np.savez(f, **arrays)
     else:
         with replacing(path, "w", encoding="utf-8", newline="") as f:
             (write_csv if kind == ".csv" else write_json)(columns, f)
@@ -550,7 +564,7 @@ def _plotting():
     return plotting
 
 
-def add_plot(subparsers):
+def add_plot(subparsers: Subparsers) -> None:
     p = subparsers.add_parser(
         "plot", help="draw the mechanism at one input value, with its traced paths",
         description="Draw the mechanism at one input value (ground pivots, links, sliders, "
@@ -569,7 +583,7 @@ def add_plot(subparsers):
     p.set_defaults(run=run_plot)
 
 
-def run_plot(args) -> int:
+def run_plot(args: argparse.Namespace) -> int:
     output = args.output or pathlib.Path(args.script).with_suffix(".png").name
     _output_kind(output, (".png", ".svg"), "a picture")
     plotting = _plotting()
@@ -601,7 +615,7 @@ def run_plot(args) -> int:
     return 0
 
 
-def add_animate(subparsers):
+def add_animate(subparsers: Subparsers) -> None:
     p = subparsers.add_parser(
         "animate", help="write an animation (GIF, HTML or MP4)",
         description="Animate the motion with the traced paths growing: .gif (Pillow), "
@@ -619,7 +633,7 @@ def add_animate(subparsers):
     p.set_defaults(run=run_animate)
 
 
-def run_animate(args) -> int:
+def run_animate(args: argparse.Namespace) -> int:
     _output_kind(args.output, (".gif", ".html", ".mp4"), "an animation")
     plotting = _plotting()
     if not plotting.MIN_FPS <= args.fps <= plotting.MAX_FPS:
@@ -635,7 +649,7 @@ def run_animate(args) -> int:
 # -- analyze -----------------------------------------------------------------------
 
 
-def add_analyze(subparsers):
+def add_analyze(subparsers: Subparsers) -> None:
     p = subparsers.add_parser(
         "analyze", help="degrees of freedom, motion limits, Grashof class, transmission "
                         "angles, strokes and curve measures",
@@ -649,7 +663,7 @@ def add_analyze(subparsers):
     p.set_defaults(run=run_analyze)
 
 
-def run_analyze(args) -> int:
+def run_analyze(args: argparse.Namespace) -> int:
     construction = load(args.script)
     report = analyze(construction, degrees=True)
     if args.json:
@@ -776,7 +790,7 @@ def _terminate(signum, frame):
     raise Terminated
 
 
-def main(argv=None) -> int:
+def main(argv: Sequence[str] | None = None) -> int:
     """Run the ``geokin`` command with ``argv`` (the process arguments by default).
 
     Whatever happens, what reaches the terminal is one line per error, with

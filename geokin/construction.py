@@ -38,11 +38,12 @@ import heapq
 import keyword
 import math
 import unicodedata
-from collections.abc import Iterable, Mapping, Sequence
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import ClassVar, TypeAlias
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from . import primitives as prim
 from .errors import ConstructionError, did_you_mean, quote, show
@@ -51,6 +52,7 @@ from .expressions import (
     FUNCTIONS,
     Expr,
     Number,
+    ValueLike,
     as_expr,
     look_alike,
     normal_name,
@@ -171,6 +173,12 @@ class Slider:
     along: tuple[str, str]
 
 
+Coords: TypeAlias = Mapping[str, tuple[np.ndarray, np.ndarray]]
+"""The x and y arrays of the points already found, by name."""
+Values: TypeAlias = Mapping[str, np.ndarray | float]
+"""A node's evaluated value fields, angles in radians."""
+
+
 @dataclass(frozen=True, slots=True)
 class Candidates:
     """What a node computes for every sample, before a branch is chosen.
@@ -199,7 +207,8 @@ class Candidates:
     t: tuple | None = None
 
 
-def failure_reasons(cand: Candidates, values: Mapping, root) -> np.ndarray:
+def failure_reasons(cand: Candidates, values: Mapping[str, ArrayLike],
+                    root: int | np.ndarray) -> np.ndarray:
     """Say why the chosen roots do not exist, as codes into ``REASONS``.
 
     Parameters
@@ -237,6 +246,13 @@ class Node:
     name: str
     kind: ClassVar[str] = ""
     roots: ClassVar[int] = 1
+    low: ClassVar[float] = -np.inf
+    """Where along its line a root counts, as the line's parameter: ``low <= t <= high``."""
+    high: ClassVar[float] = np.inf
+
+    def branch_names(self) -> tuple[str, ...]:
+        """Return the names of the roots, in the primitive's order (none for one root)."""
+        return ()
 
     def point_fields(self) -> dict[str, tuple[str, ...]]:
         """Return the points this node is built on, by field."""
@@ -261,7 +277,7 @@ class Node:
         """Return the node's right-hand side, as a step list shows it."""
         raise NotImplementedError
 
-    def candidates(self, coords, values) -> Candidates:
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
         """Compute every root for all samples.
 
         Parameters
@@ -278,17 +294,17 @@ class Node:
 class Fixed(Node):
     """A fixed point (a ground pivot) at ``(x, y)``."""
 
-    x: Expr = None
-    y: Expr = None
+    x: Expr
+    y: Expr
     kind: ClassVar[str] = "fixed"
 
-    def value_fields(self):
+    def value_fields(self) -> dict[str, Expr]:
         return {"x": self.x, "y": self.y}
 
-    def describe(self):
+    def describe(self) -> str:
         return f"fixed({self.x}, {self.y})"
 
-    def candidates(self, coords, values):
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
         return Candidates((values["x"],), (values["y"],))
 
 
@@ -300,29 +316,29 @@ class Polar(Node):
     ``reference=(P, Q)``, measured from the direction of the line P -> Q.
     """
 
-    origin: str = ""
-    distance: Expr = None
-    angle: Expr = None
+    origin: str
+    distance: Expr
+    angle: Expr
     reference: tuple[str, str] | None = None
     kind: ClassVar[str] = "polar"
 
-    def point_fields(self):
-        fields = {"origin": (self.origin,)}
+    def point_fields(self) -> dict[str, tuple[str, ...]]:
+        fields: dict[str, tuple[str, ...]] = {"origin": (self.origin,)}
         if self.reference is not None:
             fields["reference"] = self.reference
         return fields
 
-    def value_fields(self):
+    def value_fields(self) -> dict[str, Expr]:
         return {"distance": self.distance, "angle": self.angle}
 
-    def angle_fields(self):
+    def angle_fields(self) -> frozenset[str]:
         return frozenset({"angle"})
 
-    def describe(self):
+    def describe(self) -> str:
         ref = "" if self.reference is None else f" from {self.reference[0]}->{self.reference[1]}"
         return f"polar({self.origin}, {self.distance}, {self.angle}{ref})"
 
-    def candidates(self, coords, values):
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
         ox, oy = coords[self.origin]
         distance, angle = values["distance"], values["angle"]
         if self.reference is None:
@@ -338,20 +354,20 @@ class Polar(Node):
 class Along(Node):
     """The point at a signed ``distance`` from ``line[0]`` towards ``line[1]``."""
 
-    line: tuple[str, str] = ()
-    distance: Expr = None
+    line: tuple[str, str]
+    distance: Expr
     kind: ClassVar[str] = "along"
 
-    def point_fields(self):
+    def point_fields(self) -> dict[str, tuple[str, ...]]:
         return {"line": self.line}
 
-    def value_fields(self):
+    def value_fields(self) -> dict[str, Expr]:
         return {"distance": self.distance}
 
-    def describe(self):
+    def describe(self) -> str:
         return f"along({self.line[0]}->{self.line[1]}, {self.distance})"
 
-    def candidates(self, coords, values):
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
         (x1, y1), (x2, y2) = coords[self.line[0]], coords[self.line[1]]
         x, y = prim.relative_point_xy(x1, y1, x1, y1, x2, y2, values["distance"], 0.0)
         return Candidates((x,), (y,))
@@ -361,17 +377,17 @@ class Along(Node):
 class LineLine(Node):
     """The intersection of the lines ``first[0]-first[1]`` and ``second[0]-second[1]``."""
 
-    first: tuple[str, str] = ()
-    second: tuple[str, str] = ()
+    first: tuple[str, str]
+    second: tuple[str, str]
     kind: ClassVar[str] = "line_line"
 
-    def point_fields(self):
+    def point_fields(self) -> dict[str, tuple[str, ...]]:
         return {"first": self.first, "second": self.second}
 
-    def describe(self):
+    def describe(self) -> str:
         return f"line_line({self.first[0]}-{self.first[1]}; {self.second[0]}-{self.second[1]})"
 
-    def candidates(self, coords, values):
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
         args = [c for name in (*self.first, *self.second) for c in coords[name]]
         x, y, _, _, _ = prim.line_line_xy(*args)
         return Candidates((x,), (y,))
@@ -389,8 +405,8 @@ class _TwoRoot(Node):
         """Return the names of the two roots, in the primitive's order."""
         return BRANCHES[self.kind]
 
-    def choice(self) -> str:
-        """Return how the initial branch is chosen, as text."""
+    def choice(self) -> str | None:
+        """Return how the initial branch is chosen, as text (None if neither is given)."""
         if self.near is not None:
             return f"near ({self.near[0]:g}, {self.near[1]:g})"
         return self.branch
@@ -404,21 +420,22 @@ class CircleCircle(_TwoRoot):
     second, ``right`` right of it.
     """
 
-    centers: tuple[str, str] = ()
-    radii: tuple[Expr, Expr] = ()
+    # after the optional branch and near: given by keyword
+    centers: tuple[str, str] = field(kw_only=True)
+    radii: tuple[Expr, Expr] = field(kw_only=True)
     kind: ClassVar[str] = "circle_circle"
 
-    def point_fields(self):
+    def point_fields(self) -> dict[str, tuple[str, ...]]:
         return {"centers": self.centers}
 
-    def value_fields(self):
+    def value_fields(self) -> dict[str, Expr]:
         return {"radii[0]": self.radii[0], "radii[1]": self.radii[1]}
 
-    def describe(self):
+    def describe(self) -> str:
         (a, b), (ra, rb) = self.centers, self.radii
         return f"circle_circle({a}, {ra}; {b}, {rb})  [{self.choice()}]"
 
-    def candidates(self, coords, values):
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
         (x1, y1), (x2, y2) = coords[self.centers[0]], coords[self.centers[1]]
         r1, r2 = values["radii[0]"], values["radii[1]"]
         xl, yl, xr, yr, margin = prim.circle_circle_xy(x1, y1, r1, x2, y2, r2)
@@ -432,24 +449,23 @@ class _LineCircle(_TwoRoot):
     Branch ``first`` comes first along the line's direction, ``second`` after it.
     """
 
-    line: tuple[str, str] = ()
-    center: str = ""
-    radius: Expr = None
-    low: ClassVar[float] = -np.inf
-    high: ClassVar[float] = np.inf
+    # after the optional branch and near: given by keyword
+    line: tuple[str, str] = field(kw_only=True)
+    center: str = field(kw_only=True)
+    radius: Expr = field(kw_only=True)
 
-    def point_fields(self):
+    def point_fields(self) -> dict[str, tuple[str, ...]]:
         return {"line": self.line, "center": (self.center,)}
 
-    def value_fields(self):
+    def value_fields(self) -> dict[str, Expr]:
         return {"radius": self.radius}
 
-    def describe(self):
+    def describe(self) -> str:
         joint = {"line_circle": "-", "segment_circle": "..", "ray_circle": "->"}[self.kind]
         return (f"{self.kind}({self.line[0]}{joint}{self.line[1]}; {self.center}, {self.radius})"
                 f"  [{self.choice()}]")
 
-    def candidates(self, coords, values):
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
         (x1, y1), (x2, y2) = coords[self.line[0]], coords[self.line[1]]
         cx, cy = coords[self.center]
         r = values["radius"]
@@ -501,7 +517,7 @@ class Step:
     index: int
     node: Node
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"<Step {self.index}: {self.node.name} = {self.node.describe()}>"
 
 
@@ -529,10 +545,10 @@ class Compiled:
     cache: dict = field(default_factory=dict, repr=False, compare=False)
     """Whatever later layers derive once from this construction (evaluation plans)."""
 
-    def __len__(self):
+    def __len__(self) -> int:
         return len(self.steps)
 
-    def __iter__(self):
+    def __iter__(self) -> Iterator[Step]:
         return iter(self.steps)
 
     @property
@@ -555,13 +571,13 @@ class Compiled:
         rows = []
         for step in self.steps:
             node = step.node
-            row = (node.name, node.kind, *node.depends_on())
-            if node.roots == 2:
+            row: tuple[str | None, ...] = (node.name, node.kind, *node.depends_on())
+            if isinstance(node, _TwoRoot):
                 row += (node.choice(),)
             rows.append(row)
         return rows
 
-    def __str__(self):
+    def __str__(self) -> str:
         width = max((len(s.node.name) for s in self.steps), default=0)
         lines = [f"construction {self.name!r}: {len(self.steps)} steps"]
         for step in self.steps:
@@ -569,7 +585,7 @@ class Compiled:
                          f"{step.node.name:<{width}} = {step.node.describe()}")
         return "\n".join(lines)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"<Compiled {self.name!r}: {len(self.steps)} steps>"
 
 
@@ -607,11 +623,11 @@ class Construction:
         # names that are not plain ASCII, by their skeleton (see expressions.skeleton)
         self._skeletons: dict[str, str] = {}
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return (f"<Construction {self.name!r}: {len(self.parameters)} parameters, "
                 f"{len(self.inputs)} inputs, {len(self.nodes)} points>")
 
-    def __eq__(self, other):
+    def __eq__(self, other: object) -> bool:
         if not isinstance(other, Construction):
             return NotImplemented
         mine = (self.name, self.parameters, self.inputs, self.nodes, self.links,
@@ -620,7 +636,8 @@ class Construction:
                   other.sliders, other.traced)
         return mine == theirs
 
-    __hash__ = None
+    # unhashable, as it is mutable; typeshed types object.__hash__ as a method only
+    __hash__: ClassVar[None] = None  # type: ignore[assignment]
 
     # -- names -------------------------------------------------------------
 
@@ -777,7 +794,7 @@ class Construction:
                                     f"sets its sign), got {speed:g}", node=name, field="speed")
         self.inputs[name] = Input(name, kind, lo_hi, int(samples), speed, step)
 
-    def fixed(self, name: str, x, y) -> None:
+    def fixed(self, name: str, x: ValueLike, y: ValueLike) -> None:
         """Declare a fixed point (a ground pivot).
 
         Parameters
@@ -797,7 +814,7 @@ class Construction:
         """
         self._add(Fixed(name, self._value(x, name, "x"), self._value(y, name, "y")))
 
-    def polar(self, name: str, origin: str, distance, angle,
+    def polar(self, name: str, origin: str, distance: ValueLike, angle: ValueLike,
               reference: Sequence[str] | None = None) -> None:
         """Declare the point at ``distance`` and ``angle`` from ``origin``.
 
@@ -823,12 +840,12 @@ class Construction:
         >>> c.polar("A", "O", 10, "theta")
         >>> c.polar("P", "A", 20, "radians(30)", reference=("A", "Q"))
         """
-        ref = None if reference is None else self._points(reference, name, "reference", 2)
+        ref = None if reference is None else self._point_pair(reference, name, "reference")
         self._add(Polar(name, self._point(origin, name, "origin"),
                         self._value(distance, name, "distance"),
                         self._value(angle, name, "angle"), ref))
 
-    def along(self, name: str, line: Sequence[str], distance) -> None:
+    def along(self, name: str, line: Sequence[str], distance: ValueLike) -> None:
         """Declare the point at a signed ``distance`` from ``line[0]`` towards ``line[1]``.
 
         Examples
@@ -840,7 +857,7 @@ class Construction:
         >>> print(c.compile().steps[-1].node.describe())
         along(A->B, 2.5)
         """
-        self._add(Along(name, self._points(line, name, "line", 2),
+        self._add(Along(name, self._point_pair(line, name, "line"),
                         self._value(distance, name, "distance")))
 
     def line_line(self, name: str, first: Sequence[str], second: Sequence[str]) -> None:
@@ -855,10 +872,10 @@ class Construction:
         ...     c.fixed(name, x, y)
         >>> c.line_line("X", ("P", "Q"), ("R", "S"))
         """
-        self._add(LineLine(name, self._points(first, name, "first", 2),
-                           self._points(second, name, "second", 2)))
+        self._add(LineLine(name, self._point_pair(first, name, "first"),
+                           self._point_pair(second, name, "second")))
 
-    def circle_circle(self, name: str, centers: Sequence[str], radii: Sequence,
+    def circle_circle(self, name: str, centers: Sequence[str], radii: Sequence[ValueLike],
                       branch: str | None = None, near: Sequence[float] | None = None) -> None:
         """Declare an intersection of two circles.
 
@@ -874,11 +891,11 @@ class Construction:
             Instead of ``branch``: a sketch position; the root nearer to it at
             the first assemblable sample is taken.
         """
-        radii = self._values(radii, name, "radii", 2)
+        radii = self._value_pair(radii, name, "radii")
         self._add(CircleCircle(name, *self._branch("circle_circle", name, branch, near),
-                               centers=self._points(centers, name, "centers", 2), radii=radii))
+                               centers=self._point_pair(centers, name, "centers"), radii=radii))
 
-    def line_circle(self, name: str, line: Sequence[str], center: str, radius,
+    def line_circle(self, name: str, line: Sequence[str], center: str, radius: ValueLike,
                     branch: str | None = None, near: Sequence[float] | None = None) -> None:
         """Declare an intersection of the line through ``line`` with a circle.
 
@@ -887,12 +904,12 @@ class Construction:
         """
         self._line_circle(LineCircle, name, line, center, radius, branch, near)
 
-    def ray_circle(self, name: str, line: Sequence[str], center: str, radius,
+    def ray_circle(self, name: str, line: Sequence[str], center: str, radius: ValueLike,
                    branch: str | None = None, near: Sequence[float] | None = None) -> None:
         """Declare an intersection of the ray ``line[0]`` through ``line[1]`` with a circle."""
         self._line_circle(RayCircle, name, line, center, radius, branch, near)
 
-    def segment_circle(self, name: str, line: Sequence[str], center: str, radius,
+    def segment_circle(self, name: str, line: Sequence[str], center: str, radius: ValueLike,
                        branch: str | None = None, near: Sequence[float] | None = None) -> None:
         """Declare an intersection of the segment ``line[0]..line[1]`` with a circle."""
         self._line_circle(SegmentCircle, name, line, center, radius, branch, near)
@@ -925,7 +942,7 @@ class Construction:
         """
         name = self._claim(name, "slider")
         self.sliders[name] = Slider(name, self._point(point, name, "point"),
-                                    self._points(along, name, "along", 2))
+                                    self._point_pair(along, name, "along"))
 
     def trace(self, *points: str) -> None:
         """Name the points whose paths are traced (coupler points) in plots and reports."""
@@ -942,7 +959,7 @@ class Construction:
 
     def _line_circle(self, cls, name, line, center, radius, branch, near):
         self._add(cls(name, *self._branch(cls.kind, name, branch, near),
-                      line=self._points(line, name, "line", 2),
+                      line=self._point_pair(line, name, "line"),
                       center=self._point(center, name, "center"),
                       radius=self._value(radius, name, "radius")))
 
@@ -958,6 +975,14 @@ class Construction:
             raise ConstructionError(f"expected {count} values, got {len(values)}", node=node,
                                     field=field_name)
         return tuple(self._value(v, node, f"{field_name}[{i}]") for i, v in enumerate(values))
+
+    def _value_pair(self, values, node, field_name) -> tuple[Expr, Expr]:
+        first, second = self._values(values, node, field_name, 2)
+        return first, second
+
+    def _point_pair(self, points, node, field_name) -> tuple[str, str]:
+        first, second = self._points(points, node, field_name, 2)
+        return first, second
 
     @staticmethod
     def _point(point, node, field_name) -> str:

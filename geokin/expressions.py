@@ -40,14 +40,23 @@ import math
 import unicodedata
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Any, TypeAlias
 
 import numpy as np
 
 from .budgets import MAX_EXPRESSION_DEPTH, MAX_EXPRESSION_LENGTH, MAX_NAME_LENGTH
 from .errors import ConstructionError, quote, show
 
-__all__ = ["Expr", "FUNCTIONS", "as_expr", "look_alike", "normal_name", "parse", "skeleton"]
+__all__ = [
+    "Expr",
+    "FUNCTIONS",
+    "ValueLike",
+    "as_expr",
+    "look_alike",
+    "normal_name",
+    "parse",
+    "skeleton",
+]
 
 FUNCTIONS = {
     "sqrt": (1, np.sqrt),
@@ -80,14 +89,16 @@ class Expr:
 
     __slots__ = ()
 
-    depth: ClassVar[int] = 0
-    """Levels of operations and calls from the whole to a number or a name."""
+    @property
+    def depth(self) -> int:
+        """Levels of operations and calls from the whole to a number or a name."""
+        return 0
 
     def names(self) -> frozenset[str]:
         """Return the names of parameters and inputs this value depends on."""
         raise NotImplementedError
 
-    def evaluate(self, env: Mapping[str, object]):
+    def evaluate(self, env: Mapping[str, object]) -> Any:
         """Return the value, with each name looked up in ``env``.
 
         Invalid operations give NaN or inf as numpy does; wrap the call in
@@ -99,40 +110,40 @@ class Expr:
         return 5
 
     # arithmetic builds new expressions
-    def __add__(self, other):
+    def __add__(self, other: ValueLike) -> BinOp:
         return BinOp("+", self, as_expr(other))
 
-    def __radd__(self, other):
+    def __radd__(self, other: ValueLike) -> BinOp:
         return BinOp("+", as_expr(other), self)
 
-    def __sub__(self, other):
+    def __sub__(self, other: ValueLike) -> BinOp:
         return BinOp("-", self, as_expr(other))
 
-    def __rsub__(self, other):
+    def __rsub__(self, other: ValueLike) -> BinOp:
         return BinOp("-", as_expr(other), self)
 
-    def __mul__(self, other):
+    def __mul__(self, other: ValueLike) -> BinOp:
         return BinOp("*", self, as_expr(other))
 
-    def __rmul__(self, other):
+    def __rmul__(self, other: ValueLike) -> BinOp:
         return BinOp("*", as_expr(other), self)
 
-    def __truediv__(self, other):
+    def __truediv__(self, other: ValueLike) -> BinOp:
         return BinOp("/", self, as_expr(other))
 
-    def __rtruediv__(self, other):
+    def __rtruediv__(self, other: ValueLike) -> BinOp:
         return BinOp("/", as_expr(other), self)
 
-    def __pow__(self, other):
+    def __pow__(self, other: ValueLike) -> BinOp:
         return BinOp("**", self, as_expr(other))
 
-    def __rpow__(self, other):
+    def __rpow__(self, other: ValueLike) -> BinOp:
         return BinOp("**", as_expr(other), self)
 
-    def __neg__(self):
+    def __neg__(self) -> Neg:
         return Neg(self)
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return f"Expr({str(self)!r})"
 
 
@@ -142,13 +153,13 @@ class Number(Expr):
 
     value: float
 
-    def names(self):
+    def names(self) -> frozenset[str]:
         return frozenset()
 
-    def evaluate(self, env):
+    def evaluate(self, env: Mapping[str, object]) -> Any:
         return self.value
 
-    def __str__(self):
+    def __str__(self) -> str:
         value = self.value
         if math.isfinite(value) and value == int(value) and abs(value) < 1e15:
             # -0.0 keeps its sign: atan2(0, -0.0) is pi
@@ -165,15 +176,15 @@ class Name(Expr):
 
     name: str
 
-    def names(self):
+    def names(self) -> frozenset[str]:
         return frozenset() if self.name in CONSTANTS else frozenset([self.name])
 
-    def evaluate(self, env):
+    def evaluate(self, env: Mapping[str, object]) -> Any:
         if self.name in CONSTANTS:
             return CONSTANTS[self.name]
         return env[self.name]
 
-    def __str__(self):
+    def __str__(self) -> str:
         return self.name
 
 
@@ -184,16 +195,16 @@ class Neg(Expr):
     operand: Expr
     depth: int = dataclasses.field(init=False, repr=False, compare=False)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         object.__setattr__(self, "depth", 1 + self.operand.depth)
 
-    def names(self):
+    def names(self) -> frozenset[str]:
         return self.operand.names()
 
-    def evaluate(self, env):
+    def evaluate(self, env: Mapping[str, object]) -> Any:
         return np.negative(self.operand.evaluate(env))
 
-    def __str__(self):
+    def __str__(self) -> str:
         inner = str(self.operand)
         if self.operand._precedence() < _PRECEDENCE["neg"]:
             inner = f"({inner})"
@@ -212,19 +223,19 @@ class BinOp(Expr):
     right: Expr
     depth: int = dataclasses.field(init=False, repr=False, compare=False)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         object.__setattr__(self, "depth", 1 + max(self.left.depth, self.right.depth))
 
-    def names(self):
+    def names(self) -> frozenset[str]:
         return self.left.names() | self.right.names()
 
-    def evaluate(self, env):
+    def evaluate(self, env: Mapping[str, object]) -> Any:
         return _APPLY[self.op](self.left.evaluate(env), self.right.evaluate(env))
 
     def _precedence(self):
         return _PRECEDENCE[self.op]
 
-    def __str__(self):
+    def __str__(self) -> str:
         mine = self._precedence()
         left, right = str(self.left), str(self.right)
         # ** is right-associative, the others left-associative
@@ -247,20 +258,24 @@ class Call(Expr):
     args: tuple[Expr, ...]
     depth: int = dataclasses.field(init=False, repr=False, compare=False)
 
-    def __post_init__(self):
+    def __post_init__(self) -> None:
         object.__setattr__(self, "depth", 1 + max((a.depth for a in self.args), default=0))
 
-    def names(self):
+    def names(self) -> frozenset[str]:
         return frozenset().union(*(a.names() for a in self.args))
 
-    def evaluate(self, env):
+    def evaluate(self, env: Mapping[str, object]) -> Any:
         return FUNCTIONS[self.function][1](*(a.evaluate(env) for a in self.args))
 
-    def __str__(self):
+    def __str__(self) -> str:
         return f"{self.function}({', '.join(str(a) for a in self.args)})"
 
 
-def as_expr(value, *, node: str | None = None, field: str | None = None) -> Expr:
+ValueLike: TypeAlias = Expr | float | str
+"""What a construction takes as a value: a number, an expression's text or an :class:`Expr`."""
+
+
+def as_expr(value: ValueLike, *, node: str | None = None, field: str | None = None) -> Expr:
     """Turn a number, a string or an :class:`Expr` into an :class:`Expr`.
 
     Raises
@@ -317,9 +332,10 @@ def _ast_depth(tree: ast.AST) -> int:
     answer is at most one more than the limit.
     """
     deepest = 0
-    stack = [(tree, 0)]
+    stack: list[tuple[ast.AST, int]] = [(tree, 0)]
     while stack:
         item, depth = stack.pop()
+        children: tuple[ast.expr, ...]
         if isinstance(item, ast.BinOp):
             children = (item.left, item.right)
         elif isinstance(item, ast.UnaryOp):
@@ -473,7 +489,7 @@ _MIXES_WITH_LATIN = (
 _LOOK_LIKE_LATIN = frozenset({"Cyrillic", "Greek"})
 
 
-def normal_name(name, *, what: str = "name", node: str | None = None,
+def normal_name(name: str, *, what: str = "name", node: str | None = None,
                 field: str | None = None) -> str:
     """Return a name in Unicode normal form NFKC, checking its length and scripts.
 

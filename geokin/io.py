@@ -121,7 +121,19 @@ import tomllib
 from collections.abc import Mapping
 
 from .budgets import MAX_SCRIPT_BYTES
-from .construction import BRANCHES, MAX_SAMPLES, Construction, Node
+from .construction import (
+    MAX_SAMPLES,
+    Along,
+    CircleCircle,
+    Construction,
+    Fixed,
+    LineCircle,
+    LineLine,
+    Node,
+    Polar,
+    RayCircle,
+    SegmentCircle,
+)
 from .errors import ConstructionError, ScriptError, did_you_mean
 from .expressions import BinOp, Call, Expr, Name, Neg, Number
 from .terminal import clip_message, escape, shorten
@@ -161,7 +173,7 @@ _SCRIPT_KEY = {"x": "at[0]", "y": "at[1]"}
 # -- loading -------------------------------------------------------------------
 
 
-def load(path) -> Construction:
+def load(path: str | os.PathLike[str]) -> Construction:
     r"""Read a construction script from a file.
 
     Parameters
@@ -400,7 +412,7 @@ class _Reader:
                 sub_line = number
         return sub_line or entry_line or (table_line if entry is None else None)
 
-    def construction_error(self, err: ConstructionError, table: str, entry: str,
+    def construction_error(self, err: ConstructionError, table: str, entry: str | None,
                            construction: Construction | None = None) -> ScriptError:
         """Map an engine error to a ScriptError at its table and key."""
         message = _strip_where(err)
@@ -414,7 +426,7 @@ class _Reader:
         if field not in (None, "name"):
             if table == "parameters":
                 sub = None
-            elif table == "links":
+            elif table == "links" and entry is not None:
                 return self.fail(table, entry + field[len("points"):]
                                  if field.startswith("points") else entry, message)
             else:
@@ -778,30 +790,30 @@ def _node_entries(node: Node, convert) -> list[tuple[str, str]]:
         return _toml_expr(expr)
 
     entries = [("op", _toml_string(node.kind))]
-    if node.kind == "fixed":
+    if isinstance(node, Fixed):
         entries.append(("at", f"[{value('x')}, {value('y')}]"))
-    elif node.kind == "polar":
+    elif isinstance(node, Polar):
         entries += [("origin", _toml_string(node.origin)), ("distance", value("distance")),
                     ("angle", value("angle"))]
         if node.reference is not None:
             entries.append(("reference", _toml_list(node.reference)))
-    elif node.kind == "along":
+    elif isinstance(node, Along):
         entries += [("line", _toml_list(node.line)), ("distance", value("distance"))]
-    elif node.kind == "line_line":
+    elif isinstance(node, LineLine):
         entries += [("first", _toml_list(node.first)), ("second", _toml_list(node.second))]
-    elif node.kind == "circle_circle":
+    elif isinstance(node, CircleCircle):
         entries += [("centers", _toml_list(node.centers)),
                     ("radii", f"[{value('radii[0]')}, {value('radii[1]')}]")]
-    elif node.kind in BRANCHES:
+    elif isinstance(node, LineCircle | RayCircle | SegmentCircle):
         entries += [("line", _toml_list(node.line)), ("center", _toml_string(node.center)),
                     ("radius", value("radius"))]
     else:  # pragma: no cover - every kind is listed above
         raise TypeError(f"cannot write a {node.kind} node")
-    if node.roots == 2:
+    if isinstance(node, CircleCircle | LineCircle | RayCircle | SegmentCircle):
         if node.near is not None:
             entries.append(("near", f"[{_toml_number(node.near[0])}, "
                                     f"{_toml_number(node.near[1])}]"))
-        else:
+        elif node.branch is not None:
             entries.append(("branch", _toml_string(node.branch)))
     return entries
 

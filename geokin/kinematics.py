@@ -30,6 +30,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .analysis import unwrap_valid
 from .errors import ConstructionError
@@ -263,8 +264,8 @@ def _direction_of_travel(values: np.ndarray) -> np.ndarray:
     return direction[last]
 
 
-def motion(sweep: Sweep, input: str | None = None, *, speed=None, acceleration=0.0,
-           step: float | None = None) -> Motion:
+def motion(sweep: Sweep, input: str | None = None, *, speed: ArrayLike | None = None,
+           acceleration: ArrayLike = 0.0, step: float | None = None) -> Motion:
     """Velocity and acceleration of every point and declared link over a sweep.
 
     Parameters
@@ -336,8 +337,8 @@ def motion(sweep: Sweep, input: str | None = None, *, speed=None, acceleration=0
     accel = dict(d.second)
     if any(np.any(c != 0) for c in changes.values()):
         # the inputs' own accelerations add a first derivative along them
-        moving = {name: c for name, c in changes.items() if np.any(c != 0)}
-        extra = _along(sweep, moving, _time_step(sweep, moving, step), input)
+        accelerating = {name: c for name, c in changes.items() if np.any(c != 0)}
+        extra = _along(sweep, accelerating, _time_step(sweep, accelerating, step), input)
         accel = {p: accel[p] + extra.first[p] for p in accel}
     angle, angular_velocity, angular_acceleration = {}, {}, {}
     for link in sweep.construction.links:

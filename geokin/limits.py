@@ -18,11 +18,12 @@ holds the whole closed coupler curve of that circuit with its input history.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .construction import NO_INTERSECTION
+from .construction import NO_INTERSECTION, Compiled, Construction
 from .errors import AssemblyError, ConstructionError
 from .sweep import BranchEvent, Sweep, _compiled, evaluate, input_name
 
@@ -172,8 +173,10 @@ def _refine(compiled, name, held, branches, inside, outside):
     return inside, _evaluate_at(compiled, name, outside, held, branches)
 
 
-def limits(construction, input: str | None = None, *, range=None,
-           samples: int = SEARCH_SAMPLES, branches=None, at=None) -> Limits:
+def limits(construction: Construction | Compiled, input: str | None = None, *,
+           range: tuple[float, float] | None = None, samples: int = SEARCH_SAMPLES,
+           branches: Mapping[str, int] | None = None,
+           at: Mapping[str, float] | None = None) -> Limits:
     """Find every limit of an input's motion and the assemblable intervals.
 
     Parameters
@@ -274,8 +277,10 @@ def limits(construction, input: str | None = None, *, range=None,
     return Limits(name, intervals, False, held_branches)
 
 
-def circuit(construction, input: str | None = None, *, start: float | None = None,
-            samples_per_pass: int = 361, at=None, branches=None) -> Sweep:
+def circuit(construction: Construction | Compiled, input: str | None = None, *,
+            start: float | None = None, samples_per_pass: int = 361,
+            at: Mapping[str, float] | None = None,
+            branches: Mapping[str, int] | None = None) -> Sweep:
     """Sweep a whole circuit: to a limit, through the toggle, and back round.
 
     Starting at ``start``, the input runs up to the upper limit of its

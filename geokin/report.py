@@ -9,6 +9,8 @@ curves. It is what ``geokin analyze`` prints.
 
 from __future__ import annotations
 
+from typing import Any
+
 import numpy as np
 
 from .analysis import (
@@ -19,7 +21,7 @@ from .analysis import (
     transmission_angles,
     unwrap_valid,
 )
-from .construction import CircleCircle, Fixed, Polar
+from .construction import CircleCircle, Compiled, Construction, Fixed, Polar
 from .errors import AnalysisError
 from .limits import circuit, describe_limit, limits
 from .sweep import Sweep, _compiled, sweep
@@ -63,7 +65,7 @@ def _four_bars(compiled, motion: Sweep):
     return found
 
 
-def analyze(construction, *, degrees: bool = False) -> dict:
+def analyze(construction: Construction | Compiled, *, degrees: bool = False) -> dict[str, Any]:
     """Analyse a construction and return a report as plain data (JSON-ready).
 
     The motion analysed is the whole circuit of the first input (one turn if
@@ -103,7 +105,8 @@ def analyze(construction, *, degrees: bool = False) -> dict:
     compiled = _compiled(construction)
     angle = np.degrees if degrees else (lambda v: v)
     mobility = degrees_of_freedom(compiled)
-    report = {
+    # JSON-ready: each key's value has its own shape
+    report: dict[str, Any] = {
         "construction": compiled.name,
         "angle_unit": "deg" if degrees else "rad",
         "dof": mobility.dof,
@@ -251,7 +254,7 @@ def _strokes(compiled, motion: Sweep, angle) -> dict:
     smooth[1:-1] = step[:-1] * step[1:] > 0
     for event in motion.events:
         smooth[max(event.index - 1, 0):event.index + 1] = False
-    strokes = {}
+    strokes: dict[str, dict[str, Any]] = {}
     for label, (values, is_angle) in outputs.items():
         if not np.isfinite(values).any():
             continue
@@ -263,8 +266,9 @@ def _strokes(compiled, motion: Sweep, angle) -> dict:
             continue
         convert = angle if is_angle else (lambda v: v)
         low, high = _refined_extreme(values, -1, smooth), _refined_extreme(values, 1, smooth)
-        entry = {"turns": False, "min": float(convert(low)), "max": float(convert(high)),
-                 "stroke": float(convert(high - low)), "time_ratio": None}
+        entry: dict[str, Any] = {
+            "turns": False, "min": float(convert(low)), "max": float(convert(high)),
+            "stroke": float(convert(high - low)), "time_ratio": None}
         if turns:
             try:
                 s = stroke(values[:-1], motion.inputs[name][:-1])

@@ -47,9 +47,10 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .budgets import check_sweep_memory
-from .construction import REASONS, Compiled, Construction, failure_reasons
+from .construction import REASONS, Compiled, Construction, Node, failure_reasons
 from .errors import ConstructionError, did_you_mean
 
 __all__ = ["BranchEvent", "Sweep", "evaluate", "sweep"]
@@ -106,7 +107,7 @@ class BranchEvent:
     """Where the roots meet, as a fraction of the step from sample ``index - 1``
     to ``index``: 0 at sample ``index - 1`` itself."""
 
-    def __str__(self):
+    def __str__(self) -> str:
         if self.fraction > 0:
             where = f"between samples {self.index - 1} and {self.index}"
         else:
@@ -142,8 +143,12 @@ class Sweep:
         roots, zero: tangent, negative: none), relative to its scale.
     """
 
-    def __init__(self, construction, inputs, coords, valid, failed_step, reason_code,
-                 labels, events, margins, parameters=None):
+    def __init__(self, construction: Compiled, inputs: dict[str, np.ndarray],
+                 coords: dict[str, tuple[np.ndarray, np.ndarray]], valid: np.ndarray,
+                 failed_step: np.ndarray, reason_code: np.ndarray,
+                 labels: dict[str, np.ndarray | int], events: list[BranchEvent],
+                 margins: dict[str, np.ndarray],
+                 parameters: dict[str, np.ndarray] | None = None) -> None:
         self.construction: Compiled = construction
         self.inputs = inputs
         self.points = _PointTable(coords, valid)
@@ -156,14 +161,14 @@ class Sweep:
         # the chosen root's parameter along each ray or segment node
         self._parameters = parameters or {}
 
-    def __len__(self):
+    def __len__(self) -> int:
         return len(self.valid)
 
     def __getitem__(self, name: str) -> np.ndarray:
         """Return the (N, 2) positions of a point."""
         return self.points[name]
 
-    def __repr__(self):
+    def __repr__(self) -> str:
         return (f"<Sweep of {self.construction.name!r}: {len(self)} samples, "
                 f"{int(self.valid.sum())} valid, {len(self.events)} branch changes>")
 
@@ -317,7 +322,8 @@ def input_name(compiled: Compiled, name: str | None, purpose: str = "move") -> s
     return name
 
 
-def input_arrays(compiled: Compiled, values=None, samples: int | None = None):
+def input_arrays(compiled: Compiled, values: ArrayLike | Mapping[str, ArrayLike] | None = None,
+                 samples: int | None = None) -> tuple[dict[str, np.ndarray], int]:
     """Return the input arrays of a sweep, broadcast to one length N.
 
     ``values`` is an array (for a construction with one input), a mapping of
@@ -367,7 +373,7 @@ class _PlannedStep:
     """A step with its constant values evaluated once and its varying ones listed."""
 
     index: int
-    node: object
+    node: Node
     constants: dict
     varying: tuple  # (field, expression)
 
@@ -415,9 +421,10 @@ def _candidates(step: _PlannedStep, coords, values, origin):
     return cand
 
 
-def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
-             branches: Mapping[str, np.ndarray] | None = None, *, track: bool = True,
-             initial: Mapping[str, int] | None = None, origin=None) -> Sweep:
+def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndarray], n: int,
+             branches: Mapping[str, np.ndarray | int] | None = None, *, track: bool = True,
+             initial: Mapping[str, int] | None = None,
+             origin: tuple[float, float] | None = None) -> Sweep:
     """Evaluate every step for all samples.
 
     Parameters
@@ -448,6 +455,8 @@ def evaluate(construction, inputs: Mapping[str, np.ndarray], n: int,
     compiled = _compiled(construction)
     plan = _plan(compiled)
     env = _environment(compiled, inputs)
+    coords: dict[str, tuple[np.ndarray, np.ndarray]]
+    label: np.ndarray | int | None
     coords, labels, margins, parameters, events, results = {}, {}, {}, {}, [], []
     with np.errstate(all="ignore"):
         tracker = _Tracker(compiled, plan, inputs, n, origin) if track and n >= 2 else None
@@ -528,7 +537,8 @@ def _record_failures(results, n, failed_step, reason_code):
         pending &= ~failing
 
 
-def sweep(construction, values=None, *, samples: int | None = None,
+def sweep(construction: Construction | Compiled,
+          values: ArrayLike | Mapping[str, ArrayLike] | None = None, *, samples: int | None = None,
           branches: Mapping[str, object] | None = None) -> Sweep:
     """Evaluate a construction over a sweep of its inputs.
 
@@ -649,7 +659,8 @@ class _Tracker:
         # only for paths that need them, to spare a monotone sweep two arrays
         self.turning = np.zeros(n - 1, dtype=bool) if n > 2 else np.ones(n - 1, dtype=bool)
         self.finite: np.ndarray | bool = True
-        spans = []  # each input's shortest and longest step, where it runs one way
+        # each input's shortest and longest step, where it runs one way
+        spans: list[tuple[float, float] | None] = []
         for name, values in self.inputs.items():
             if len(self.inputs) == 1:
                 # into memory kept from sweep to sweep: a fresh array of this size costs
@@ -764,6 +775,7 @@ class _Tracker:
             return start, []
         # a step looked into is cut at half the resolution: a narrow dip of the roots'
         # distance shows at one cut at least
+        assert self.angle_steps is not None  # __init__ sets it
         pieces = np.ceil(self.angle_steps / (ANGLE_RESOLUTION / 2) - 1e-9)
         coarse = self.turning | (self.angle_steps > ANGLE_RESOLUTION * (1 + 1e-9))
         if self.length_steps is not None:

@@ -131,7 +131,9 @@ _QUOTED = re.compile(r"([^\w]*)(.*?)([^\w]*)", re.DOTALL)
 
 def _shorten_run(run: str) -> str:
     """Shorten one long word of a message, its quotes and punctuation kept whole."""
-    before, core, after = _QUOTED.fullmatch(run).groups()
+    match = _QUOTED.fullmatch(run)
+    assert match is not None  # every part of the pattern may be empty
+    before, core, after = match.groups()
     if not core:  # punctuation only
         before, core, after = "", run, ""
     cut = _cut(core, LONG_TEXT)
