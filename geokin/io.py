@@ -1041,7 +1041,7 @@ class _ToRadians:
 
     def node(self, node: Node) -> Node:
         """Return ``node`` with every value field rewritten."""
-        changes = {}
+        changes: dict[str, Expr | tuple[Expr, ...]] = {}
         for field in dataclasses.fields(node):
             value = getattr(node, field.name)
             convert = self.angle if field.name in node.angle_fields() else self.plain
@@ -1049,7 +1049,9 @@ class _ToRadians:
                 changes[field.name] = convert(value)
             elif isinstance(value, tuple) and value and all(isinstance(v, Expr) for v in value):
                 changes[field.name] = tuple(convert(v) for v in value)
-        return dataclasses.replace(node, **changes)
+        # mypy checks replace() against Node, whose only field is the name, not the
+        # node's own class
+        return dataclasses.replace(node, **changes)  # type: ignore[arg-type]
 
 
 def _fold(op: str, left: Expr, right: Expr) -> Expr:
