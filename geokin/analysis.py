@@ -38,6 +38,7 @@ kind                       code    when
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
@@ -350,6 +351,11 @@ class TransmissionAngle:
 
 
 def _angle_between(u, v):
+    # each vector taken to unit size first: the angle is the same, and products of
+    # tiny or huge lengths would underflow or overflow
+    with np.errstate(invalid="ignore", divide="ignore"):
+        u = u / np.max(np.abs(u), axis=1, keepdims=True)
+        v = v / np.max(np.abs(v), axis=1, keepdims=True)
     cross = u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]
     dot = u[:, 0] * v[:, 0] + u[:, 1] * v[:, 1]
     return np.arctan2(np.abs(cross), dot)
@@ -848,8 +854,15 @@ def curve_measures(points: ArrayLike, *, tol: float | None = None) -> Curve:
     everything = np.concatenate(runs)
     lo, hi = everything.min(axis=0), everything.max(axis=0)
     bounds = (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
+    # measured on the curve brought to about unit size by a power of two, which is
+    # exact: lengths and areas of a tiny or huge curve would underflow or overflow
+    size = float(np.max(np.abs(everything)))
+    unit = 2.0 ** -math.frexp(size)[1] if 0 < size < np.inf else 1.0
+    runs = [r * unit for r in runs]
     if tol is None:
-        tol = 1e-8 * float(np.hypot(*(hi - lo)))
+        tol = 1e-8 * float(np.hypot(*(hi - lo))) * unit
+    else:
+        tol = tol * unit
     closed = len(runs) == 1 and len(runs[0]) >= 4 and \
         float(np.hypot(*(runs[0][-1] - runs[0][0]))) <= tol
     if closed:
@@ -867,7 +880,20 @@ def curve_measures(points: ArrayLike, *, tol: float | None = None) -> Curve:
         faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(noded)))
         area = float(sum(f.area for f in faces))
     least_angle = min(max(GRAZING_ANGLE, 3 * _turn_per_sample(runs)), np.radians(20))
-    return Curve(length, closed, signed, area, bounds, _double_points(noded, least_angle))
+    return Curve(length / unit, closed, _unscaled_area(signed, unit),
+                 _unscaled_area(area, unit), bounds, _double_points(noded, least_angle) / unit)
+
+
+def _unscaled_area(area: float, unit: float) -> float:
+    """Return an area measured at ``unit`` times the size, at the true size.
+
+    NaN where that lies beyond the normal range of floats (a curve of size
+    1e-200 encloses some 1e-400): never a rounded zero or a subnormal value.
+    """
+    value = area / unit / unit
+    if area != 0 and not (np.finfo(float).tiny <= abs(value) < np.inf):
+        return np.nan
+    return value
 
 
 GRAZING_ANGLE = np.radians(2.0)

@@ -683,6 +683,17 @@ def _range_end(info, value) -> str:
     return " (end of the declared range)"
 
 
+def _figure(value: float) -> str:
+    """Four decimals for a figure of everyday size, six significant digits otherwise.
+
+    >>> _figure(52.95454), _figure(5.2954e-159), _figure(0.0)
+    ('52.9545', '5.2954e-159', '0.0000')
+    """
+    if value == 0 or 1e-3 <= abs(value) < 1e9:
+        return f"{value:.4f}"
+    return f"{value:.6g}"
+
+
 def _report_text(construction, report) -> str:
     units = f" {_free_text(construction.units)}" if construction.units else ""
     lines = [_free_text(f"{report['construction']}"),
@@ -714,11 +725,11 @@ def _report_text(construction, report) -> str:
         ratio = "" if s["time_ratio"] is None else f", time ratio {s['time_ratio']:.4f}"
         if s.get("strokes_per_turn", 1) > 1:
             ratio = f", {s['strokes_per_turn']} strokes per turn"
-        lines.append(f"{label}: {s['min']:.4f} to {s['max']:.4f}{unit}, stroke "
-                     f"{s['stroke']:.4f}{unit}{ratio}")
+        lines.append(f"{label}: {_figure(s['min'])} to {_figure(s['max'])}{unit}, stroke "
+                     f"{_figure(s['stroke'])}{unit}{ratio}")
     for point, curve in report.get("curves", {}).items():
-        area = "" if curve["area"] is None else f", encloses {curve['area']:.4f}"
-        lines.append(f"path of {point}: length {curve['length']:.4f}{units}"
+        area = "" if curve["area"] is None else f", encloses {_figure(curve['area'])}"
+        lines.append(f"path of {point}: length {_figure(curve['length'])}{units}"
                      f"{', closed' if curve['closed'] else ', open'}{area}, "
                      f"{len(curve['double_points'])} double point(s)")
     return "\n".join(lines) + "\n"

@@ -153,6 +153,17 @@ class Number(Expr):
 
     value: float
 
+    def __eq__(self, other: object) -> bool:
+        # NaN equals NaN here, so that equal texts give equal expressions whether
+        # or not they share one parsed object
+        if not isinstance(other, Number):
+            return NotImplemented
+        a, b = self.value, other.value
+        return a == b or (a != a and b != b)
+
+    def __hash__(self) -> int:
+        return hash(("Number", "nan" if self.value != self.value else self.value))
+
     def names(self) -> frozenset[str]:
         return frozenset()
 
@@ -525,11 +536,12 @@ def normal_name(name: str, *, what: str = "name", node: str | None = None,
     ...
     geokin.errors.ConstructionError: name 'pаram' mixes Latin and Cyrillic letters ('p' and 'а' ...
     """
+    article = "an" if what[:1] in tuple("aeiou") else "a"
     if not isinstance(name, str):
-        raise ConstructionError(f"a {what} must be a string, got {show(name)}", node=node,
-                                field=field)
+        raise ConstructionError(f"{article} {what} must be a string, got {show(name)}",
+                                node=node, field=field)
     if len(name) > MAX_NAME_LENGTH:
-        raise ConstructionError(f"a {what} may have at most {MAX_NAME_LENGTH} characters; "
+        raise ConstructionError(f"{article} {what} may have at most {MAX_NAME_LENGTH} characters; "
                                 f"{quote(name)} is too long", node=node, field=field)
     if name.isascii():
         return name

@@ -33,6 +33,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .analysis import unwrap_valid
+from .budgets import check_sweep_memory
 from .errors import ConstructionError
 from .sweep import Sweep, evaluate, input_name
 
@@ -155,6 +156,9 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str) -> Derivatives:
     """
     compiled = sweep.construction
     n, k = len(sweep), len(OFFSETS)
+    # the perturbed evaluation holds k sweeps' worth of arrays: refused up front if
+    # they would not fit, as the sweep itself is
+    check_sweep_memory(len(compiled.steps), n * k, what="motion")
     # offset-major layout: sample i at offset j sits at j * n + i
     inputs = {name: np.tile(values, k) for name, values in sweep.inputs.items()}
     for name, rate in direction.items():

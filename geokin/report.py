@@ -176,7 +176,8 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False) -> 
             continue
         report["curves"][point] = {
             "length": curve.length, "closed": curve.closed,
-            "area": None if np.isnan(curve.area) else curve.area,
+            # none where the curve is open, or its area is beyond the range of floats
+            "area": curve.area if np.isfinite(curve.area) else None,
             "bounds": list(curve.bounds),
             "double_points": curve.double_points.tolist()}
     return report
@@ -213,7 +214,9 @@ def _refined_extreme(values, sign, smooth) -> float:
         left, right = finite[i - 1], finite[i + 1]
         curvature = left - 2 * best + right
         if curvature < 0:
-            best = best - (right - left) ** 2 / (8 * curvature)
+            # the vertex of the parabola, in a form that cannot overflow at any scale
+            spread = right - left
+            best = best - spread / 8 * (spread / curvature)
     return float(sign * best)
 
 
@@ -259,8 +262,8 @@ def _strokes(compiled, motion: Sweep, angle) -> dict:
         if not np.isfinite(values).any():
             continue
         low, high = np.nanmin(values), np.nanmax(values)
-        if high - low <= 1e-9 * max(1.0, abs(high), abs(low)):
-            continue  # it does not move
+        if high - low <= 1e-9 * max(abs(high), abs(low)):
+            continue  # it does not move (to rounding, at any scale)
         if is_angle and high - low >= 2 * np.pi - 1e-9:
             strokes[label] = {"turns": True}
             continue

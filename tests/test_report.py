@@ -91,3 +91,33 @@ def test_an_output_with_two_strokes_a_turn_has_no_time_ratio():
     assert strokes["ram_block.position"]["time_ratio"] is None
     assert strokes["lever.angle"]["strokes_per_turn"] == 1
     assert strokes["lever.angle"]["time_ratio"] is not None
+
+
+@pytest.mark.parametrize("k", [-660, -530, 530, 660])
+def test_analyze_at_any_scale_gives_the_same_figures_scaled_or_none(k):
+    """A crank-rocker 2**k times larger: angles equal, lengths 2**k times, no wrong zeros."""
+    def crank_rocker(f):
+        c = Construction("crank-rocker")
+        c.input("theta")
+        c.fixed("O2", 0, 0)
+        c.fixed("O4", 40 * f, 0)
+        c.polar("A", "O2", 10 * f, "theta")
+        c.circle_circle("B", ("A", "O4"), (35 * f, 30 * f), branch="left")
+        c.polar("P", "A", 20 * f, np.radians(30), reference=("A", "B"))
+        c.link("crank", "O2", "A")
+        c.link("coupler", "A", "B", "P")
+        c.link("rocker", "O4", "B")
+        c.trace("P")
+        return c
+
+    base, scaled = analyze(crank_rocker(1.0)), analyze(crank_rocker(2.0**k))
+    for node, mu in base["transmission_angles"].items():
+        assert scaled["transmission_angles"][node]["min"] == pytest.approx(mu["min"], rel=1e-12)
+        assert scaled["transmission_angles"][node]["max"] == pytest.approx(mu["max"], rel=1e-12)
+    assert set(scaled["strokes"]) == set(base["strokes"])
+    assert scaled["strokes"]["P.x"]["stroke"] == pytest.approx(
+        base["strokes"]["P.x"]["stroke"] * 2.0**k, rel=1e-9)
+    assert scaled["curves"]["P"]["length"] == pytest.approx(
+        base["curves"]["P"]["length"] * 2.0**k, rel=1e-12)
+    # an area beyond the normal range of floats is not given, rather than given wrong
+    assert scaled["curves"]["P"]["area"] is None
