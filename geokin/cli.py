@@ -54,6 +54,7 @@ import re
 import signal
 import sys
 import threading
+import unicodedata
 import warnings
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
@@ -428,7 +429,8 @@ def _selected_points(construction, text):
     names = list(construction.nodes)
     if text is None:
         return names
-    chosen = [p.strip() for p in text.split(",")]
+    # names are declared in Unicode form NFKC: a name typed another way is the same
+    chosen = [unicodedata.normalize("NFKC", p.strip()) for p in text.split(",")]
     if not any(chosen):
         raise UsageError("--points names no point")
     if not all(chosen):

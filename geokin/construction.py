@@ -789,9 +789,11 @@ class Construction:
         speed = _number(speed, node=name, field="speed")
         low, high = prim.SCALE_RANGE
         if not low <= speed <= high:
-            raise ConstructionError(f"speed must be a positive number from {low:g} to "
-                                    f"{high:g} (how fast the input moves; a sweep's direction "
-                                    f"sets its sign), got {speed:g}", node=name, field="speed")
+            raise ConstructionError(
+                f"speed must be a positive number from {low:g} to {high:g} (how fast the "
+                f"input moves; a sweep's direction sets its sign), got {speed:g}"
+                + (f" ({np.degrees(speed):g} degrees per second)" if kind == "angle" else ""),
+                node=name, field="speed")
         self.inputs[name] = Input(name, kind, lo_hi, int(samples), speed, step)
 
     def fixed(self, name: str, x: ValueLike, y: ValueLike) -> None:

@@ -43,6 +43,7 @@ Branch rules
 from __future__ import annotations
 
 import threading
+import unicodedata
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -258,6 +259,8 @@ class Sweep:
                 f"assembled: {self.failure_reason[index]}")
 
     def _step(self, name):
+        if isinstance(name, str) and not name.isascii():
+            name = unicodedata.normalize("NFKC", name)  # names are declared in NFKC
         for step in self.construction.steps:
             if step.node.name == name:
                 return step
@@ -273,6 +276,8 @@ class _PointTable(Mapping):
         self._stacked = {}
 
     def __getitem__(self, name):
+        if isinstance(name, str) and not name.isascii():
+            name = unicodedata.normalize("NFKC", name)  # names are declared in NFKC
         stacked = self._stacked.get(name)
         if stacked is None:
             try:

@@ -335,3 +335,13 @@ def test_a_parallelogram_stays_one_through_its_change_points(start, samples):
     assert wrong.sum() <= 2
     if samples >= 97:  # steps of 19 degrees or less: exact but for the two end samples
         assert not wrong[1:-1].any()
+
+
+def test_a_point_is_found_by_any_spelling_of_its_name_that_reads_the_same():
+    c = Construction()
+    c.input("t")
+    c.fixed("O", 0, 0)
+    c.polar("Ａ", "O", 1, "t")  # a fullwidth letter: declared, and kept, as plain A
+    s = sweep(c, [0.0])
+    np.testing.assert_array_equal(s["Ａ"], s["A"])
+    np.testing.assert_allclose(s["A"][0], [1.0, 0.0])
