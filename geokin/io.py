@@ -517,7 +517,7 @@ class _Reader:
                                     f"expected a point name (a string), got {_kind_of(p)}")
             c.trace(*trace)
         # inside geokin every angle is radians: the script's degrees end here
-        to_radians = _ToRadians(c)
+        to_radians = _AngleRewriter(c, to_script=False)
         for name, node in list(c.nodes.items()):
             c.nodes[name] = to_radians.node(node)
         try:
@@ -737,7 +737,7 @@ def dump(construction: Construction) -> str:
     if not isinstance(construction, Construction):
         raise TypeError(f"expected a Construction, got {type(construction).__name__}")
     c = construction
-    convert = _Converter(c)
+    convert = _AngleRewriter(c, to_script=True)
     out = ["[construction]", f"name = {_toml_string(c.name)}"]
     if c.description:
         out.append(f"description = {_toml_string(c.description)}")
@@ -778,16 +778,14 @@ def dump(construction: Construction) -> str:
     return "\n".join(out) + "\n"
 
 
-def _node_entries(node: Node, convert) -> list[tuple[str, str]]:
+def _node_entries(node: Node, convert: _AngleRewriter) -> list[tuple[str, str]]:
     """Return the ``key = value`` pairs of a node's inline table, as TOML text."""
     values = node.value_fields()
     angles = node.angle_fields()
 
     def value(field):
         expr = values[field]
-        if convert is not None:
-            expr = convert.angle(expr) if field in angles else convert.plain(expr)
-        return _toml_expr(expr)
+        return _toml_expr(convert.angle(expr) if field in angles else convert.plain(expr))
 
     entries = [("op", _toml_string(node.kind))]
     if isinstance(node, Fixed):
@@ -923,19 +921,30 @@ def _format(expr: Expr) -> str:
     return str(expr)
 
 
-class _Converter:
-    """Rewrite the expressions of a radians construction for a degrees script.
+class _AngleRewriter:
+    """Rewrite expressions between a radians construction and a degrees script.
 
-    In the script every angle input holds degrees, so each use of one in an
-    expression becomes ``radians(name)``; an angle field ``e`` becomes
-    ``degrees(e)``, simplified where the rewriting is exact and obvious.
+    Towards a script (``to_script=True``) every angle input holds degrees,
+    so each use of one in an expression becomes ``radians(name)``, and an
+    angle field ``e`` becomes ``degrees(e)``. From a script it is the other
+    way round: ``degrees(name)`` and ``radians(e)``. Both are simplified
+    where the rewriting is exact and obvious (``theta + pi / 2`` and
+    ``theta + 90``), so a script read and written again is the same text.
     """
 
-    def __init__(self, construction: Construction):
+    def __init__(self, construction: Construction, *, to_script: bool):
         self.angles = frozenset(n for n, i in construction.inputs.items() if i.kind == "angle")
+        self.to_script = to_script
+        # how an angle input reads on the other side, and how an angle field is wrapped
+        self.read, self.wrap = ("radians", "degrees") if to_script else ("degrees", "radians")
+
+    def number(self, value: float) -> float:
+        """Return an angle's number on the other side."""
+        # towards a script, the shortest degree value that reads back as exactly this
+        return _script_degrees(value) if self.to_script else math.radians(value)
 
     def angular(self, expr: Expr) -> bool:
-        """Whether an expression involves an angle input, pi or radians()."""
+        """Whether an expression involves an angle input, pi or a conversion."""
         if isinstance(expr, Name):
             return expr.name in self.angles or expr.name == "pi"
         if isinstance(expr, Neg):
@@ -943,37 +952,36 @@ class _Converter:
         if isinstance(expr, BinOp):
             return self.angular(expr.left) or self.angular(expr.right)
         if isinstance(expr, Call):
-            return expr.function == "radians" or any(self.angular(a) for a in expr.args)
+            return expr.function == self.wrap or any(self.angular(a) for a in expr.args)
         return False
 
     def plain(self, expr: Expr) -> Expr:
-        """Return ``expr`` with each angle input ``t`` read as ``radians(t)``."""
+        """Return ``expr`` with each angle input read in the other unit."""
         if isinstance(expr, Name) and expr.name in self.angles:
-            return Call("radians", (expr,))
+            return Call(self.read, (expr,))
         if isinstance(expr, Neg):
             return Neg(self.plain(expr.operand))
         if isinstance(expr, BinOp):
             return BinOp(expr.op, self.plain(expr.left), self.plain(expr.right))
         if isinstance(expr, Call):
             (first, *_) = expr.args
-            if (expr.function == "degrees" and isinstance(first, Name)
+            if (expr.function == self.wrap and isinstance(first, Name)
                     and first.name in self.angles):
                 return first
             return Call(expr.function, tuple(self.plain(a) for a in expr.args))
         return expr
 
     def angle(self, expr: Expr) -> Expr:
-        """Return an expression of the script equal to ``degrees(expr)``."""
+        """Return an expression on the other side equal to the angle ``expr``."""
         if isinstance(expr, Number):
-            # the shortest degree value that reads back as exactly this number
-            return Number(_script_degrees(expr.value))
+            return Number(self.number(expr.value))
         if isinstance(expr, Name):
             if expr.name in self.angles:
                 return expr
-            if expr.name == "pi":
+            if expr.name == "pi" and self.to_script:
                 return Number(180.0)
-            return Call("degrees", (expr,))
-        if isinstance(expr, Call) and expr.function == "radians":
+            return Call(self.wrap, (expr,))
+        if isinstance(expr, Call) and expr.function == self.read:
             return self.plain(expr.args[0])
         if isinstance(expr, Neg):
             inner = self.angle(expr.operand)
@@ -987,57 +995,7 @@ class _Converter:
                 return _fold("*", self.angle(expr.left), self.plain(expr.right))
             if expr.op == "/":
                 return _fold("/", self.angle(expr.left), self.plain(expr.right))
-        return Call("degrees", (self.plain(expr),))
-
-
-class _ToRadians:
-    """Rewrite the expressions of a degrees script for a radians construction.
-
-    The inverse of :class:`_Converter`: in the script every angle input holds
-    degrees, so each use of one in an expression becomes ``degrees(name)``
-    (and ``radians(degrees(name))`` just ``name``); an angle field ``e``
-    becomes ``radians(e)``, simplified where the rewriting is exact and
-    obvious (``theta + 90`` becomes ``theta + 1.5707963267948966``).
-    """
-
-    def __init__(self, construction: Construction):
-        self.angles = frozenset(n for n, i in construction.inputs.items() if i.kind == "angle")
-
-    def plain(self, expr: Expr) -> Expr:
-        """Return ``expr`` with each angle input ``t`` read as ``degrees(t)``."""
-        if isinstance(expr, Name) and expr.name in self.angles:
-            return Call("degrees", (expr,))
-        if isinstance(expr, Neg):
-            return Neg(self.plain(expr.operand))
-        if isinstance(expr, BinOp):
-            return BinOp(expr.op, self.plain(expr.left), self.plain(expr.right))
-        if isinstance(expr, Call):
-            (first, *_) = expr.args
-            if (expr.function == "radians" and isinstance(first, Name)
-                    and first.name in self.angles):
-                return first
-            return Call(expr.function, tuple(self.plain(a) for a in expr.args))
-        return expr
-
-    def angle(self, expr: Expr) -> Expr:
-        """Return an expression of the construction equal to ``radians(expr)``."""
-        if isinstance(expr, Number):
-            return Number(math.radians(expr.value))
-        if isinstance(expr, Name):
-            if expr.name in self.angles:
-                return expr
-            return Call("radians", (expr,))
-        if isinstance(expr, Call) and expr.function == "degrees":
-            return self.plain(expr.args[0])
-        if isinstance(expr, Neg):
-            inner = self.angle(expr.operand)
-            return Number(-inner.value) if isinstance(inner, Number) else Neg(inner)
-        if isinstance(expr, BinOp):
-            if expr.op in "+-":
-                return _fold(expr.op, self.angle(expr.left), self.angle(expr.right))
-            if expr.op == "/":
-                return _fold("/", self.angle(expr.left), self.plain(expr.right))
-        return Call("radians", (self.plain(expr),))
+        return Call(self.wrap, (self.plain(expr),))
 
     def node(self, node: Node) -> Node:
         """Return ``node`` with every value field rewritten."""
