@@ -337,7 +337,14 @@ def circuit(construction: Construction | Compiled, input: str | None = None, *,
     if start is None:
         start = declared.range[0]
         if not any(lo.value <= start <= hi.value for lo, hi in found.intervals):
-            lo, hi = found.intervals[0]
+            # the middle of the interval that overlaps the declared range the most
+            a, b = sorted(declared.range)
+
+            def overlap(interval):
+                lo, hi = interval
+                return min(hi.value, b) - max(lo.value, a)
+
+            lo, hi = max(found.intervals, key=overlap)
             start = 0.5 * (lo.value + hi.value)
     interval = _containing(found, start, declared.kind == "angle")
     if interval is None:
@@ -385,12 +392,14 @@ def circuit(construction: Construction | Compiled, input: str | None = None, *,
 
         initial = dict(labels)
         position, target = start, hi
-        for _ in range(8):  # four toggles at most bring any branches back to the start
+        for count in range(1, 9):  # four toggles at most bring any branches back
             labels = run(stretch(position, target.value, labels), labels)
             if target.kind == "tangent":
                 labels = _through_toggle(compiled, name, held, labels, target)
             position, target = target.value, (lo if target is hi else hi)
-            if labels == initial:
+            # a circuit reaches both ends: at an end that is no toggle (of the searched
+            # range, or of a ray) the branches stay, and the other end is still to come
+            if count >= 2 and labels == initial:
                 # back on the starting branches: run on to the start and stop
                 run(stretch(position, start, labels), labels)
                 break

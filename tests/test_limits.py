@@ -178,3 +178,35 @@ def test_limits_of_a_large_length_input_end_at_float_resolution():
     assert hi.kind == "range" and hi.value == 11000
     [(lo2, _)] = limits(c, range=(11000, 9000)).intervals  # a reversed range is sorted
     assert lo2.value == lo.value
+
+
+def test_a_circuit_reaches_a_toggle_beyond_an_end_of_the_range():
+    """C on circles of 20 about O and 15 about S = (s, 0): assembles from s = 5 (a
+    toggle) to the range's end at 30; C.x = (s^2 + 175) / 2s runs from sqrt(175) to 20."""
+    c = Construction()
+    c.input("s", kind="length", range=(0, 30))
+    c.fixed("O", 0, 0)
+    c.fixed("S", "s", 0)
+    c.circle_circle("C", ("O", "S"), (20, 15), branch="left")
+    s = circuit(c)
+    assert s.valid.all()
+    assert s.inputs["s"].min() == pytest.approx(5, abs=1e-9)
+    assert s.inputs["s"].max() == pytest.approx(30, abs=1e-12)
+    assert s["C"][:, 0].max() == pytest.approx(20, abs=1e-6)
+    assert s["C"][:, 0].min() == pytest.approx(np.sqrt(175), abs=1e-3)
+    assert {e.node for e in s.events} == {"C"}
+
+
+def test_a_circuit_starts_on_the_interval_the_declared_range_covers():
+    """A Grashof double-rocker (ground 40, input 30, coupler 10, output 35) assembles on
+    +-(38.62..78.58) degrees; declared over 0..60 degrees, its circuit is the positive one."""
+    c = Construction()
+    c.input("theta", range=(0, np.radians(60)))
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 40, 0)
+    c.polar("A", "O2", 30, "theta")
+    c.circle_circle("B", ("A", "O4"), (10, 35), branch="left")
+    s = circuit(c)
+    assert s.valid.all() and (s.inputs["theta"] > 0).all()
+    np.testing.assert_allclose(np.degrees([s.inputs["theta"].min(), s.inputs["theta"].max()]),
+                               np.degrees(np.arccos([1875 / 2400, 475 / 2400])), atol=1e-6)
