@@ -68,7 +68,7 @@ from .analysis import degrees_of_freedom
 from .atomic import replacing
 from .construction import MAX_SAMPLES, Construction
 from .errors import GeokinError, did_you_mean
-from .io import _script_degrees, load
+from .io import _script_degrees, load, script_steps
 from .kinematics import motion
 from .limits import circuit
 from .report import analyze
@@ -300,7 +300,6 @@ def _degrees_of_freedom(construction) -> str:
 
 def _check_one(path):
     c = load(path)
-    compiled = c.compile()
     print(escape(f"{path}: {shorten(c.name, 1000)}"))
     if c.description:
         print(f"  {_free_text(c.description)}")
@@ -320,7 +319,7 @@ def _check_one(path):
             spacing = f"{inp.samples} samples"
         rate = f"{_to_script(inp, inp.speed):g}{unit or ' length units'}/s"
         _print_lines(f"  {inp.name} ({inp.kind}): {lo:g} to {hi:g}{unit}, {spacing}, {rate}")
-    _print_lines(str(compiled))
+    _print_lines(script_steps(c))
     if c.traced:
         _print_lines("traced: " + ", ".join(c.traced))
     _print_lines(f"degrees of freedom: {_degrees_of_freedom(c)}")

@@ -138,7 +138,7 @@ from .errors import ConstructionError, ScriptError, did_you_mean
 from .expressions import BinOp, Call, Expr, Name, Neg, Number
 from .terminal import clip_message, escape, shorten
 
-__all__ = ["MAX_SCRIPT_BYTES", "OPS", "dump", "load", "loads"]
+__all__ = ["MAX_SCRIPT_BYTES", "OPS", "dump", "load", "loads", "script_steps"]
 
 """The most bytes :func:`load` reads of a script (and characters :func:`loads` takes).
 
@@ -776,6 +776,29 @@ def dump(construction: Construction) -> str:
             out.append(f"{_toml_key(s.name)} = {{ point = {_toml_string(s.point)}, "
                        f"along = {_toml_list(s.along)} }}")
     return "\n".join(out) + "\n"
+
+
+def script_steps(construction: Construction) -> str:
+    r"""Return the compiled steps as text, with angles in degrees as a script has them.
+
+    Inside geokin every angle is radians, so ``str(construction.compile())``
+    shows an angle field of 30 degrees as 0.5235987755982988; this shows it
+    as the script writes it.
+
+    Examples
+    --------
+    >>> c = loads('[inputs.theta]\n[points]\nO = { op = "fixed", at = [0, 0] }\n'
+    ...           'A = { op = "polar", origin = "O", distance = 10, angle = "theta + 30" }\n')
+    >>> print(script_steps(c))
+    construction 'construction': 2 steps
+      1  O = fixed(0, 0)
+      2  A = polar(O, 10, theta + 30)
+    """
+    compiled = construction.compile()
+    to_script = _AngleRewriter(construction, to_script=True)
+    steps = tuple(dataclasses.replace(step, node=to_script.node(step.node))
+                  for step in compiled.steps)
+    return str(dataclasses.replace(compiled, steps=steps))
 
 
 def _node_entries(node: Node, convert: _AngleRewriter) -> list[tuple[str, str]]:

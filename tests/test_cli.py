@@ -601,3 +601,9 @@ def test_check_says_where_the_roots_meet_not_where_the_new_branch_is_first_seen(
     assert status == 0
     # the change point lies at 180 degrees, between the samples at 150 and 200
     assert "  at theta = 180 deg: node 'B' changes branch from left to right" in out
+
+
+def test_check_prints_angles_in_the_scripts_degrees(capsys):
+    status, out, err = run(capsys, "check", str(CONSTRUCTIONS / "triple_rocker_coupler.toml"))
+    assert status == 0
+    assert "B  = polar(C, r3, theta3 + 180)" in out  # held as theta3 + pi inside
