@@ -68,7 +68,7 @@ from .analysis import degrees_of_freedom
 from .atomic import replacing
 from .construction import MAX_SAMPLES, Construction
 from .errors import GeokinError, did_you_mean
-from .io import _script_degrees, load, script_steps
+from .io import load, script_degrees, script_steps
 from .kinematics import motion
 from .limits import circuit
 from .report import analyze
@@ -116,7 +116,7 @@ class ScriptSweep:
 
 
 def _to_script(inp, value: float) -> float:
-    return _script_degrees(value) if inp.kind == "angle" else float(value)
+    return script_degrees(value) if inp.kind == "angle" else float(value)
 
 
 def _from_script(inp, values):

@@ -138,7 +138,7 @@ from .errors import ConstructionError, ScriptError, did_you_mean
 from .expressions import BinOp, Call, Expr, Name, Neg, Number
 from .terminal import clip_message, escape, shorten
 
-__all__ = ["MAX_SCRIPT_BYTES", "OPS", "dump", "load", "loads", "script_steps"]
+__all__ = ["MAX_SCRIPT_BYTES", "OPS", "dump", "load", "loads", "script_degrees", "script_steps"]
 
 """The most bytes :func:`load` reads of a script (and characters :func:`loads` takes).
 
@@ -754,7 +754,7 @@ def dump(construction: Construction) -> str:
             else:
                 out.append(f"{_toml_key(p.name)} = {_toml_number(p.value)}")
     for i in c.inputs.values():
-        scale = _script_degrees if i.kind == "angle" else float
+        scale = script_degrees if i.kind == "angle" else float
         out += ["", f"[inputs.{_toml_key(i.name)}]", f"kind = {_toml_string(i.kind)}",
                 f"range = [{_toml_number(scale(i.range[0]))}, {_toml_number(scale(i.range[1]))}]"]
         if i.step is not None:
@@ -877,7 +877,7 @@ def _toml_expr(expr: Expr) -> str:
     return _toml_string(_format(expr))
 
 
-def _script_degrees(radians: float) -> float:
+def script_degrees(radians: float) -> float:
     """Return the shortest degree value that reads back as exactly ``radians``.
 
     ``math.degrees`` may land an ulp or two off the value a script gave
@@ -886,9 +886,9 @@ def _script_degrees(radians: float) -> float:
 
     Examples
     --------
-    >>> _script_degrees(math.radians(-645.6585625622657))
+    >>> script_degrees(math.radians(-645.6585625622657))
     -645.6585625622657
-    >>> _script_degrees(math.pi / 2)
+    >>> script_degrees(math.pi / 2)
     90.0
     """
     degrees = math.degrees(radians)
@@ -964,7 +964,7 @@ class _AngleRewriter:
     def number(self, value: float) -> float:
         """Return an angle's number on the other side."""
         # towards a script, the shortest degree value that reads back as exactly this
-        return _script_degrees(value) if self.to_script else math.radians(value)
+        return script_degrees(value) if self.to_script else math.radians(value)
 
     def angular(self, expr: Expr) -> bool:
         """Whether an expression involves an angle input, pi or a conversion."""

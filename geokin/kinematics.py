@@ -164,8 +164,9 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str) -> Derivatives:
     for name, rate in direction.items():
         shift = h * OFFSETS[:, None] * np.broadcast_to(rate, (n,))[None, :]
         inputs[name] = (sweep.inputs[name][None, :] + shift).ravel()
-    branches = {name: (label if np.ndim(label) == 0 else np.tile(label, k))
-                for name, label in sweep._labels.items()}
+    # a branch that never changes (a broadcast view) stays one number: no per-sample choice
+    branches = {name: (int(label[0]) if label.strides == (0,) else np.tile(label, k))
+                for name, label in sweep.branches.items()}
     # evaluated about the mechanism's own middle: differences of positions far from
     # (0, 0) would lose the digits the derivatives need
     everything = np.concatenate([sweep.points[p][sweep.valid] for p in compiled.point_names])

@@ -25,7 +25,7 @@ import numpy as np
 
 from .construction import NO_INTERSECTION, Compiled, Construction
 from .errors import AssemblyError, ConstructionError
-from .sweep import BranchEvent, Sweep, _compiled, evaluate, input_name
+from .sweep import BranchEvent, Sweep, as_compiled, evaluate, input_name
 
 __all__ = ["LIMIT_TOLERANCE", "Limit", "Limits", "circuit", "limits"]
 
@@ -115,10 +115,10 @@ def _strictly_valid(result: Sweep) -> np.ndarray:
     ok = result.valid.copy()
     n = len(ok)
     with np.errstate(invalid="ignore"):
-        for margin in result._margins.values():
+        for margin in result.margins.values():
             ok &= np.broadcast_to(margin >= 0, (n,))
         steps = _steps_by_name(result.construction)
-        for node, t in result._parameters.items():
+        for node, t in result.line_parameters.items():
             kind = steps[node].node
             ok &= np.broadcast_to((t >= kind.low) & (t <= kind.high), (n,))
     return ok
@@ -131,17 +131,17 @@ def _what_stops(result: Sweep, i: int) -> tuple[str, str, tuple[str, ...]]:
     tangent at the limit, the first node first.
     """
     n = result.valid.shape
-    tangent = tuple(node for node, margin in result._margins.items()
+    tangent = tuple(node for node, margin in result.margins.items()
                     if np.broadcast_to(margin, n)[i] < 0)
     for step in result.construction.steps:
         node = step.node.name
         if not result.valid[i] and result.failed_step[i] == step.index:
             kind = "tangent" if result.reason_code[i] == NO_INTERSECTION else "end"
             return node, kind, _first(node, tangent) if kind == "tangent" else ()
-        margin = result._margins.get(node)
+        margin = result.margins.get(node)
         if margin is not None and np.broadcast_to(margin, n)[i] < 0:
             return node, "tangent", _first(node, tangent)
-        t = result._parameters.get(node)
+        t = result.line_parameters.get(node)
         if t is not None:
             t = np.broadcast_to(t, n)[i]
             if not step.node.low <= t <= step.node.high:
@@ -221,7 +221,7 @@ def limits(construction: Construction | Compiled, input: str | None = None, *,
     >>> found.intervals[0][1].node, found.intervals[0][1].kind
     ('C', 'tangent')
     """
-    compiled = _compiled(construction)
+    compiled = as_compiled(construction)
     name = input_name(compiled, input)
     declared = compiled.inputs[name]
     held = _held(compiled, name, at)
@@ -249,7 +249,7 @@ def limits(construction: Construction | Compiled, input: str | None = None, *,
                             f"{name!r}: node {failed!r}: {probe.failure_reason[samples // 2]}",
                             node=failed or None)
     held_branches = {k: int(np.broadcast_to(v, (samples,))[first_valid[0]])
-                     for k, v in probe._labels.items()}
+                     for k, v in probe.branches.items()}
     probe = _evaluate_at(compiled, name, grid, held, held_branches)
     ok = _strictly_valid(probe)
     if ok.all() and turn:
@@ -329,7 +329,7 @@ def circuit(construction: Construction | Compiled, input: str | None = None, *,
     >>> bool(np.allclose(s["C"][0], s["C"][-1]))
     True
     """
-    compiled = _compiled(construction)
+    compiled = as_compiled(construction)
     name = input_name(compiled, input)
     found = limits(compiled, name, at=at, branches=branches)
     declared = compiled.inputs[name]

@@ -24,7 +24,7 @@ from .analysis import (
 from .construction import CircleCircle, Compiled, Construction, Fixed, Polar
 from .errors import AnalysisError
 from .limits import circuit, describe_limit, limits
-from .sweep import Sweep, _compiled, sweep
+from .sweep import Sweep, as_compiled, sweep
 
 __all__ = ["analyze"]
 
@@ -102,7 +102,7 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False) -> 
     >>> report["four_bars"][0]["class"]
     'triple-rocker RRR1'
     """
-    compiled = _compiled(construction)
+    compiled = as_compiled(construction)
     angle = np.degrees if degrees else (lambda v: v)
     mobility = degrees_of_freedom(compiled)
     # JSON-ready: each key's value has its own shape

@@ -194,6 +194,16 @@ class Sweep:
         return {name: np.broadcast_to(m, (n,)) for name, m in self._margins.items()}
 
     @property
+    def line_parameters(self) -> dict[str, np.ndarray]:
+        """Return, for every ray or segment node, its chosen root's parameter ``t``.
+
+        The root is ``line[0] + t * (line[1] - line[0])``; it lies on the ray
+        for ``t >= 0`` and on the segment for ``0 <= t <= 1``.
+        """
+        n = len(self)
+        return {name: np.broadcast_to(t, (n,)) for name, t in self._parameters.items()}
+
+    @property
     def failed_node(self) -> np.ndarray:
         """Return the name of the node that failed at each sample ('' where valid)."""
         names = np.array(["", *self.construction.point_names], dtype=object)
@@ -299,7 +309,14 @@ class _PointTable(Mapping):
         return len(self._coords)
 
 
-def _compiled(construction) -> Compiled:
+def as_compiled(construction: Construction | Compiled) -> Compiled:
+    """Return a construction compiled, or a compiled one as it is.
+
+    Raises
+    ------
+    TypeError
+        For anything else.
+    """
     if isinstance(construction, Construction):
         return construction.compile()
     if isinstance(construction, Compiled):
@@ -457,7 +474,7 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
     -------
     Sweep
     """
-    compiled = _compiled(construction)
+    compiled = as_compiled(construction)
     plan = _plan(compiled)
     env = _environment(compiled, inputs)
     coords: dict[str, tuple[np.ndarray, np.ndarray]]
@@ -585,7 +602,7 @@ def sweep(construction: Construction | Compiled,
     >>> np.allclose(np.hypot(*(s["B"] - s["A"]).T), 35)
     True
     """
-    compiled = _compiled(construction)
+    compiled = as_compiled(construction)
     inputs, n = input_arrays(compiled, values, samples)
     # refused before allocating, with the estimate and a block that would fit
     check_sweep_memory(len(compiled.steps), n)
