@@ -26,7 +26,7 @@ def closed_form_left(theta, ground, crank, coupler, rocker):
     ax, ay = crank * np.cos(theta), crank * np.sin(theta)
     dx, dy = ground - ax, -ay
     d = np.hypot(dx, dy)
-    with np.errstate(invalid="ignore", divide="ignore"):
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore"):
         # angle at A between A -> O4 and A -> B
         cos_phi = (coupler**2 + d**2 - rocker**2) / (2 * coupler * d)
         phi = np.arccos(cos_phi)
