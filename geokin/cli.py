@@ -68,13 +68,14 @@ from .analysis import degrees_of_freedom
 from .atomic import replacing
 from .construction import MAX_SAMPLES, Construction
 from .errors import GeokinError, did_you_mean
-from .io import load, script_degrees, script_steps
+from .io import load, script_steps
 from .kinematics import motion
 from .limits import circuit
 from .report import analyze
 from .sweep import Sweep, evaluate
 from .sweep import sweep as run_sweep
 from .terminal import escape, one_line, shorten
+from .units import from_script, to_script, to_script_array
 
 __all__ = ["COMMANDS", "build_parser", "main"]
 
@@ -115,14 +116,6 @@ class ScriptSweep:
     inputs: dict[str, np.ndarray]  # name -> values in script units
 
 
-def _to_script(inp, value: float) -> float:
-    return script_degrees(value) if inp.kind == "angle" else float(value)
-
-
-def _from_script(inp, values):
-    return np.radians(values) if inp.kind == "angle" else np.asarray(values, dtype=float)
-
-
 def _shortest(value: float) -> str:
     """Write a number as it reads back exactly: 16, 0.25, 1e-320."""
     text = repr(float(value))
@@ -159,19 +152,19 @@ def sweep_values(construction: Construction, args: argparse.Namespace) -> dict[s
         return {}
     first, *others = inputs
     lo, hi = (args.range if args.range is not None
-              else (_to_script(first, first.range[0]), _to_script(first, first.range[1])))
+              else (to_script(first, first.range[0]), to_script(first, first.range[1])))
     label = "--range" if args.range is not None else f"input {first.name}: range"
     if args.samples is not None:
         values = _sample(lo, hi, samples=args.samples, label=label)
     elif args.step is not None:
         values = _sample(lo, hi, step=args.step, label=label)
     elif first.step is not None:
-        values = _sample(lo, hi, step=_to_script(first, first.step), label=label)
+        values = _sample(lo, hi, step=to_script(first, first.step), label=label)
     else:
         values = _sample(lo, hi, samples=first.samples, label=label)
     result = {first.name: values}
     for inp in others:
-        result[inp.name] = _sample(_to_script(inp, inp.range[0]), _to_script(inp, inp.range[1]),
+        result[inp.name] = _sample(to_script(inp, inp.range[0]), to_script(inp, inp.range[1]),
                                    samples=len(values), label=f"input {inp.name}: range")
     return result
 
@@ -192,7 +185,7 @@ def motion_of(path: str | os.PathLike[str], args: argparse.Namespace,
             raise UsageError("--at needs a construction with an input")
         name = next(iter(values))
         values, index = _insert(values, name, at)
-    radians = {name: _from_script(construction.inputs[name], v) for name, v in values.items()}
+    radians = {name: from_script(construction.inputs[name], v) for name, v in values.items()}
     result = run_sweep(construction, radians or None)
     return ScriptSweep(construction, result, values), index
 
@@ -208,9 +201,9 @@ def _circuit_of(construction, args, at):
     result = circuit(construction, first, samples_per_pass=args.samples or 361)
     index = None
     if at is not None:
-        result, index = _circuit_at(result, _from_script(
+        result, index = _circuit_at(result, from_script(
             construction.inputs[next(iter(result.inputs))], at))
-    values = {name: _to_script_array(construction.inputs[name], v)
+    values = {name: to_script_array(construction.inputs[name], v)
               for name, v in result.inputs.items()}
     return ScriptSweep(construction, result, values), index
 
@@ -230,10 +223,6 @@ def _circuit_at(result, at):
     inputs = {k: np.insert(v, i + 1, at if k == name else v[i]) for k, v in result.inputs.items()}
     branches = {k: np.insert(b, i + 1, b[i]) for k, b in result.branches.items()}
     return evaluate(result.construction, inputs, len(path) + 1, branches, track=False), i + 1
-
-
-def _to_script_array(inp, values):
-    return np.degrees(values) if inp.kind == "angle" else np.asarray(values, dtype=float)
 
 
 def _insert(values: dict, name: str, at: float):
@@ -311,13 +300,13 @@ def _check_one(path):
     print("inputs:" if c.inputs else "inputs: none")
     for inp in c.inputs.values():
         unit = " deg" if inp.kind == "angle" else f" {_free_text(c.units)}" if c.units else ""
-        lo, hi = (_to_script(inp, v) for v in inp.range)
+        lo, hi = (to_script(inp, v) for v in inp.range)
         if inp.step is not None:
             count = len(inp.values())
-            spacing = f"step {_to_script(inp, inp.step):g}{unit} ({count} samples)"
+            spacing = f"step {to_script(inp, inp.step):g}{unit} ({count} samples)"
         else:
             spacing = f"{inp.samples} samples"
-        rate = f"{_to_script(inp, inp.speed):g}{unit or ' length units'}/s"
+        rate = f"{to_script(inp, inp.speed):g}{unit or ' length units'}/s"
         _print_lines(f"  {inp.name} ({inp.kind}): {lo:g} to {hi:g}{unit}, {spacing}, {rate}")
     _print_lines(script_steps(c))
     if c.traced:
@@ -325,7 +314,7 @@ def _check_one(path):
     _print_lines(f"degrees of freedom: {_degrees_of_freedom(c)}")
     defaults = argparse.Namespace(range=None, samples=None, step=None)
     values = sweep_values(c, defaults)
-    s = run_sweep(c, {k: _from_script(c.inputs[k], v) for k, v in values.items()} or None)
+    s = run_sweep(c, {k: from_script(c.inputs[k], v) for k, v in values.items()} or None)
     bad = np.flatnonzero(~s.valid)
     summary = f"sweep: {len(s)} sample{'s' if len(s) != 1 else ''}, "
     if bad.size == 0:

@@ -137,8 +137,9 @@ from .construction import (
 from .errors import ConstructionError, ScriptError, did_you_mean
 from .expressions import BinOp, Call, Expr, Name, Neg, Number
 from .terminal import clip_message, escape, shorten
+from .units import script_degrees, to_script
 
-__all__ = ["MAX_SCRIPT_BYTES", "OPS", "dump", "load", "loads", "script_degrees", "script_steps"]
+__all__ = ["MAX_SCRIPT_BYTES", "OPS", "dump", "load", "loads", "script_steps"]
 
 """The most bytes :func:`load` reads of a script (and characters :func:`loads` takes).
 
@@ -754,14 +755,14 @@ def dump(construction: Construction) -> str:
             else:
                 out.append(f"{_toml_key(p.name)} = {_toml_number(p.value)}")
     for i in c.inputs.values():
-        scale = script_degrees if i.kind == "angle" else float
+        low, high = (_toml_number(to_script(i, v)) for v in i.range)
         out += ["", f"[inputs.{_toml_key(i.name)}]", f"kind = {_toml_string(i.kind)}",
-                f"range = [{_toml_number(scale(i.range[0]))}, {_toml_number(scale(i.range[1]))}]"]
+                f"range = [{low}, {high}]"]
         if i.step is not None:
-            out.append(f"step = {_toml_number(scale(i.step))}")
+            out.append(f"step = {_toml_number(to_script(i, i.step))}")
         else:
             out.append(f"samples = {i.samples}")
-        out.append(f"speed = {_toml_number(scale(i.speed))}")
+        out.append(f"speed = {_toml_number(to_script(i, i.speed))}")
     if c.nodes:
         out += ["", "[points]"]
         for node in c.nodes.values():
@@ -875,33 +876,6 @@ def _toml_expr(expr: Expr) -> str:
     if isinstance(expr, Number):
         return _toml_number(expr.value)
     return _toml_string(_format(expr))
-
-
-def script_degrees(radians: float) -> float:
-    """Return the shortest degree value that reads back as exactly ``radians``.
-
-    ``math.degrees`` may land an ulp or two off the value a script gave
-    (``radians(-645.6585625622657)`` comes back as ``-645.6585625622658``),
-    so its neighbours are tried too.
-
-    Examples
-    --------
-    >>> script_degrees(math.radians(-645.6585625622657))
-    -645.6585625622657
-    >>> script_degrees(math.pi / 2)
-    90.0
-    """
-    degrees = math.degrees(radians)
-    exact, below, above = [], degrees, degrees
-    for _ in range(4):
-        exact += [d for d in (below, above) if math.radians(d) == radians and d not in exact]
-        below, above = math.nextafter(below, -math.inf), math.nextafter(above, math.inf)
-    for digits in range(1, 18):
-        for candidate in exact:
-            shortest = float(f"{candidate:.{digits}g}")
-            if math.radians(shortest) == radians:
-                return shortest
-    return exact[0] if exact else degrees  # some radians have no degree value exactly
 
 
 _PRECEDENCE = {"+": 1, "-": 1, "*": 2, "/": 2, "**": 4}

@@ -583,7 +583,7 @@ def test_arrays_nested_too_deeply_are_a_script_error(nested):
 
 @given(st.floats(min_value=-1e6, max_value=1e6, allow_nan=False))
 def test_any_degree_value_of_a_script_is_written_back_exactly(degrees):
-    from geokin.io import script_degrees
+    from geokin.units import script_degrees
 
     assert math.radians(script_degrees(math.radians(degrees))) == math.radians(degrees)
     c = loads(GOOD.replace("range = [0, 360]", f"range = [{degrees!r}, 2e6]"))
