@@ -745,8 +745,8 @@ class _Tracker:
                            or (self.longest if self.even and scratch is not None else float(
                                self.angle_steps.max(initial=0.0)))
                            > ANGLE_RESOLUTION * (1 + 1e-9))
-        if not self.any_coarse:
-            self.buffers = (None, np.empty(n - 1) if scratch is None else scratch)
+        # memory for the per-step work of the whole-sweep test, reused from node to node
+        self.scratch = np.empty(n - 1) if scratch is None else scratch
 
     def track(self, position: int, cand, start: int):
         """Return the branch of node ``plan[position]`` at every sample, and its events."""
@@ -759,7 +759,7 @@ class _Tracker:
             # root of the margin; NaN where the roots do not exist, which sends the
             # sweep to the closer look below), against how fast it moves. First on the
             # margin itself, which spares a square root: |du| <= sqrt(|d(u**2)|)
-            moved = self.buffers[1]
+            moved = self.scratch
             np.subtract(margin[1:], margin[:-1], out=moved)
             fastest = max(np.fmax.reduce(moved), -np.fmin.reduce(moved))
             if not self.even:
