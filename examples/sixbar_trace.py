@@ -31,7 +31,7 @@ def main(path="sixbar_trace.png"):
     print(f"M moves within x {m[:, 0].min():.2f}..{m[:, 0].max():.2f}, "
           f"y {m[:, 1].min():.2f}..{m[:, 1].max():.2f} mm")
     fig = Figure(figsize=(8, 6), layout="constrained")
-    at = int(np.argmin(np.abs(np.degrees(motion.input) - 96)))  # theta = 96 degrees
+    at = int(np.argmin(np.abs(np.degrees(motion.input_values) - 96)))  # theta = 96 degrees
     plot_mechanism(motion, at, ax=fig.add_subplot(), title="six-bar (seed 003): path of M")
     fig.savefig(path)
     print(f"wrote {path}")

@@ -35,7 +35,7 @@ from matplotlib.patches import Patch  # noqa: E402
 
 from geokin.analysis import fourbar_transmission_extremes, grashof  # noqa: E402
 
-SEED = dict(ground=7.0, input=4.0, coupler=5.0, output=5.0)
+SEED = dict(ground=7.0, input_link=4.0, coupler=5.0, output_link=5.0)
 REGIONS = [  # kind, colour, label
     ("crank-rocker", "#cfe8cf", "crank-rocker (Grashof, crank shortest)"),
     ("triple-rocker RRR1", "#fde0c5", "triple rocker RRR1 (ground longest)"),
@@ -62,7 +62,7 @@ def classes(alpha, r3, r2):
     index = {kind: i for i, (kind, _, _) in enumerate(REGIONS)}
     grid = np.empty(r2.shape, dtype=int)
     for pos in np.ndindex(r2.shape):
-        kind = grashof(ground=alpha, input=1.0, coupler=r2[pos], output=r3[pos]).kind
+        kind = grashof(ground=alpha, input_link=1.0, coupler=r2[pos], output_link=r3[pos]).kind
         grid[pos] = index.get(kind, index["other"])
     return grid
 
@@ -72,9 +72,9 @@ def main(argv=None):
     parser.add_argument("path", nargs="?", default="transmission_chart.png")
     args = parser.parse_args(argv)
 
-    alpha = SEED["ground"] / SEED["input"]
+    alpha = SEED["ground"] / SEED["input_link"]
     mu_min, mu_max = fourbar_transmission_extremes(**SEED)
-    r3_seed, r2_seed = SEED["output"] / SEED["input"], SEED["coupler"] / SEED["input"]
+    r3_seed, r2_seed = SEED["output_link"] / SEED["input_link"], SEED["coupler"] / SEED["input_link"]
     top = 4.0
 
     fig, ax = plt.subplots(figsize=(9, 8.4), constrained_layout=True)

@@ -16,7 +16,10 @@ array([[10.,  0.],
        [ 0., 10.]])
 """
 
+from .analysis import analyze
+from .circuits import Limits, circuit, limits
 from .construction import Compiled, Construction, Input, Link, Parameter, Slider
+from .engine import sweep
 from .errors import (
     AnalysisError,
     AssemblyError,
@@ -27,9 +30,7 @@ from .errors import (
 )
 from .io import dump, load, loads
 from .kinematics import Motion, motion
-from .limits import Limits, circuit, limits
-from .report import analyze
-from .sweep import BranchEvent, Sweep, sweep
+from .results import BranchEvent, Sweep
 
 __all__ = [
     "AnalysisError",

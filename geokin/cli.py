@@ -64,16 +64,16 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from . import __version__
-from .analysis import degrees_of_freedom
+from .analysis import analyze, degrees_of_freedom
 from .atomic import replacing
+from .circuits import circuit
 from .construction import MAX_SAMPLES, Construction
+from .engine import evaluate
+from .engine import sweep as run_sweep
 from .errors import GeokinError, did_you_mean
 from .io import load, script_steps
 from .kinematics import motion
-from .limits import circuit
-from .report import analyze
-from .sweep import Sweep, evaluate
-from .sweep import sweep as run_sweep
+from .results import Sweep
 from .terminal import escape, one_line, shorten
 from .units import from_script, to_script, to_script_array
 

@@ -39,11 +39,10 @@ import keyword
 import math
 import unicodedata
 from collections.abc import Iterable, Iterator, Mapping, Sequence
-from dataclasses import dataclass, field
-from typing import ClassVar, TypeAlias
+from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from . import primitives as prim
 from .errors import ConstructionError, did_you_mean, quote, show
@@ -58,47 +57,21 @@ from .expressions import (
     normal_name,
     skeleton,
 )
+from .nodes import NODE_KINDS, Key, Node
 
 __all__ = [
-    "BRANCHES",
-    "Candidates",
-    "CircleCircle",
+    "MAX_SAMPLES",
+    "as_compiled",
     "Compiled",
     "Construction",
-    "Fixed",
     "Input",
-    "LineCircle",
-    "LineLine",
     "Link",
-    "Node",
     "Parameter",
-    "Polar",
-    "RayCircle",
-    "SegmentCircle",
     "Slider",
     "Step",
-    "Along",
 ]
 
-BRANCHES = {
-    "circle_circle": ("left", "right"),
-    "line_circle": ("first", "second"),
-    "segment_circle": ("first", "second"),
-    "ray_circle": ("first", "second"),
-}
-"""Branch names of each two-root node kind, in the primitives' root order."""
-
 INPUT_KINDS = ("angle", "length")
-
-# Why a sample could not be assembled at a node; codes stored per sample.
-REASONS = (
-    "",
-    "no intersection: the curves do not meet",
-    "degenerate input: coincident centres, zero-length line or parallel lines",
-    "the chosen root lies off the ray or segment",
-    "a value is not finite, or a radius is negative",
-)
-NO_INTERSECTION, DEGENERATE, OFF_LINE, NOT_FINITE = 1, 2, 3, 4
 
 
 @dataclass(frozen=True)
@@ -173,341 +146,6 @@ class Slider:
     along: tuple[str, str]
 
 
-Coords: TypeAlias = Mapping[str, tuple[np.ndarray, np.ndarray]]
-"""The x and y arrays of the points already found, by name."""
-Values: TypeAlias = Mapping[str, np.ndarray | float]
-"""A node's evaluated value fields, angles in radians."""
-
-
-@dataclass(frozen=True, slots=True)
-class Candidates:
-    """What a node computes for every sample, before a branch is chosen.
-
-    Attributes
-    ----------
-    x, y : tuple of ndarray
-        One entry per root (one for a single-root node, two for a two-root
-        node), each broadcastable to the N samples; NaN where the root does
-        not exist.
-    margin : ndarray or None
-        Distance from tangency of a two-root node (positive: two roots,
-        zero: tangent, negative: none), smooth in the inputs.
-    on_line : tuple of ndarray or None
-        For a ray or a segment: whether each root lies on it (with the
-        tolerance of :data:`~geokin.primitives.PARAMETER_RTOL`).
-    t : tuple of ndarray or None
-        For a ray or a segment: each root's parameter along it, which lies
-        within the node's ``low``..``high`` exactly on it.
-    """
-
-    x: tuple
-    y: tuple
-    margin: np.ndarray | None = None
-    on_line: tuple | None = None
-    t: tuple | None = None
-
-
-def failure_reasons(cand: Candidates, values: Mapping[str, ArrayLike],
-                    root: int | np.ndarray) -> np.ndarray:
-    """Say why the chosen roots do not exist, as codes into ``REASONS``.
-
-    Parameters
-    ----------
-    cand : Candidates
-        The node's candidates at the failing samples only.
-    values : mapping
-        The node's values at those samples.
-    root : int or ndarray
-        The chosen root at each of those samples.
-    """
-    shape = np.shape(cand.x[0] if np.ndim(root) == 0 else root)
-    finite = np.ones(shape, dtype=bool)
-    for field_name, value in values.items():
-        finite &= np.isfinite(value)
-        if "radius" in field_name or "radii" in field_name:
-            with np.errstate(invalid="ignore"):
-                finite &= ~(np.asarray(value) < 0)
-    reason = np.full(shape, DEGENERATE, dtype=np.int8)
-    if cand.margin is not None:
-        with np.errstate(invalid="ignore"):
-            reason[np.broadcast_to(cand.margin < 0, shape)] = NO_INTERSECTION
-        if cand.on_line is not None:
-            exists = np.broadcast_to(np.isfinite(cand.margin) & (cand.margin >= 0), shape)
-            on_line = np.where(root, cand.on_line[1], cand.on_line[0])
-            reason[exists & ~np.broadcast_to(on_line, shape)] = OFF_LINE
-    reason[~finite] = NOT_FINITE
-    return reason
-
-
-@dataclass(frozen=True)
-class Node:
-    """A point of a construction. Subclasses say how it is found."""
-
-    name: str
-    kind: ClassVar[str] = ""
-    roots: ClassVar[int] = 1
-    low: ClassVar[float] = -np.inf
-    """Where along its line a root counts, as the line's parameter: ``low <= t <= high``."""
-    high: ClassVar[float] = np.inf
-
-    def branch_names(self) -> tuple[str, ...]:
-        """Return the names of the roots, in the primitive's order (none for one root)."""
-        return ()
-
-    def point_fields(self) -> dict[str, tuple[str, ...]]:
-        """Return the points this node is built on, by field."""
-        return {}
-
-    def value_fields(self) -> dict[str, Expr]:
-        """Return the values (numbers, names, arithmetic) by field."""
-        return {}
-
-    def angle_fields(self) -> frozenset[str]:
-        """Return the value fields that are angles."""
-        return frozenset()
-
-    def depends_on(self) -> tuple[str, ...]:
-        """Return every point this node is built on, in order, without repeats."""
-        seen: dict[str, None] = {}
-        for names in self.point_fields().values():
-            seen.update(dict.fromkeys(names))
-        return tuple(seen)
-
-    def describe(self) -> str:
-        """Return the node's right-hand side, as a step list shows it."""
-        raise NotImplementedError
-
-    def candidates(self, coords: Coords, values: Values) -> Candidates:
-        """Compute every root for all samples.
-
-        Parameters
-        ----------
-        coords : mapping of str to (x, y)
-            Coordinate arrays of the points already known.
-        values : mapping of str to ndarray or float
-            The evaluated value fields, angles in radians.
-        """
-        raise NotImplementedError
-
-
-@dataclass(frozen=True)
-class Fixed(Node):
-    """A fixed point (a ground pivot) at ``(x, y)``."""
-
-    x: Expr
-    y: Expr
-    kind: ClassVar[str] = "fixed"
-
-    def value_fields(self) -> dict[str, Expr]:
-        return {"x": self.x, "y": self.y}
-
-    def describe(self) -> str:
-        return f"fixed({self.x}, {self.y})"
-
-    def candidates(self, coords: Coords, values: Values) -> Candidates:
-        return Candidates((values["x"],), (values["y"],))
-
-
-@dataclass(frozen=True)
-class Polar(Node):
-    """The point at ``distance`` from ``origin`` at ``angle``.
-
-    The angle is absolute (counter-clockwise from the x axis), or, with
-    ``reference=(P, Q)``, measured from the direction of the line P -> Q.
-    """
-
-    origin: str
-    distance: Expr
-    angle: Expr
-    reference: tuple[str, str] | None = None
-    kind: ClassVar[str] = "polar"
-
-    def point_fields(self) -> dict[str, tuple[str, ...]]:
-        fields: dict[str, tuple[str, ...]] = {"origin": (self.origin,)}
-        if self.reference is not None:
-            fields["reference"] = self.reference
-        return fields
-
-    def value_fields(self) -> dict[str, Expr]:
-        return {"distance": self.distance, "angle": self.angle}
-
-    def angle_fields(self) -> frozenset[str]:
-        return frozenset({"angle"})
-
-    def describe(self) -> str:
-        ref = "" if self.reference is None else f" from {self.reference[0]}->{self.reference[1]}"
-        return f"polar({self.origin}, {self.distance}, {self.angle}{ref})"
-
-    def candidates(self, coords: Coords, values: Values) -> Candidates:
-        ox, oy = coords[self.origin]
-        distance, angle = values["distance"], values["angle"]
-        if self.reference is None:
-            x = ox + distance * np.cos(angle)
-            y = oy + distance * np.sin(angle)
-        else:
-            (x1, y1), (x2, y2) = coords[self.reference[0]], coords[self.reference[1]]
-            x, y = prim.relative_point_xy(ox, oy, x1, y1, x2, y2, distance, angle)
-        return Candidates((x,), (y,))
-
-
-@dataclass(frozen=True)
-class Along(Node):
-    """The point at a signed ``distance`` from ``line[0]`` towards ``line[1]``."""
-
-    line: tuple[str, str]
-    distance: Expr
-    kind: ClassVar[str] = "along"
-
-    def point_fields(self) -> dict[str, tuple[str, ...]]:
-        return {"line": self.line}
-
-    def value_fields(self) -> dict[str, Expr]:
-        return {"distance": self.distance}
-
-    def describe(self) -> str:
-        return f"along({self.line[0]}->{self.line[1]}, {self.distance})"
-
-    def candidates(self, coords: Coords, values: Values) -> Candidates:
-        (x1, y1), (x2, y2) = coords[self.line[0]], coords[self.line[1]]
-        x, y = prim.relative_point_xy(x1, y1, x1, y1, x2, y2, values["distance"], 0.0)
-        return Candidates((x,), (y,))
-
-
-@dataclass(frozen=True)
-class LineLine(Node):
-    """The intersection of the lines ``first[0]-first[1]`` and ``second[0]-second[1]``."""
-
-    first: tuple[str, str]
-    second: tuple[str, str]
-    kind: ClassVar[str] = "line_line"
-
-    def point_fields(self) -> dict[str, tuple[str, ...]]:
-        return {"first": self.first, "second": self.second}
-
-    def describe(self) -> str:
-        return f"line_line({self.first[0]}-{self.first[1]}; {self.second[0]}-{self.second[1]})"
-
-    def candidates(self, coords: Coords, values: Values) -> Candidates:
-        args = [c for name in (*self.first, *self.second) for c in coords[name]]
-        x, y, _, _, _ = prim.line_line_xy(*args)
-        return Candidates((x,), (y,))
-
-
-@dataclass(frozen=True)
-class _TwoRoot(Node):
-    """A node with two candidate roots, chosen by ``branch`` or ``near``."""
-
-    branch: str | None = None
-    near: tuple[float, float] | None = None
-    roots: ClassVar[int] = 2
-
-    def branch_names(self) -> tuple[str, str]:
-        """Return the names of the two roots, in the primitive's order."""
-        return BRANCHES[self.kind]
-
-    def choice(self) -> str | None:
-        """Return how the initial branch is chosen, as text (None if neither is given)."""
-        if self.near is not None:
-            return f"near ({self.near[0]:g}, {self.near[1]:g})"
-        return self.branch
-
-
-@dataclass(frozen=True)
-class CircleCircle(_TwoRoot):
-    """An intersection of two circles: centres ``centers``, radii ``radii``.
-
-    Branch ``left`` is left of the directed line from the first centre to the
-    second, ``right`` right of it.
-    """
-
-    # after the optional branch and near: given by keyword
-    centers: tuple[str, str] = field(kw_only=True)
-    radii: tuple[Expr, Expr] = field(kw_only=True)
-    kind: ClassVar[str] = "circle_circle"
-
-    def point_fields(self) -> dict[str, tuple[str, ...]]:
-        return {"centers": self.centers}
-
-    def value_fields(self) -> dict[str, Expr]:
-        return {"radii[0]": self.radii[0], "radii[1]": self.radii[1]}
-
-    def describe(self) -> str:
-        (a, b), (ra, rb) = self.centers, self.radii
-        return f"circle_circle({a}, {ra}; {b}, {rb})  [{self.choice()}]"
-
-    def candidates(self, coords: Coords, values: Values) -> Candidates:
-        (x1, y1), (x2, y2) = coords[self.centers[0]], coords[self.centers[1]]
-        r1, r2 = values["radii[0]"], values["radii[1]"]
-        xl, yl, xr, yr, margin = prim.circle_circle_xy(x1, y1, r1, x2, y2, r2)
-        return Candidates((xl, xr), (yl, yr), margin)
-
-
-@dataclass(frozen=True)
-class _LineCircle(_TwoRoot):
-    """An intersection of the line ``line[0] -> line[1]`` with a circle.
-
-    Branch ``first`` comes first along the line's direction, ``second`` after it.
-    """
-
-    # after the optional branch and near: given by keyword
-    line: tuple[str, str] = field(kw_only=True)
-    center: str = field(kw_only=True)
-    radius: Expr = field(kw_only=True)
-
-    def point_fields(self) -> dict[str, tuple[str, ...]]:
-        return {"line": self.line, "center": (self.center,)}
-
-    def value_fields(self) -> dict[str, Expr]:
-        return {"radius": self.radius}
-
-    def describe(self) -> str:
-        joint = {"line_circle": "-", "segment_circle": "..", "ray_circle": "->"}[self.kind]
-        return (f"{self.kind}({self.line[0]}{joint}{self.line[1]}; {self.center}, {self.radius})"
-                f"  [{self.choice()}]")
-
-    def candidates(self, coords: Coords, values: Values) -> Candidates:
-        (x1, y1), (x2, y2) = coords[self.line[0]], coords[self.line[1]]
-        cx, cy = coords[self.center]
-        r = values["radius"]
-        xa, ya, xb, yb, ta, tb, margin = prim.line_circle_xy(x1, y1, x2, y2, cx, cy, r)
-        on_line = None
-        if self.low != -np.inf or self.high != np.inf:
-            # off-line roots keep their positions: branch tracking follows them
-            low, high = self.low - prim.PARAMETER_RTOL, self.high + prim.PARAMETER_RTOL
-            on_line = ((ta >= low) & (ta <= high), (tb >= low) & (tb <= high))
-            return Candidates((xa, xb), (ya, yb), margin, on_line, (ta, tb))
-        return Candidates((xa, xb), (ya, yb), margin)
-
-
-@dataclass(frozen=True)
-class LineCircle(_LineCircle):
-    """An intersection of the whole line through ``line`` with a circle."""
-
-    kind: ClassVar[str] = "line_circle"
-
-
-@dataclass(frozen=True)
-class RayCircle(_LineCircle):
-    """An intersection of the ray from ``line[0]`` through ``line[1]`` with a circle."""
-
-    kind: ClassVar[str] = "ray_circle"
-    low: ClassVar[float] = 0.0
-
-
-@dataclass(frozen=True)
-class SegmentCircle(_LineCircle):
-    """An intersection of the segment ``line[0]..line[1]`` with a circle."""
-
-    kind: ClassVar[str] = "segment_circle"
-    low: ClassVar[float] = 0.0
-    high: ClassVar[float] = 1.0
-
-
-NODE_KINDS: dict[str, type[Node]] = {
-    cls.kind: cls
-    for cls in (Fixed, Polar, Along, LineLine, LineCircle, SegmentCircle, RayCircle, CircleCircle)
-}
-"""Every point node kind by its name in scripts."""
 
 
 @dataclass(frozen=True)
@@ -530,8 +168,20 @@ class Compiled:
     name : str
     steps : tuple of Step
         Every point node, each after the points it is built on.
-    parameters : dict of str to float
-    inputs : dict of str to Input
+    parameters : mapping of str to float
+        Every parameter's value.
+    inputs : mapping of str to Input
+    links, sliders : tuple
+        The declared links and sliders, for drawing and analysis.
+    traced : tuple of str
+        The points whose paths are traced.
+    ground : frozenset of str
+        The points that never move (see :meth:`~geokin.nodes.Node.is_ground`):
+        the one place that decides what is ground, for the analysis and the
+        drawing alike.
+
+    A compiled construction is not changed after it is made; the mappings it
+    holds are its own copies.
     """
 
     name: str
@@ -540,10 +190,8 @@ class Compiled:
     inputs: Mapping[str, Input]
     links: tuple[Link, ...] = ()
     sliders: tuple[Slider, ...] = ()
-    _values: Mapping[str, Mapping[str, Expr]] = field(default_factory=dict, repr=False)
     traced: tuple[str, ...] = ()
-    cache: dict = field(default_factory=dict, repr=False, compare=False)
-    """Whatever later layers derive once from this construction (evaluation plans)."""
+    ground: frozenset[str] = frozenset()
 
     def __len__(self) -> int:
         return len(self.steps)
@@ -572,7 +220,7 @@ class Compiled:
         for step in self.steps:
             node = step.node
             row: tuple[str | None, ...] = (node.name, node.kind, *node.depends_on())
-            if isinstance(node, _TwoRoot):
+            if node.branch_names:
                 row += (node.choice(),)
             rows.append(row)
         return rows
@@ -587,6 +235,66 @@ class Compiled:
 
     def __repr__(self) -> str:
         return f"<Compiled {self.name!r}: {len(self.steps)} steps>"
+
+    def resolve_input(self, name: str | None = None, *, purpose: str = "move") -> str:
+        """Return the input called ``name``, or the only input when ``name`` is None.
+
+        Raises
+        ------
+        ConstructionError
+            For an unknown name (with the closest one), or for None when the
+            construction has several inputs or none; ``purpose`` completes
+            the message ("name the one to move").
+
+        Examples
+        --------
+        >>> c = Construction()
+        >>> c.input("theta")
+        >>> c.fixed("O", 0, 0)
+        >>> c.compile().resolve_input()
+        'theta'
+        """
+        names = list(self.inputs)
+        if name is None:
+            if len(names) != 1:
+                raise ConstructionError(f"this construction has {len(names)} inputs "
+                                        f"({', '.join(names) or 'none'}); name the one to "
+                                        f"{purpose}")
+            return names[0]
+        if name not in self.inputs:
+            raise ConstructionError(f"unknown input {name!r}{did_you_mean(name, names)}",
+                                    node=name)
+        return name
+
+    def step_named(self, name: str) -> Step:
+        """Return the step of the point called ``name``.
+
+        Raises
+        ------
+        KeyError
+            For no such point, with the closest name.
+        """
+        if not name.isascii():
+            name = unicodedata.normalize("NFKC", name)  # names are declared in NFKC
+        for step in self.steps:
+            if step.node.name == name:
+                return step
+        raise KeyError(f"no point {name!r}{did_you_mean(name, self.point_names)}")
+
+
+def as_compiled(construction: Construction | Compiled) -> Compiled:
+    """Return a construction compiled, or a compiled one as it is.
+
+    Raises
+    ------
+    TypeError
+        For anything else.
+    """
+    if isinstance(construction, Construction):
+        return construction.compile()
+    if isinstance(construction, Compiled):
+        return construction
+    raise TypeError(f"expected a Construction, got {type(construction).__name__}")
 
 
 class Construction:
@@ -732,7 +440,9 @@ class Construction:
                                     field="value")
         self.parameters[name] = Parameter(name, value, description)
 
-    def input(self, name: str, kind: str = "angle", range: Sequence[float] | None = None,
+    # ``range`` is the script's key and the Input's field; the builtin is not used here
+    def input(self, name: str, kind: str = "angle",
+              range: Sequence[float] | None = None,  # noqa: A002
               samples: int = 361, speed: float | None = None,
               step: float | None = None) -> None:
         """Declare a driving variable.
@@ -814,7 +524,7 @@ class Construction:
         >>> c.compile().steps[0]
         <Step 1: A0 = fixed(0, y + 10)>
         """
-        self._add(Fixed(name, self._value(x, name, "x"), self._value(y, name, "y")))
+        self.add("fixed", name, at=(x, y))
 
     def polar(self, name: str, origin: str, distance: ValueLike, angle: ValueLike,
               reference: Sequence[str] | None = None) -> None:
@@ -842,10 +552,8 @@ class Construction:
         >>> c.polar("A", "O", 10, "theta")
         >>> c.polar("P", "A", 20, "radians(30)", reference=("A", "Q"))
         """
-        ref = None if reference is None else self._point_pair(reference, name, "reference")
-        self._add(Polar(name, self._point(origin, name, "origin"),
-                        self._value(distance, name, "distance"),
-                        self._value(angle, name, "angle"), ref))
+        self.add("polar", name, origin=origin, distance=distance, angle=angle,
+                 reference=reference)
 
     def along(self, name: str, line: Sequence[str], distance: ValueLike) -> None:
         """Declare the point at a signed ``distance`` from ``line[0]`` towards ``line[1]``.
@@ -859,8 +567,7 @@ class Construction:
         >>> print(c.compile().steps[-1].node.describe())
         along(A->B, 2.5)
         """
-        self._add(Along(name, self._point_pair(line, name, "line"),
-                        self._value(distance, name, "distance")))
+        self.add("along", name, line=line, distance=distance)
 
     def line_line(self, name: str, first: Sequence[str], second: Sequence[str]) -> None:
         """Declare the intersection of two lines, each through two points.
@@ -874,8 +581,7 @@ class Construction:
         ...     c.fixed(name, x, y)
         >>> c.line_line("X", ("P", "Q"), ("R", "S"))
         """
-        self._add(LineLine(name, self._point_pair(first, name, "first"),
-                           self._point_pair(second, name, "second")))
+        self.add("line_line", name, first=first, second=second)
 
     def circle_circle(self, name: str, centers: Sequence[str], radii: Sequence[ValueLike],
                       branch: str | None = None, near: Sequence[float] | None = None) -> None:
@@ -893,9 +599,7 @@ class Construction:
             Instead of ``branch``: a sketch position; the root nearer to it at
             the first assemblable sample is taken.
         """
-        radii = self._value_pair(radii, name, "radii")
-        self._add(CircleCircle(name, *self._branch("circle_circle", name, branch, near),
-                               centers=self._point_pair(centers, name, "centers"), radii=radii))
+        self.add("circle_circle", name, centers=centers, radii=radii, branch=branch, near=near)
 
     def line_circle(self, name: str, line: Sequence[str], center: str, radius: ValueLike,
                     branch: str | None = None, near: Sequence[float] | None = None) -> None:
@@ -904,17 +608,85 @@ class Construction:
         ``branch`` is ``"first"`` or ``"second"`` along ``line[0] -> line[1]``,
         or give ``near`` instead.
         """
-        self._line_circle(LineCircle, name, line, center, radius, branch, near)
+        self.add("line_circle", name, line=line, center=center, radius=radius, branch=branch,
+                 near=near)
 
     def ray_circle(self, name: str, line: Sequence[str], center: str, radius: ValueLike,
                    branch: str | None = None, near: Sequence[float] | None = None) -> None:
         """Declare an intersection of the ray ``line[0]`` through ``line[1]`` with a circle."""
-        self._line_circle(RayCircle, name, line, center, radius, branch, near)
+        self.add("ray_circle", name, line=line, center=center, radius=radius, branch=branch,
+                 near=near)
 
     def segment_circle(self, name: str, line: Sequence[str], center: str, radius: ValueLike,
                        branch: str | None = None, near: Sequence[float] | None = None) -> None:
         """Declare an intersection of the segment ``line[0]..line[1]`` with a circle."""
-        self._line_circle(SegmentCircle, name, line, center, radius, branch, near)
+        self.add("segment_circle", name, line=line, center=center, radius=radius,
+                 branch=branch, near=near)
+
+    def add(self, kind: str, name: str, **keys: object) -> None:
+        """Declare a point of any kind, by the keys a script gives it.
+
+        The methods named after each kind (:meth:`fixed`, :meth:`polar`, ...)
+        call this; scripts are read through it. A key given as None counts
+        as not given.
+
+        Parameters
+        ----------
+        kind : str
+            One of :data:`~geokin.nodes.NODE_KINDS`, the ``op`` of scripts.
+        name : str
+        **keys
+            The kind's keys (:attr:`~geokin.nodes.Node.keys`), angles in
+            radians.
+
+        Examples
+        --------
+        >>> c = Construction()
+        >>> c.input("t")
+        >>> c.add("fixed", "O", at=(0, 0))
+        >>> c.add("polar", "A", origin="O", distance=10, angle="t")
+        >>> c.compile().steps[1]
+        <Step 2: A = polar(O, 10, t)>
+        """
+        cls = NODE_KINDS.get(kind) if isinstance(kind, str) else None
+        if cls is None:
+            raise ConstructionError(f"unknown point kind {show(kind)}"
+                                    f"{did_you_mean(str(kind), NODE_KINDS)} (kinds: "
+                                    f"{', '.join(NODE_KINDS)})", node=name, field="op")
+        declared = {key.name: key for key in cls.keys}
+        for key_name in keys:
+            if key_name not in declared:
+                raise ConstructionError(
+                    f"a {kind} point has no key {quote(key_name)}"
+                    f"{did_you_mean(key_name, declared)} (keys: {', '.join(declared)})",
+                    node=name, field=key_name)
+        fields: dict[str, object] = {}
+        for key in cls.keys:
+            given = keys.get(key.name)
+            if given is None:
+                if key.required:
+                    raise ConstructionError(f"a {kind} point needs {quote(key.name)}",
+                                            node=name, field=key.name)
+                continue
+            fields.update(self._key_fields(key, given, name))
+        if cls.branch_names:
+            fields["branch"], fields["near"] = self._branch(
+                cls, name, fields.pop("branch", None), fields.pop("near", None))
+        self._add(cls(name, **fields))
+
+    def _key_fields(self, key: Key, given: object, node: str) -> dict[str, object]:
+        """Check one key's value and return the node fields it fills."""
+        (attribute, *others) = key.attributes
+        if key.holds == "point":
+            return {attribute: self._point(given, node, key.name)}
+        if key.holds == "point pair":
+            return {attribute: self._point_pair(given, node, key.name)}
+        if key.holds == "value":
+            return {attribute: self._value(given, node, key.name)}
+        if key.holds == "value pair":
+            pair = self._value_pair(given, node, key.fields(), key.name)
+            return dict(zip(key.attributes, pair, strict=True)) if others else {attribute: pair}
+        return {attribute: given}  # a branch or sketch: checked with the node's choice
 
     def link(self, name: str, *points: str) -> None:
         """Declare a rigid link joining two or more points (for drawing and analysis).
@@ -959,27 +731,20 @@ class Construction:
             node = dataclasses.replace(node, name=name)
         self.nodes[name] = node
 
-    def _line_circle(self, cls, name, line, center, radius, branch, near):
-        self._add(cls(name, *self._branch(cls.kind, name, branch, near),
-                      line=self._point_pair(line, name, "line"),
-                      center=self._point(center, name, "center"),
-                      radius=self._value(radius, name, "radius")))
-
     @staticmethod
     def _value(value, node, field_name) -> Expr:
         return as_expr(value, node=node, field=field_name)
 
-    def _values(self, values, node, field_name, count) -> tuple[Expr, ...]:
+    @staticmethod
+    def _value_pair(values, node, field_names: Sequence[str], key: str) -> tuple[Expr, Expr]:
         if isinstance(values, str | bytes) or not isinstance(values, Sequence):
-            raise ConstructionError(f"expected {count} values, got {show(values)}", node=node,
-                                    field=field_name)
-        if len(values) != count:
-            raise ConstructionError(f"expected {count} values, got {len(values)}", node=node,
-                                    field=field_name)
-        return tuple(self._value(v, node, f"{field_name}[{i}]") for i, v in enumerate(values))
-
-    def _value_pair(self, values, node, field_name) -> tuple[Expr, Expr]:
-        first, second = self._values(values, node, field_name, 2)
+            raise ConstructionError(f"expected 2 values, got {show(values)}", node=node,
+                                    field=key)
+        if len(values) != 2:
+            raise ConstructionError(f"expected 2 values, got {len(values)}", node=node,
+                                    field=key)
+        first, second = (as_expr(v, node=node, field=f)
+                         for v, f in zip(values, field_names, strict=True))
         return first, second
 
     def _point_pair(self, points, node, field_name) -> tuple[str, str]:
@@ -1007,17 +772,17 @@ class Construction:
         return tuple(self._point(p, node, f"{field_name}[{i}]") for i, p in enumerate(points))
 
     @staticmethod
-    def _branch(kind, node, branch, near):
-        names = BRANCHES[kind]
+    def _branch(kind: type[Node], node, branch, near):
+        names, kind_name = kind.branch_names, kind.kind
         if branch is not None and near is not None:
             raise ConstructionError("give either branch or near, not both", node=node,
                                     field="branch")
         if branch is None and near is None:
-            raise ConstructionError(f"a {kind} node has two roots: choose one with branch "
+            raise ConstructionError(f"a {kind_name} node has two roots: choose one with branch "
                                     f"({' or '.join(map(repr, names))}) or near=(x, y)",
                                     node=node, field="branch")
         if branch is not None and branch not in names:
-            raise ConstructionError(f"unknown branch {show(branch)} for {kind}; use "
+            raise ConstructionError(f"unknown branch {show(branch)} for {kind_name}; use "
                                     f"{' or '.join(map(repr, names))}"
                                     f"{did_you_mean(branch, names)}",
                                     node=node, field="branch")
@@ -1067,11 +832,11 @@ class Construction:
         self._check_constant_values()
         order = self._ordered()
         steps = tuple(Step(i + 1, self.nodes[name]) for i, name in enumerate(order))
+        inputs = frozenset(self.inputs)
         self._compiled = Compiled(
             self.name, steps, {k: p.value for k, p in self.parameters.items()},
-            dict(self.inputs), tuple(self.links.values()),
-            tuple(self.sliders.values()),
-            {n: node.value_fields() for n, node in self.nodes.items()}, self.traced)
+            dict(self.inputs), tuple(self.links.values()), tuple(self.sliders.values()),
+            self.traced, frozenset(n for n, node in self.nodes.items() if node.is_ground(inputs)))
         return self._compiled
 
     def _check_constant_values(self):

@@ -32,10 +32,10 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .analysis import unwrap_valid
 from .budgets import check_sweep_memory
+from .engine import evaluate
 from .errors import ConstructionError
-from .sweep import Sweep, evaluate, input_name
+from .results import Sweep
 
 __all__ = ["Motion", "input_derivatives", "motion"]
 
@@ -73,7 +73,9 @@ class Derivatives:
 
     Attributes
     ----------
-    input : str
+    input_name : str
+        The input differentiated by (for derivatives along a motion, the
+        driving input).
     step : float
         The perturbation h used.
     first, second : dict of str to ndarray, shape (N, 2)
@@ -87,7 +89,7 @@ class Derivatives:
         near a singular position, where the derivatives grow without bound.
     """
 
-    input: str
+    input_name: str
     step: float
     first: dict
     second: dict
@@ -110,14 +112,14 @@ def _step_for(sweep: Sweep, name: str, step: float | None) -> float:
     return RELATIVE_STEP * span
 
 
-def input_derivatives(sweep: Sweep, input: str | None = None, *,
+def input_derivatives(sweep: Sweep, input_name: str | None = None, *,
                       step: float | None = None) -> Derivatives:
     """Differentiate every point of a sweep with respect to one input.
 
     Parameters
     ----------
     sweep : Sweep
-    input : str, optional
+    input_name : str, optional
         The input to differentiate by; the only input by default.
     step : float, optional
         The perturbation h (radians or length units); see :data:`RELATIVE_STEP`.
@@ -142,9 +144,9 @@ def input_derivatives(sweep: Sweep, input: str | None = None, *,
            [-10., 0.]])
     """
     compiled = sweep.construction
-    input = input_name(compiled, input, "differentiate by")
-    h = _step_for(sweep, input, step)
-    return _along(sweep, {input: np.ones(len(sweep))}, h, input)
+    name = compiled.resolve_input(input_name, purpose="differentiate by")
+    h = _step_for(sweep, name, step)
+    return _along(sweep, {name: np.ones(len(sweep))}, h, name)
 
 
 def _along(sweep: Sweep, direction: dict, h: float, label: str) -> Derivatives:
@@ -210,7 +212,7 @@ class Motion:
     Attributes
     ----------
     sweep : Sweep
-    input : str
+    input_name : str
         The driving input.
     time : ndarray, shape (N,)
         Seconds from the first sample, for the input's speed.
@@ -232,7 +234,7 @@ class Motion:
     """
 
     sweep: Sweep
-    input: str
+    input_name: str
     time: np.ndarray
     speed: np.ndarray
     input_acceleration: np.ndarray
@@ -269,14 +271,14 @@ def _direction_of_travel(values: np.ndarray) -> np.ndarray:
     return direction[last]
 
 
-def motion(sweep: Sweep, input: str | None = None, *, speed: ArrayLike | None = None,
+def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | None = None,
            acceleration: ArrayLike = 0.0, step: float | None = None) -> Motion:
     """Velocity and acceleration of every point and declared link over a sweep.
 
     Parameters
     ----------
     sweep : Sweep
-    input : str, optional
+    input_name : str, optional
         The driving input, whose speed sets the clock; by default the first
         input that moves in the sweep. Other inputs move as the sweep moves
         them, in step with it (their rates follow from their values over
@@ -316,12 +318,13 @@ def motion(sweep: Sweep, input: str | None = None, *, speed: ArrayLike | None = 
     """
     compiled = sweep.construction
     n = len(sweep)
-    if input is None:
+    driver = input_name
+    if driver is None:
         moving = [k for k, v in sweep.inputs.items() if np.ptp(v) > 0]
-        input = moving[0] if moving else input_name(compiled, None, "drive the motion")
-    input = input_name(compiled, input, "drive the motion")
-    declared = compiled.inputs[input]
-    values = sweep.inputs[input]
+        driver = moving[0] if moving else None
+    driver = compiled.resolve_input(driver, purpose="drive the motion")
+    declared = compiled.inputs[driver]
+    values = sweep.inputs[driver]
     direction = _direction_of_travel(values)
     size = np.broadcast_to(np.asarray(declared.speed if speed is None else speed, float), (n,))
     rate = size * direction
@@ -331,19 +334,19 @@ def motion(sweep: Sweep, input: str | None = None, *, speed: ArrayLike | None = 
         dt = np.abs(np.diff(values)) / np.abs(0.5 * (size[1:] + size[:-1]))
     time = np.concatenate([[0.0], np.cumsum(dt)])
     # the other inputs move as the sweep moves them, in step with the driving one
-    rates, changes = {input: rate}, {input: rate_change}
+    rates, changes = {driver: rate}, {driver: rate_change}
     for name, other in sweep.inputs.items():
-        if name != input and np.ptp(other) > 0 and n >= 2 and (np.diff(time) > 0).all():
+        if name != driver and np.ptp(other) > 0 and n >= 2 and (np.diff(time) > 0).all():
             rates[name] = np.gradient(other, time)
             changes[name] = np.gradient(rates[name], time) if n >= 3 else np.zeros(n)
     # one step in time that moves no input by more than its own finite-difference step
-    d = _along(sweep, rates, _time_step(sweep, rates, step), input)
+    d = _along(sweep, rates, _time_step(sweep, rates, step), driver)
     velocity = d.first
     accel = dict(d.second)
     if any(np.any(c != 0) for c in changes.values()):
         # the inputs' own accelerations add a first derivative along them
         accelerating = {name: c for name, c in changes.items() if np.any(c != 0)}
-        extra = _along(sweep, accelerating, _time_step(sweep, accelerating, step), input)
+        extra = _along(sweep, accelerating, _time_step(sweep, accelerating, step), driver)
         accel = {p: accel[p] + extra.first[p] for p in accel}
     angle, angular_velocity, angular_acceleration = {}, {}, {}
     for link in sweep.construction.links:
@@ -361,5 +364,50 @@ def motion(sweep: Sweep, input: str | None = None, *, speed: ArrayLike | None = 
     for margin in sweep.margins.values():
         with np.errstate(invalid="ignore"):
             flagged |= sweep.valid & (margin < SINGULAR_MARGIN)
-    return Motion(sweep, input, time, rate, rate_change, velocity, accel, angle,
+    return Motion(sweep, driver, time, rate, rate_change, velocity, accel, angle,
                   angular_velocity, angular_acceleration, flagged, d)
+
+
+def unwrap_valid(angle: np.ndarray) -> np.ndarray:
+    """Unwrap angles across the finite samples, keeping NaN where they are not.
+
+    Examples
+    --------
+    >>> unwrap_valid(np.array([3.0, np.nan, -3.0])).round(4)
+    array([3.    ,    nan, 3.2832])
+    """
+    out = np.full_like(angle, np.nan)
+    ok = np.isfinite(angle)
+    out[ok] = np.unwrap(angle[ok])
+    return out
+
+
+def link_angles(sweep: Sweep) -> dict[str, np.ndarray]:
+    """Return the angle of every declared link over a sweep.
+
+    The angle of a link is that of the line from its first point to its
+    second, counter-clockwise from the x axis, unwrapped over the valid
+    samples so that it runs on continuously through full turns.
+
+    Returns
+    -------
+    dict of str to ndarray, shape (N,)
+        Radians; NaN at invalid samples.
+
+    Examples
+    --------
+    >>> from geokin import Construction, sweep
+    >>> c = Construction("crank")
+    >>> c.input("theta")
+    >>> c.fixed("O", 0, 0)
+    >>> c.polar("A", "O", 1, "theta")
+    >>> c.link("crank", "O", "A")
+    >>> angles = link_angles(sweep(c, np.linspace(0, 4 * np.pi, 9)))
+    >>> np.round(angles["crank"] / np.pi, 9)
+    array([0. , 0.5, 1. , 1.5, 2. , 2.5, 3. , 3.5, 4. ])
+    """
+    result = {}
+    for link in sweep.construction.links:
+        d = sweep.points[link.points[1]] - sweep.points[link.points[0]]
+        result[link.name] = unwrap_valid(np.arctan2(d[:, 1], d[:, 0]))
+    return result

@@ -19,7 +19,7 @@ from mechanisms import coupler_fourbar, sixbar  # noqa: E402
 from mechanisms import fourbar as four_bar  # noqa: E402
 
 from geokin import sweep  # noqa: E402
-from geokin.sweep import evaluate  # noqa: E402
+from geokin.engine import evaluate  # noqa: E402
 
 
 def hand_written(theta):

@@ -83,7 +83,7 @@ def test_grashof_kinds(lengths, kind, turning):
 
 
 def test_grashof_keywords_and_seed_000():
-    g = grashof(ground=7, input=4, coupler=5, output=5)
+    g = grashof(ground=7, input_link=4, coupler=5, output_link=5)
     assert g.kind == "triple-rocker RRR1" and not g.grashof
     assert (g.s_plus_l, g.p_plus_q) == (11.0, 10.0)
     assert g.shortest == ("input",) and g.longest == ("ground",)
@@ -196,7 +196,7 @@ def test_fourth_link_ranges_partition_the_line(g, i, c):
 
 
 def test_transmission_extremes_seed_000():
-    low, high = fourbar_transmission_extremes(ground=7, input=4, coupler=5, output=5)
+    low, high = fourbar_transmission_extremes(ground=7, input_link=4, coupler=5, output_link=5)
     assert np.degrees(low) == pytest.approx(34.915, abs=5e-3)
     assert round(float(np.degrees(low)), 2) == 34.92
     assert np.degrees(high) == pytest.approx(180.0)

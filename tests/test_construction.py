@@ -8,9 +8,9 @@ from hypothesis import strategies as st
 from mechanisms import sixbar
 
 from geokin import Construction, ConstructionError, GeokinError, sweep
-from geokin.construction import NODE_KINDS
 from geokin.expressions import as_expr, parse
 from geokin.loops import fourbar_closed_form
+from geokin.nodes import NODE_KINDS
 
 SEED_004 = (24.0, 10.55, 25.0, 14.0)  # ground, input, coupler, output: a crank-rocker
 

@@ -303,12 +303,12 @@ def test_the_three_drivers_move_the_same_assembly():
         c = load(name)
         node = next(n for n, v in c.nodes.items() if v.roots == 2)
         declared = c.nodes[node].branch
-        other_branch = [b for b in c.nodes[node].branch_names() if b != declared][0]
+        other_branch = [b for b in c.nodes[node].branch_names if b != declared][0]
         # the coupler's angle turns back once over the crank's 0..132 degrees
         assert len(ends) == (3 if name == "triple_rocker_coupler" else 2)
         for k, (a, b) in enumerate(zip(ends[:-1], ends[1:], strict=True)):
-            part = sweep(c, values[a:b + 1], branches={node: (declared, other_branch)[k % 2]})
-            assert part.valid.all() and part.events == []
+            part = sweep(c, values[a:b + 1], start_branches={node: (declared, other_branch)[k % 2]})
+            assert part.valid.all() and part.events == ()
             # the sample where the driver turns back lies on either side of its toggle
             keep = slice(0, -1) if k == 0 else slice(1, None)
             for p in "ABCD":

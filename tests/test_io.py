@@ -11,9 +11,10 @@ from mechanisms import coupler_fourbar, fourbar, sixbar
 
 import geokin
 from geokin import Construction, ConstructionError, GeokinError, ScriptError, sweep
-from geokin.construction import NODE_KINDS
 from geokin.expressions import BinOp, Call, Name, Neg, Number, parse
-from geokin.io import OPS, _format, dump, load, loads
+from geokin.io import OPS, dump, load, loads
+from geokin.io.script import _format
+from geokin.nodes import NODE_KINDS
 
 CONSTRUCTIONS = pathlib.Path(__file__).resolve().parent.parent / "constructions"
 SCRIPTS = sorted(CONSTRUCTIONS.glob("*.toml"))
@@ -45,7 +46,7 @@ def test_shipped_construction_loads_and_sweeps_its_range(path):
     s = sweep(c)
     assert len(s) >= 100
     assert s.valid.all(), s.explain(int(np.flatnonzero(~s.valid)[0]))
-    assert s.events == []
+    assert s.events == ()
 
 
 @pytest.mark.parametrize("path", SCRIPTS, ids=lambda p: p.name)

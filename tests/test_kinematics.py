@@ -138,14 +138,14 @@ def test_slider_crank_against_its_closed_form():
 
 
 def test_a_circuit_runs_time_forwards_and_the_input_backwards_on_the_return():
-    from geokin.limits import circuit
+    from geokin.circuits import circuit
 
     s = circuit(triple_rocker("crank"), samples_per_pass=181)
     m = motion(s, speed=2.0)
     assert (np.diff(m.time) > 0).all()
     # each sample moves the way the input arrived there
-    going_up = np.r_[False, np.diff(s.input) > 0]
-    going_down = np.r_[False, np.diff(s.input) < 0]
+    going_up = np.r_[False, np.diff(s.input_values) > 0]
+    going_down = np.r_[False, np.diff(s.input_values) < 0]
     np.testing.assert_allclose(m.angular_velocity["crank"][going_up], 2.0, rtol=1e-9)
     np.testing.assert_allclose(m.angular_velocity["crank"][going_down & ~m.flagged], -2.0,
                                rtol=1e-9)
@@ -182,7 +182,7 @@ def test_with_two_inputs_moving_together_the_rates_follow_both():
     t1 = np.linspace(0, 1, 2001)
     s = sweep(c, {"t1": t1, "t2": 1 + 2 * t1})
     m = motion(s)  # t1 drives at 2 rad/s; t2 moves twice as far: 4 rad/s
-    assert m.input == "t1"
+    assert m.input_name == "t1"
     d1 = input_derivatives(s, "t1")
     d2 = input_derivatives(s, "t2")
     expected = d1.first["C"] * 2.0 + d2.first["C"] * 4.0

@@ -6,7 +6,7 @@ from mechanisms import R1, R2, R3, R4, coupler_fourbar, triple_rocker
 
 from geokin import AssemblyError, Construction, sweep
 from geokin.analysis import grashof
-from geokin.limits import circuit, limits
+from geokin.circuits import circuit, limits
 
 # closed forms of seed 000's triple rocker limits (see test_kinematics for the constructions)
 CRANK = np.arccos((R1**2 + R2**2 - (R3 + R4) ** 2) / (2 * R1 * R2))
@@ -85,14 +85,14 @@ def test_a_circuit_passes_both_toggles_and_closes(driver):
     jumps = np.hypot(*np.diff(s["C"], axis=0).T)
     assert jumps.max() < 3 * np.median(jumps)
     lo, hi, _ = EXPECTED[driver]
-    history = s.input
+    history = s.input_values
     assert abs(history.max() - hi) < 1e-9 and abs(history.min() - lo) < 1e-9
 
 
 def test_a_circuit_of_a_crank_that_turns_fully_is_one_turn():
     s = circuit(coupler_fourbar(), start=0.3)
-    assert s.valid.all() and s.events == []
-    np.testing.assert_allclose(s.input[-1] - s.input[0], 2 * np.pi)
+    assert s.valid.all() and s.events == ()
+    np.testing.assert_allclose(s.input_values[-1] - s.input_values[0], 2 * np.pi)
     np.testing.assert_allclose(s["P"][0], s["P"][-1], atol=1e-9)
 
 
@@ -130,7 +130,7 @@ def test_a_parallelogram_stays_a_parallelogram_round_its_circuit():
     c.circle_circle("B", ("A", "O4"), (20, 10), near=(20, 10))
     for s in (circuit(c, start=0.5), sweep(c, np.linspace(0, 4 * np.pi, 721))):
         assert s.valid.all()
-        expected = np.c_[20 + 10 * np.cos(s.input), 10 * np.sin(s.input)]
+        expected = np.c_[20 + 10 * np.cos(s.input_values), 10 * np.sin(s.input_values)]
         np.testing.assert_allclose(s["B"], expected, atol=1e-6)
         assert s.events  # the branch changes at each change point, and it is recorded
 
@@ -176,7 +176,7 @@ def test_limits_of_a_large_length_input_end_at_float_resolution():
     [(lo, hi)] = limits(c).intervals
     assert lo.kind == "tangent" and abs(lo.value - 10000.3) <= 4 * np.spacing(10000.3)
     assert hi.kind == "range" and hi.value == 11000
-    [(lo2, _)] = limits(c, range=(11000, 9000)).intervals  # a reversed range is sorted
+    [(lo2, _)] = limits(c, search_range=(11000, 9000)).intervals  # a reversed range is sorted
     assert lo2.value == lo.value
 
 

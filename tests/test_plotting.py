@@ -305,7 +305,7 @@ def test_plot_input_output():
     fig, ax = plt.subplots()
     assert gp.plot_input_output(s, {"rocker angle": angle}, ax=ax) is ax
     (line,) = ax.get_lines()
-    np.testing.assert_allclose(line.get_xdata(), np.degrees(s.input))
+    np.testing.assert_allclose(line.get_xdata(), np.degrees(s.input_values))
     assert np.isnan(line.get_ydata()[~s.valid]).all()
     assert ax.get_xlabel() == "theta (°)"
     with pytest.raises(GeokinError, match="one value per sample"):

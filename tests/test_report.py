@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from geokin import Construction, load
-from geokin.report import analyze
+from geokin.analysis import analyze
 
 CONSTRUCTIONS = Path(__file__).parents[1] / "constructions"
 

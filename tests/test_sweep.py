@@ -60,9 +60,9 @@ def test_sixbar_branches_match_the_seed_choices():
     t = np.einsum("ij,ij->i", s["Ap"] - s["A0"], s["A"] - s["A0"]) / SIXBAR["l2"] ** 2
     np.testing.assert_allclose(t, 0.75)
     assert (np.einsum("ij,ij->i", s["C"] - s["A"], s["B"] - s["A"]) > 0).all()
-    assert all((s.branch_names(n) == b).all()
+    assert all((s.named_branches(n) == b).all()
                for n, b in [("B", "left"), ("Ap", "first"), ("C", "second"), ("M", "second")])
-    assert s.events == []
+    assert s.events == ()
 
 
 def test_sixbar_is_periodic_in_the_crank_angle():
@@ -121,18 +121,18 @@ def test_near_picks_the_root_nearer_the_sketch_at_the_first_sample():
     c.polar("A", "O2", 10.55, "theta")
     c.circle_circle("B", ("A", "O4"), (25, 14), near=(30, -10))
     s = sweep(c)
-    assert s.branch_names("B")[0] == "right"
+    assert s.named_branches("B")[0] == "right"
     assert (s.branches["B"] == 1).all()
     assert s["B"][0, 1] < 0
 
 
 def test_branch_override_at_sweep_time():
-    s = sweep(fourbar(branch="left"), branches={"B": "right"})
+    s = sweep(fourbar(branch="left"), start_branches={"B": "right"})
     np.testing.assert_allclose(s["B"], sweep(fourbar(branch="right"))["B"])
     with pytest.raises(ConstructionError, match="did you mean 'B'"):
-        sweep(fourbar(), branches={"b": "left"})
+        sweep(fourbar(), start_branches={"b": "left"})
     with pytest.raises(ConstructionError, match="'left' or 'right'"):
-        sweep(fourbar(), branches={"B": "up"})
+        sweep(fourbar(), start_branches={"B": "up"})
 
 
 def test_unreachable_samples_are_data_naming_the_failing_node():
@@ -165,9 +165,10 @@ def test_after_a_gap_the_branch_resumes_by_continuity_not_by_default():
 
 def test_a_peer_defect_coming_back_on_the_other_branch_does_not_happen():
     # start on the right branch: the resumed samples are on the right branch too
-    s = sweep(triple_rocker("crank"), np.radians(np.arange(0, 360.0)), branches={"C": "right"})
+    s = sweep(triple_rocker("crank"), np.radians(np.arange(0, 360.0)),
+              start_branches={"C": "right"})
     valid = s.valid
-    assert (s.branch_names("C")[valid] == "right").all()
+    assert (s.named_branches("C")[valid] == "right").all()
 
 
 def grazing():
@@ -189,13 +190,13 @@ def test_a_graze_changes_branch_so_the_motion_continues_smoothly(samples):
     assert (np.diff(y) < 0).all()
     assert len(s.events) == 1 and s.events[0].node == "P"
     assert s.events[0].before == "left" and s.events[0].after == "right"
-    assert (s.branch_names("P")[y > 1e-9] == "left").all()
-    assert (s.branch_names("P")[y < -1e-9] == "right").all()
+    assert (s.named_branches("P")[y > 1e-9] == "left").all()
+    assert (s.named_branches("P")[y < -1e-9] == "right").all()
 
 
 def test_no_branch_change_where_roots_stay_apart():
     s = sweep(coupler_fourbar(), np.linspace(0, 4 * np.pi, 50))
-    assert s.events == [] and (s.branches["B"] == 0).all()
+    assert s.events == () and (s.branches["B"] == 0).all()
 
 
 def test_a_whole_sweep_matches_the_closed_form_four_bar():
@@ -214,7 +215,7 @@ def test_a_whole_sweep_matches_the_closed_form_four_bar():
 def test_inputs_mapping_and_errors():
     c = coupler_fourbar()
     s = sweep(c, {"theta": np.linspace(0, 1, 7)})
-    assert len(s) == 7 and s.input.shape == (7,)
+    assert len(s) == 7 and s.input_values.shape == (7,)
     assert len(sweep(c)) == c.inputs["theta"].samples
     with pytest.raises(ConstructionError, match="unknown input 'thta'; did you mean 'theta'"):
         sweep(c, {"thta": [0.0]})
@@ -277,7 +278,7 @@ def test_near_on_a_ray_picks_a_root_on_the_ray():
     c.polar("Q", "O", 1, "t")
     c.ray_circle("P", ("O", "X"), "O", 5, near=(-5, 0))  # the root at -5 is off the ray
     s = sweep(c, [0.0, 0.1])
-    assert s.valid.all() and s.branch_names("P")[0] == "second"
+    assert s.valid.all() and s.named_branches("P")[0] == "second"
 
 
 def test_a_node_tangent_all_along_is_valid_and_needs_no_branch_changes():
@@ -290,7 +291,7 @@ def test_a_node_tangent_all_along_is_valid_and_needs_no_branch_changes():
     c.polar("Q", "O", "s", 0)
     c.line_circle("T", ("G1", "G2"), "Q", 2, branch="first")
     s = sweep(c)
-    assert s.valid.all() and s.events == []
+    assert s.valid.all() and s.events == ()
     np.testing.assert_allclose(s["T"], np.c_[np.linspace(0, 10, 10_001), np.zeros(10_001)],
                                atol=1e-12)
 
@@ -304,7 +305,7 @@ def test_roots_that_stay_close_without_meeting_keep_their_branch():
     c.circle_circle("B", ("O", "Q"), (1, 1), branch="left")
     for n in (37, 1000, 100_000):
         s = sweep(c, np.linspace(0, 2 * np.pi, n))
-        assert s.valid.all() and s.events == []
+        assert s.valid.all() and s.events == ()
     s = sweep(grazing(), samples=100_001)  # one real graze among many samples
     assert len(s.events) == 1
 

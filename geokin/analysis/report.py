@@ -13,18 +13,16 @@ from typing import Any
 
 import numpy as np
 
-from .analysis import (
-    curve_measures,
-    degrees_of_freedom,
-    grashof,
-    stroke,
-    transmission_angles,
-    unwrap_valid,
-)
-from .construction import CircleCircle, Compiled, Construction, Fixed, Polar
-from .errors import AnalysisError
-from .limits import circuit, describe_limit, limits
-from .sweep import Sweep, as_compiled, sweep
+from ..circuits import circuit, describe_limit, limits
+from ..construction import Compiled, Construction, as_compiled
+from ..engine import sweep
+from ..errors import AnalysisError
+from ..kinematics import unwrap_valid
+from ..nodes import CircleCircle, Polar
+from ..results import Sweep
+from .fourbar import grashof, transmission_angles
+from .measures import curve_measures, stroke
+from .mobility import degrees_of_freedom
 
 __all__ = ["analyze"]
 
@@ -41,9 +39,9 @@ def _four_bars(compiled, motion: Sweep):
         if not isinstance(node, CircleCircle):
             continue
         for crank_pin, pivot in (node.centers, node.centers[::-1]):
-            crank, fixed = nodes[crank_pin], nodes[pivot]
-            if not (isinstance(crank, Polar) and isinstance(fixed, Fixed)
-                    and isinstance(nodes[crank.origin], Fixed) and crank.reference is None
+            crank = nodes[crank_pin]
+            if not (isinstance(crank, Polar) and pivot in compiled.ground
+                    and crank.origin in compiled.ground and crank.reference is None
                     and crank.angle.names() & compiled.inputs.keys()):
                 continue
             # with declared links, the loop must be made of them: a helper point
@@ -70,7 +68,7 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False) -> 
 
     The motion analysed is the whole circuit of the first input (one turn if
     it turns fully; otherwise from limit to limit on both sides of each
-    toggle, see :func:`geokin.limits.circuit`).
+    toggle, see :func:`geokin.circuit`).
 
     Parameters
     ----------
@@ -147,7 +145,8 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False) -> 
     report["four_bars"] = []
     for node, points, lengths in _four_bars(compiled, motion):
         try:
-            g = grashof(**lengths)
+            g = grashof(lengths["ground"], lengths["input"], lengths["coupler"],
+                        lengths["output"])
         except AnalysisError:  # a link of zero length: no four-bar to classify
             continue
         report["four_bars"].append({"node": node, "points": list(points), **lengths,
@@ -231,7 +230,6 @@ def _strokes(compiled, motion: Sweep, angle) -> dict:
         return {}
     name, declared = next(iter(compiled.inputs.items()))
     turns = declared.kind == "angle" and not motion.events and motion.valid.all()
-    fixed = {step.node.name for step in compiled.steps if isinstance(step.node, Fixed)}
     outputs = {}
     for point in compiled.traced:
         outputs[f"{point}.x"] = (motion[point][:, 0], False)
@@ -245,7 +243,7 @@ def _strokes(compiled, motion: Sweep, angle) -> dict:
         outputs[f"{slider.name}.position"] = (
             np.einsum("ij,ij->i", motion[slider.point] - motion[a], unit), False)
     for link in compiled.links:
-        if set(link.points[:2]) <= fixed:
+        if set(link.points[:2]) <= compiled.ground:
             continue
         a, b = link.points[:2]
         direction = motion[b] - motion[a]

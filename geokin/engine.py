@@ -1,4 +1,4 @@
-"""Evaluate a construction over arrays of input values, tracking branches.
+"""The engine: evaluate a construction over arrays of inputs, tracking branches.
 
 :func:`sweep` evaluates every step of a compiled construction for all
 samples at once (numpy arrays, no Python loop per sample) and keeps every
@@ -43,7 +43,7 @@ Branch rules
 from __future__ import annotations
 
 import threading
-import unicodedata
+import weakref
 from collections.abc import Mapping
 from dataclasses import dataclass
 
@@ -51,10 +51,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .budgets import check_sweep_memory
-from .construction import REASONS, Compiled, Construction, Node, failure_reasons
+from .construction import Compiled, Construction, as_compiled
 from .errors import ConstructionError, did_you_mean
+from .nodes import Node, failure_reasons
+from .results import BranchEvent, PointTable, Sweep, read_only
 
-__all__ = ["BranchEvent", "Sweep", "evaluate", "sweep"]
+__all__ = ["evaluate", "input_arrays", "sweep"]
 
 MEET_RTOL = 1e-7
 """Roots closer than this times the node's scale meet (a graze or a toggle).
@@ -94,254 +96,6 @@ long the sweep."""
 MAX_HALVINGS = 60
 """How often a doubtful piece of a step may be halved; what is still open
 then lies within rounding of the inputs, and counts as a meeting."""
-
-
-@dataclass(frozen=True)
-class BranchEvent:
-    """A change of branch of one node between samples ``index - 1`` and ``index``."""
-
-    node: str
-    index: int
-    before: str
-    after: str
-    fraction: float = 0.0
-    """Where the roots meet, as a fraction of the step from sample ``index - 1``
-    to ``index``: 0 at sample ``index - 1`` itself."""
-
-    def __str__(self) -> str:
-        if self.fraction > 0:
-            where = f"between samples {self.index - 1} and {self.index}"
-        else:
-            where = f"at sample {self.index - 1}"
-        return (f"node {self.node!r} changes branch from {self.before} to {self.after} "
-                f"at sample {self.index} (the two roots meet {where})")
-
-
-class Sweep:
-    """The motion of a construction over a sweep of its inputs.
-
-    Attributes
-    ----------
-    construction : Compiled
-        What was evaluated.
-    inputs : dict of str to ndarray, shape (N,)
-        Input values, radians for angles.
-    points : mapping of str to ndarray, shape (N, 2)
-        Position of every point; NaN at samples that cannot be assembled.
-    valid : ndarray of bool, shape (N,)
-        Whether each sample can be assembled.
-    failed_step : ndarray of int, shape (N,)
-        The 1-based index of the step that failed first at each sample, 0 where valid.
-    reason_code : ndarray of int8, shape (N,)
-        Why it failed (see :attr:`failure_reason`).
-    branches : dict of str to ndarray of int8, shape (N,)
-        For every two-root node, 0 or 1: the index of its root in the
-        primitive's order (``left``/``right``, ``first``/``second``).
-    events : list of BranchEvent
-        Every branch change along the sweep.
-    margins : dict of str to ndarray, shape (N,)
-        For every two-root node, its distance from tangency (positive: two
-        roots, zero: tangent, negative: none), relative to its scale.
-    """
-
-    def __init__(self, construction: Compiled, inputs: dict[str, np.ndarray],
-                 coords: dict[str, tuple[np.ndarray, np.ndarray]], valid: np.ndarray,
-                 failed_step: np.ndarray, reason_code: np.ndarray,
-                 labels: dict[str, np.ndarray | int], events: list[BranchEvent],
-                 margins: dict[str, np.ndarray],
-                 parameters: dict[str, np.ndarray] | None = None) -> None:
-        self.construction: Compiled = construction
-        self.inputs = inputs
-        self.points = _PointTable(coords, valid)
-        self.valid = valid
-        self.failed_step = failed_step
-        self.reason_code = reason_code
-        self.events = events
-        self._labels = labels
-        self._margins = margins
-        # the chosen root's parameter along each ray or segment node
-        self._parameters = parameters or {}
-
-    def __len__(self) -> int:
-        return len(self.valid)
-
-    def __getitem__(self, name: str) -> np.ndarray:
-        """Return the (N, 2) positions of a point."""
-        return self.points[name]
-
-    def __repr__(self) -> str:
-        return (f"<Sweep of {self.construction.name!r}: {len(self)} samples, "
-                f"{int(self.valid.sum())} valid, {len(self.events)} branch changes>")
-
-    @property
-    def input(self) -> np.ndarray:
-        """Return the values of the first input (radians for an angle)."""
-        if not self.inputs:
-            raise AttributeError(f"construction {self.construction.name!r} has no input")
-        return next(iter(self.inputs.values()))
-
-    @property
-    def branches(self) -> dict[str, np.ndarray]:
-        """Return the branch (0 or 1) of every two-root node at every sample."""
-        n = len(self)
-        return {name: np.broadcast_to(np.asarray(label, dtype=np.int8), (n,))
-                for name, label in self._labels.items()}
-
-    @property
-    def margins(self) -> dict[str, np.ndarray]:
-        """Return every two-root node's distance from tangency at every sample."""
-        n = len(self)
-        return {name: np.broadcast_to(m, (n,)) for name, m in self._margins.items()}
-
-    @property
-    def line_parameters(self) -> dict[str, np.ndarray]:
-        """Return, for every ray or segment node, its chosen root's parameter ``t``.
-
-        The root is ``line[0] + t * (line[1] - line[0])``; it lies on the ray
-        for ``t >= 0`` and on the segment for ``0 <= t <= 1``.
-        """
-        n = len(self)
-        return {name: np.broadcast_to(t, (n,)) for name, t in self._parameters.items()}
-
-    @property
-    def failed_node(self) -> np.ndarray:
-        """Return the name of the node that failed at each sample ('' where valid)."""
-        names = np.array(["", *self.construction.point_names], dtype=object)
-        return names[self.failed_step]
-
-    @property
-    def failure_reason(self) -> np.ndarray:
-        """Return why each sample failed, as text ('' where valid)."""
-        return np.array(REASONS, dtype=object)[self.reason_code]
-
-    def event_inputs(self, event: BranchEvent) -> dict[str, float]:
-        """Return the input values where the roots of a branch change meet.
-
-        They lie on the straight path from sample ``event.index - 1`` to
-        ``event.index``, at ``event.fraction`` of it.
-
-        Examples
-        --------
-        A parallelogram (ground 10, crank 4, coupler 10, rocker 4) passes its
-        change point at 180 degrees, three tenths of the way along a step:
-
-        >>> c = Construction()
-        >>> c.input("theta")
-        >>> c.fixed("O2", 0, 0)
-        >>> c.fixed("O4", 10, 0)
-        >>> c.polar("A", "O2", 4, "theta")
-        >>> c.circle_circle("B", ("A", "O4"), (10, 4), branch="left")
-        >>> s = sweep(c, np.radians([177.0, 187.0]))
-        >>> round(float(np.degrees(s.event_inputs(s.events[0])["theta"])), 4)
-        180.0
-        """
-        before, after = event.index - 1, event.index
-        return {name: float(values[before] + event.fraction * (values[after] - values[before]))
-                for name, values in self.inputs.items()}
-
-    def branch_names(self, node: str) -> np.ndarray:
-        """Return the branch of a two-root node at each sample, by name."""
-        step = self._step(node)
-        if step.node.roots != 2:
-            raise KeyError(f"point {node!r} is a {step.node.kind} node: it has one root")
-        return np.array(step.node.branch_names(), dtype=object)[self.branches[node]]
-
-    def explain(self, index: int) -> str:
-        """Say in words whether sample ``index`` is assembled, and if not why.
-
-        Examples
-        --------
-        >>> c = Construction("reach")
-        >>> c.input("r", kind="length", range=(1, 3), samples=3)
-        >>> c.fixed("O", 0, 0)
-        >>> c.fixed("Q", 4, 0)
-        >>> c.circle_circle("P", ("O", "Q"), ("r", 1), branch="left")
-        >>> s = sweep(c)
-        >>> s.explain(0)
-        "sample 0 (r = 1): node 'P' cannot be assembled: no intersection: the curves do not meet"
-        >>> s.explain(2)
-        'sample 2 (r = 3): assembled'
-        """
-        values = ", ".join(f"{k} = {v[index]:g}" for k, v in self.inputs.items())
-        if self.valid[index]:
-            return f"sample {index} ({values}): assembled"
-        return (f"sample {index} ({values}): node {self.failed_node[index]!r} cannot be "
-                f"assembled: {self.failure_reason[index]}")
-
-    def _step(self, name):
-        if isinstance(name, str) and not name.isascii():
-            name = unicodedata.normalize("NFKC", name)  # names are declared in NFKC
-        for step in self.construction.steps:
-            if step.node.name == name:
-                return step
-        raise KeyError(f"no point {name!r}{did_you_mean(name, self.construction.point_names)}")
-
-
-class _PointTable(Mapping):
-    """Point positions as (N, 2) arrays, stacked from coordinates when first read."""
-
-    def __init__(self, coords, valid):
-        self._coords = coords
-        self._valid = valid
-        self._stacked = {}
-
-    def __getitem__(self, name):
-        if isinstance(name, str) and not name.isascii():
-            name = unicodedata.normalize("NFKC", name)  # names are declared in NFKC
-        stacked = self._stacked.get(name)
-        if stacked is None:
-            try:
-                x, y = self._coords[name]
-            except KeyError:
-                raise KeyError(f"no point {name!r}{did_you_mean(name, self._coords)}") from None
-            stacked = np.empty((len(self._valid), 2))
-            stacked[:, 0] = x
-            stacked[:, 1] = y
-            if not self._valid.all():
-                stacked[~self._valid] = np.nan
-            self._stacked[name] = stacked
-        return stacked
-
-    def __iter__(self):
-        return iter(self._coords)
-
-    def __len__(self):
-        return len(self._coords)
-
-
-def as_compiled(construction: Construction | Compiled) -> Compiled:
-    """Return a construction compiled, or a compiled one as it is.
-
-    Raises
-    ------
-    TypeError
-        For anything else.
-    """
-    if isinstance(construction, Construction):
-        return construction.compile()
-    if isinstance(construction, Compiled):
-        return construction
-    raise TypeError(f"expected a Construction, got {type(construction).__name__}")
-
-
-def input_name(compiled: Compiled, name: str | None, purpose: str = "move") -> str:
-    """Return the input called ``name``, or the only input when ``name`` is None.
-
-    Raises
-    ------
-    ConstructionError
-        For an unknown name (with the closest one), or None when the
-        construction has several inputs or none.
-    """
-    names = list(compiled.inputs)
-    if name is None:
-        if len(names) != 1:
-            raise ConstructionError(f"this construction has {len(names)} inputs "
-                                    f"({', '.join(names) or 'none'}); name the one to {purpose}")
-        return names[0]
-    if name not in compiled.inputs:
-        raise ConstructionError(f"unknown input {name!r}{did_you_mean(name, names)}", node=name)
-    return name
 
 
 def input_arrays(compiled: Compiled, values: ArrayLike | Mapping[str, ArrayLike] | None = None,
@@ -400,9 +154,13 @@ class _PlannedStep:
     varying: tuple  # (field, expression)
 
 
+_PLANS: dict[int, tuple[_PlannedStep, ...]] = {}
+"""Evaluation plans by the id of their compiled construction, dropped with it."""
+
+
 def _plan(compiled: Compiled) -> tuple[_PlannedStep, ...]:
-    """Return the evaluation plan of a compiled construction, made once and cached."""
-    plan = compiled.cache.get("plan")
+    """Return the evaluation plan of a compiled construction, made once and kept."""
+    plan = _PLANS.get(id(compiled))
     if plan is not None:
         return plan
     planned = []
@@ -410,13 +168,16 @@ def _plan(compiled: Compiled) -> tuple[_PlannedStep, ...]:
         for step in compiled.steps:
             node = step.node
             constants, varying = {}, []
-            for field_name, expr in compiled._values[node.name].items():
+            for field_name, expr in node.value_fields().items():
                 if expr.names() <= compiled.parameters.keys():
                     constants[field_name] = float(expr.evaluate(compiled.parameters))
                 else:
                     varying.append((field_name, expr))
             planned.append(_PlannedStep(step.index, node, constants, tuple(varying)))
-    compiled.cache["plan"] = plan = tuple(planned)
+    plan = tuple(planned)
+    # the plan lives as long as the construction: a later one may reuse the id
+    weakref.finalize(compiled, _PLANS.pop, id(compiled), None)
+    _PLANS[id(compiled)] = plan
     return plan
 
 
@@ -438,14 +199,16 @@ def _step_values(step: _PlannedStep, env) -> Mapping:
 
 def _candidates(step: _PlannedStep, coords, values, origin):
     cand = step.node.candidates(coords, values)
-    if origin is not None and step.node.kind == "fixed":
+    # a ground kind's values are absolute coordinates; every other node is found
+    # from points already relative to the origin
+    if origin is not None and step.node.ground_kind:
         cand = type(cand)((cand.x[0] - origin[0],), (cand.y[0] - origin[1],))
     return cand
 
 
 def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndarray], n: int,
-             branches: Mapping[str, np.ndarray | int] | None = None, *, track: bool = True,
-             initial: Mapping[str, int] | None = None,
+             held: Mapping[str, np.ndarray | int] | None = None, *, track: bool = True,
+             start: Mapping[str, int] | None = None,
              origin: tuple[float, float] | None = None) -> Sweep:
     """Evaluate every step for all samples.
 
@@ -456,14 +219,14 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         Input values in radians (lengths for length inputs).
     n : int
         The number of samples N.
-    branches : mapping of str to ndarray, optional
-        A fixed branch (0 or 1, scalar or per sample) for some two-root
+    held : mapping of str to ndarray, optional
+        A branch held fixed (0 or 1, scalar or per sample) for some two-root
         nodes; the others are chosen and tracked by the branch rules.
     track : bool
         Whether the samples form a path along which branches are tracked
         (rules 2 to 4); turned off when evaluating at isolated perturbed inputs.
-    initial : mapping of str to int, optional
-        Initial branches (0 or 1) replacing the declared choice of some nodes.
+    start : mapping of str to int, optional
+        The branch (0 or 1) some nodes start on, instead of their declared choice.
     origin : (float, float), optional
         Evaluate in a frame with its origin here: every point is found
         relative to it (constructions move with their fixed points), which
@@ -490,16 +253,16 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
                 x, y = cand.x[0], cand.y[0]
                 label = None
             else:
-                if branches is not None and node.name in branches:
-                    label = branches[node.name]
+                if held is not None and node.name in held:
+                    label = held[node.name]
                     if tracker is not None:  # held: later nodes see it between samples too
                         tracker.labels[node.name] = label
                 else:
-                    start = _initial_label(node, cand, n, (initial or {}).get(node.name))
+                    first = _initial_label(node, cand, n, (start or {}).get(node.name))
                     if tracker is None:
-                        label = start
+                        label = first
                     else:
-                        label, found = tracker.track(position, cand, start)
+                        label, found = tracker.track(position, cand, first)
                         events.extend(found)
                 x, y = _choose(cand, label)
                 labels[node.name] = label
@@ -517,8 +280,20 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
     if not valid.all():
         _record_failures(results, n, failed_step, reason_code)
     events.sort(key=lambda e: (e.index, e.fraction))
-    return Sweep(compiled, dict(inputs), coords, valid, failed_step, reason_code, labels,
-                 events, margins, parameters)
+
+    def per_sample(array, dtype=float):
+        return read_only(np.broadcast_to(np.asarray(array, dtype=dtype), (n,)))
+
+    return Sweep(
+        construction=compiled,
+        inputs={name: read_only(values) for name, values in inputs.items()},
+        points=PointTable(coords, valid),
+        valid=read_only(valid), failed_step=read_only(failed_step),
+        reason_code=read_only(reason_code),
+        branches={name: per_sample(label, np.int8) for name, label in labels.items()},
+        events=tuple(events),
+        margins={name: per_sample(margin) for name, margin in margins.items()},
+        line_parameters={name: per_sample(t) for name, t in parameters.items()})
 
 
 def _choose(cand, label):
@@ -561,7 +336,7 @@ def _record_failures(results, n, failed_step, reason_code):
 
 def sweep(construction: Construction | Compiled,
           values: ArrayLike | Mapping[str, ArrayLike] | None = None, *, samples: int | None = None,
-          branches: Mapping[str, object] | None = None) -> Sweep:
+          start_branches: Mapping[str, object] | None = None) -> Sweep:
     """Evaluate a construction over a sweep of its inputs.
 
     Parameters
@@ -574,9 +349,10 @@ def sweep(construction: Construction | Compiled,
         follows them. By default each input's declared range.
     samples : int, optional
         Number of samples of each defaulted input's range.
-    branches : mapping of str to str or int, optional
-        Override the initial branch of two-root nodes by name
-        (``{"B": "right"}``); the branch is still tracked along the sweep.
+    start_branches : mapping of str to str or int, optional
+        The branch some two-root nodes start on, by name
+        (``{"B": "right"}``), instead of their declared choice; the branch is
+        still tracked along the sweep.
 
     Returns
     -------
@@ -606,26 +382,26 @@ def sweep(construction: Construction | Compiled,
     inputs, n = input_arrays(compiled, values, samples)
     # refused before allocating, with the estimate and a block that would fit
     check_sweep_memory(len(compiled.steps), n)
-    initial = None
-    if branches:
-        initial = {}
+    start = None
+    if start_branches:
+        start = {}
         nodes = {step.node.name: step.node for step in compiled.steps}
-        for name, branch in branches.items():
+        for name, branch in start_branches.items():
             node = nodes.get(name)
             if node is None or node.roots != 2:
                 raise ConstructionError(
                     f"no two-root node {name!r}{did_you_mean(name, nodes)}", node=name,
                     field="branch")
-            options = node.branch_names()
+            options = node.branch_names
             if branch in (0, 1):
-                initial[name] = int(branch)
+                start[name] = int(branch)
             elif branch in options:
-                initial[name] = options.index(branch)
+                start[name] = options.index(branch)
             else:
                 raise ConstructionError(f"unknown branch {branch!r}; use "
                                         f"{' or '.join(map(repr, options))}", node=name,
                                         field="branch")
-    return evaluate(compiled, inputs, n, initial=initial)
+    return evaluate(compiled, inputs, n, start=start)
 
 
 def _initial_label(node, cand, n, override) -> int:
@@ -633,7 +409,7 @@ def _initial_label(node, cand, n, override) -> int:
     if override is not None:
         return override
     if node.near is None:
-        return node.branch_names().index(node.branch)
+        return node.branch_names.index(node.branch)
     x0, x1, y0, y1 = (np.broadcast_to(a, (n,)) for a in (*cand.x, *cand.y))
     usable = [np.isfinite(x0) & np.isfinite(y0), np.isfinite(x1) & np.isfinite(y1)]
     if cand.on_line is not None:  # a root off its ray or segment cannot be assembled
@@ -842,7 +618,7 @@ class _Tracker:
         self.labels[node.name] = label
         self.flip_after[node.name] = flip_after
         self.meetings[node.name] = inner
-        names = node.branch_names()
+        names = node.branch_names
         events = [BranchEvent(node.name, int(i) + 1, names[label[i]], names[label[i] ^ 1], 0.0)
                   for i in np.flatnonzero(flip_after[:-1])]
         steps = np.floor(inner).astype(np.int64)

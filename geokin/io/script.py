@@ -1,4 +1,4 @@
-"""Construction scripts: plain-data TOML files that describe a linkage.
+"""Construction scripts: read and write the plain-data TOML files that describe a linkage.
 
 A script is read with the standard library's :mod:`tomllib`; loading never
 runs code. Every value is a number or a string holding arithmetic of
@@ -120,24 +120,13 @@ import sys
 import tomllib
 from collections.abc import Mapping
 
-from .budgets import MAX_SCRIPT_BYTES
-from .construction import (
-    MAX_SAMPLES,
-    Along,
-    CircleCircle,
-    Construction,
-    Fixed,
-    LineCircle,
-    LineLine,
-    Node,
-    Polar,
-    RayCircle,
-    SegmentCircle,
-)
-from .errors import ConstructionError, ScriptError, did_you_mean
-from .expressions import BinOp, Call, Expr, Name, Neg, Number
-from .terminal import clip_message, escape, shorten
-from .units import script_degrees, to_script
+from ..budgets import MAX_SCRIPT_BYTES
+from ..construction import MAX_SAMPLES, Construction
+from ..errors import ConstructionError, ScriptError, did_you_mean
+from ..expressions import BinOp, Call, Expr, Name, Neg, Number
+from ..nodes import NODE_KINDS, Key, Node
+from ..terminal import clip_message, escape, shorten
+from ..units import script_degrees, to_script
 
 __all__ = ["MAX_SCRIPT_BYTES", "OPS", "dump", "load", "loads", "script_steps"]
 
@@ -149,26 +138,28 @@ filling the memory.
 """
 
 OPS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
-    "fixed": (("at",), ()),
-    "polar": (("origin", "distance", "angle"), ("reference",)),
-    "along": (("line", "distance"), ()),
-    "line_line": (("first", "second"), ()),
-    "line_circle": (("line", "center", "radius"), ("branch", "near")),
-    "segment_circle": (("line", "center", "radius"), ("branch", "near")),
-    "ray_circle": (("line", "center", "radius"), ("branch", "near")),
-    "circle_circle": (("centers", "radii"), ("branch", "near")),
-}
-"""Required and optional keys of each point kind, besides ``op``."""
+    kind: (tuple(k.name for k in cls.keys if k.required),
+           tuple(k.name for k in cls.keys if not k.required))
+    for kind, cls in NODE_KINDS.items()}
+"""Required and optional keys of each point kind, besides ``op``; made from
+the node kinds' declarations (:attr:`geokin.nodes.Node.keys`)."""
 
 TABLES = ("construction", "parameters", "inputs", "points", "links", "sliders")
 CONSTRUCTION_KEYS = ("name", "description", "units", "trace")
 INPUT_KEYS = ("kind", "range", "samples", "step", "speed")
 SLIDER_KEYS = ("point", "along")
 
-_POINT_PAIRS = ("reference", "line", "first", "second", "centers")
-_POINT_NAMES = ("origin", "center")
-# construction field names that differ from script keys (a fixed point's x and y)
-_SCRIPT_KEY = {"x": "at[0]", "y": "at[1]"}
+# what each script key of a point holds, by kind and key
+_KEYS: dict[str, dict[str, Key]] = {
+    kind: {key.name: key for key in cls.keys} for kind, cls in NODE_KINDS.items()}
+
+
+def _script_field(node_kind: str | None, field: str) -> str:
+    """Return a node field as a script names it (a fixed point's ``x`` is ``at[0]``)."""
+    for key in _KEYS.get(node_kind or "", {}).values():
+        if len(key.attributes) > 1 and field in key.attributes:
+            return f"{key.name}[{key.attributes.index(field)}]"
+    return field
 
 
 # -- loading -------------------------------------------------------------------
@@ -343,6 +334,7 @@ class _Reader:
         self.text = text
         self.source = source
         self.default_name = default_name
+        self.point_kind: str | None = None  # the kind of the point being declared
 
     # -- errors --
 
@@ -430,8 +422,11 @@ class _Reader:
             elif table == "links" and entry is not None:
                 return self.fail(table, entry + field[len("points"):]
                                  if field.startswith("points") else entry, message)
+            elif table == "points":
+                node = None if construction is None else construction.nodes.get(entry or "")
+                sub = _script_field(node.kind if node else self.point_kind, field)
             else:
-                sub = _SCRIPT_KEY.get(field, field) if table == "points" else field
+                sub = field
         return self.fail(table, entry, message, sub)
 
     @staticmethod
@@ -626,44 +621,32 @@ class _Reader:
         required, optional = OPS[op]
         fields = {k: v for k, v in spec.items() if k != "op"}
         self.check_keys("points", name, fields, required, optional)
+        keys = _KEYS[op]
         for key, value in fields.items():
-            self.check_type(name, key, value)
-        if op == "fixed":
-            c.fixed(name, *fields["at"])
-        elif op == "polar":
-            c.polar(name, fields["origin"], fields["distance"], fields["angle"],
-                    reference=fields.get("reference"))
-        elif op == "along":
-            c.along(name, fields["line"], fields["distance"])
-        elif op == "line_line":
-            c.line_line(name, fields["first"], fields["second"])
-        elif op == "circle_circle":
-            c.circle_circle(name, fields["centers"], fields["radii"],
-                            branch=fields.get("branch"), near=fields.get("near"))
-        else:
-            getattr(c, op)(name, fields["line"], fields["center"], fields["radius"],
-                           branch=fields.get("branch"), near=fields.get("near"))
+            self.check_type(name, keys[key], value)
+        self.point_kind = op
+        c.add(op, name, **fields)
 
-    def check_type(self, name, key, value):
-        """Check the TOML type of one point field; the engine checks the rest."""
-        def wrong(expected, sub=key):
+    def check_type(self, name, key: Key, value):
+        """Check the TOML type of one point key; the builder checks the rest."""
+        def wrong(expected, sub=key.name):
             return self.fail("points", name, f"expected {expected}, got {_kind_of(value)}",
                              sub=sub)
-        if key in _POINT_NAMES and not isinstance(value, str):
+        if key.holds == "point" and not isinstance(value, str):
             raise wrong("a point name (a string)")
-        if key in _POINT_PAIRS:
+        if key.holds == "point pair":
             if not (isinstance(value, list) and len(value) == 2):
                 raise wrong("two point names such as [\"A\", \"B\"]")
             for i, p in enumerate(value):
                 if not isinstance(p, str):
                     value = p
-                    raise wrong("a point name (a string)", f"{key}[{i}]")
-        if key in ("at", "radii") and not (isinstance(value, list) and len(value) == 2):
+                    raise wrong("a point name (a string)", f"{key.name}[{i}]")
+        if key.holds == "value pair" and not (isinstance(value, list) and len(value) == 2):
             raise wrong("two values such as [0, \"l1\"]")
-        if key == "branch" and not isinstance(value, str):
+        if key.holds == "branch" and not isinstance(value, str):
             raise wrong("a branch name (a string)")
-        if key == "near" and not (isinstance(value, list) and len(value) == 2
-                                  and all(map(_is_number, value))):
+        if key.holds == "sketch" and not (isinstance(value, list) and len(value) == 2
+                                          and all(map(_is_number, value))):
             raise wrong("two numbers [x, y]")
 
     def link(self, c, name, points):
@@ -812,31 +795,23 @@ def _node_entries(node: Node, convert: _AngleRewriter) -> list[tuple[str, str]]:
         return _toml_expr(convert.angle(expr) if field in angles else convert.plain(expr))
 
     entries = [("op", _toml_string(node.kind))]
-    if isinstance(node, Fixed):
-        entries.append(("at", f"[{value('x')}, {value('y')}]"))
-    elif isinstance(node, Polar):
-        entries += [("origin", _toml_string(node.origin)), ("distance", value("distance")),
-                    ("angle", value("angle"))]
-        if node.reference is not None:
-            entries.append(("reference", _toml_list(node.reference)))
-    elif isinstance(node, Along):
-        entries += [("line", _toml_list(node.line)), ("distance", value("distance"))]
-    elif isinstance(node, LineLine):
-        entries += [("first", _toml_list(node.first)), ("second", _toml_list(node.second))]
-    elif isinstance(node, CircleCircle):
-        entries += [("centers", _toml_list(node.centers)),
-                    ("radii", f"[{value('radii[0]')}, {value('radii[1]')}]")]
-    elif isinstance(node, LineCircle | RayCircle | SegmentCircle):
-        entries += [("line", _toml_list(node.line)), ("center", _toml_string(node.center)),
-                    ("radius", value("radius"))]
-    else:  # pragma: no cover - every kind is listed above
-        raise TypeError(f"cannot write a {node.kind} node")
-    if isinstance(node, CircleCircle | LineCircle | RayCircle | SegmentCircle):
-        if node.near is not None:
-            entries.append(("near", f"[{_toml_number(node.near[0])}, "
-                                    f"{_toml_number(node.near[1])}]"))
-        elif node.branch is not None:
-            entries.append(("branch", _toml_string(node.branch)))
+    for key in node.keys:
+        given = [getattr(node, a) for a in key.attributes]
+        if given[0] is None:
+            continue  # an optional key not given
+        if key.holds == "point":
+            text = _toml_string(given[0])
+        elif key.holds == "point pair":
+            text = _toml_list(given[0])
+        elif key.holds == "value":
+            text = value(key.fields()[0])
+        elif key.holds == "value pair":
+            text = f"[{', '.join(value(f) for f in key.fields())}]"
+        elif key.holds == "sketch":
+            text = f"[{_toml_number(given[0][0])}, {_toml_number(given[0][1])}]"
+        else:  # a branch
+            text = _toml_string(given[0])
+        entries.append((key.name, text))
     return entries
 
 

@@ -23,9 +23,11 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from .construction import NO_INTERSECTION, Compiled, Construction
+from .construction import Compiled, Construction, as_compiled
+from .engine import evaluate
 from .errors import AssemblyError, ConstructionError
-from .sweep import BranchEvent, Sweep, as_compiled, evaluate, input_name
+from .nodes import NO_INTERSECTION
+from .results import BranchEvent, Sweep
 
 __all__ = ["LIMIT_TOLERANCE", "Limit", "Limits", "circuit", "limits"]
 
@@ -68,20 +70,21 @@ class Limits:
 
     Attributes
     ----------
-    input : str
-    intervals : list of (Limit, Limit)
+    input_name : str
+        The input that moves.
+    intervals : tuple of (Limit, Limit)
         Each assemblable interval as its lower and upper limit, in order.
     full_turn : bool
         For an angle input: the input turns fully without any limit.
-    branches : dict of str to int
+    held_branches : mapping of str to int
         The branches the search held (those of the construction's first
         assemblable sample).
     """
 
-    input: str
-    intervals: list
+    input_name: str
+    intervals: tuple[tuple[Limit, Limit], ...]
     full_turn: bool
-    branches: dict
+    held_branches: Mapping[str, int]
 
     def as_values(self) -> list[tuple[float, float]]:
         """Return the intervals as (low, high) pairs of input values."""
@@ -173,28 +176,30 @@ def _refine(compiled, name, held, branches, inside, outside):
     return inside, _evaluate_at(compiled, name, outside, held, branches)
 
 
-def limits(construction: Construction | Compiled, input: str | None = None, *,
-           range: tuple[float, float] | None = None, samples: int = SEARCH_SAMPLES,
-           branches: Mapping[str, int] | None = None,
+def limits(construction: Construction | Compiled, input_name: str | None = None, *,
+           search_range: tuple[float, float] | None = None,
+           samples: int = SEARCH_SAMPLES,
+           start_branches: Mapping[str, int] | None = None,
            at: Mapping[str, float] | None = None) -> Limits:
     """Find every limit of an input's motion and the assemblable intervals.
 
     Parameters
     ----------
     construction : Construction or Compiled
-    input : str, optional
+    input_name : str, optional
         The input to move; the only input by default. Other inputs are held
         at ``at`` or at the start of their range.
-    range : (float, float), optional
+    search_range : (float, float), optional
         Where to search, radians for an angle. By default one whole turn
         centred on the middle of the declared range for an angle input, and
         the declared range for a length input.
     samples : int
         Samples used to bracket the limits; a stretch shorter than the
         spacing can be missed.
-    branches : mapping of str to int, optional
-        Branches to hold (0 or 1); by default the construction's own choice
-        at its first assemblable sample in the range.
+    start_branches : mapping of str to int, optional
+        The branches (0 or 1) to start from; by default the construction's
+        own choice. The search holds the branches of the first assemblable
+        sample in the searched range.
     at : mapping of str to float, optional
         Values of the other inputs.
 
@@ -222,17 +227,17 @@ def limits(construction: Construction | Compiled, input: str | None = None, *,
     ('C', 'tangent')
     """
     compiled = as_compiled(construction)
-    name = input_name(compiled, input)
+    name = compiled.resolve_input(input_name)
     declared = compiled.inputs[name]
     held = _held(compiled, name, at)
-    turn = declared.kind == "angle" and range is None
-    if range is None:
+    turn = declared.kind == "angle" and search_range is None
+    if search_range is None:
         lo, hi = declared.range
         if declared.kind == "angle":
             middle = 0.5 * (lo + hi)
             lo, hi = middle - np.pi, middle + np.pi
     else:
-        lo, hi = sorted(map(float, range))
+        lo, hi = sorted(map(float, search_range))
     if samples < 3:
         raise ConstructionError(f"limits need at least 3 samples to bracket, got {samples}",
                                 node=name, field="samples")
@@ -240,7 +245,7 @@ def limits(construction: Construction | Compiled, input: str | None = None, *,
     inputs = {k: np.full(samples, v) for k, v in held.items()}
     inputs[name] = grid
     probe = evaluate(compiled, inputs, samples, track=False,
-                     initial=None if branches is None else dict(branches))
+                     start=None if start_branches is None else dict(start_branches))
     first_valid = np.flatnonzero(probe.valid)
     if first_valid.size == 0:
         where = "over a whole turn" if turn else "over the searched range"
@@ -256,7 +261,7 @@ def limits(construction: Construction | Compiled, input: str | None = None, *,
         # it turns fully: every value is assemblable, the declared range included
         lo, hi = min(lo, *declared.range), max(hi, *declared.range)
         ends = (Limit(lo, None, "range"), Limit(hi, None, "range"))
-        return Limits(name, [ends], True, held_branches)
+        return Limits(name, (ends,), True, held_branches)
     change = np.flatnonzero(ok[1:] != ok[:-1])
     inside = np.where(ok[change], grid[change], grid[change + 1])
     outside = np.where(ok[change], grid[change + 1], grid[change])
@@ -274,13 +279,13 @@ def limits(construction: Construction | Compiled, input: str | None = None, *,
         last_lo, first_hi = intervals[-1][0], intervals[0][1]
         wrapped = (replace(last_lo, value=last_lo.value - 2 * np.pi), first_hi)
         intervals = [wrapped, *intervals[1:-1]]
-    return Limits(name, intervals, False, held_branches)
+    return Limits(name, tuple(intervals), False, held_branches)
 
 
-def circuit(construction: Construction | Compiled, input: str | None = None, *,
+def circuit(construction: Construction | Compiled, input_name: str | None = None, *,
             start: float | None = None, samples_per_pass: int = 361,
             at: Mapping[str, float] | None = None,
-            branches: Mapping[str, int] | None = None) -> Sweep:
+            start_branches: Mapping[str, int] | None = None) -> Sweep:
     """Sweep a whole circuit: to a limit, through the toggle, and back round.
 
     Starting at ``start``, the input runs up to the upper limit of its
@@ -293,7 +298,7 @@ def circuit(construction: Construction | Compiled, input: str | None = None, *,
     Parameters
     ----------
     construction : Construction or Compiled
-    input : str, optional
+    input_name : str, optional
         The input to move; the only input by default.
     start : float, optional
         Where to start (radians or length units); by default the middle of
@@ -301,7 +306,7 @@ def circuit(construction: Construction | Compiled, input: str | None = None, *,
         of the first interval.
     samples_per_pass : int
         Samples on each pass from one limit to the other.
-    at, branches : mapping, optional
+    at, start_branches : mapping, optional
         As for :func:`limits`.
 
     Returns
@@ -330,8 +335,8 @@ def circuit(construction: Construction | Compiled, input: str | None = None, *,
     True
     """
     compiled = as_compiled(construction)
-    name = input_name(compiled, input)
-    found = limits(compiled, name, at=at, branches=branches)
+    name = compiled.resolve_input(input_name)
+    found = limits(compiled, name, at=at, start_branches=start_branches)
     declared = compiled.inputs[name]
     held = _held(compiled, name, at)
     if start is None:
@@ -352,7 +357,7 @@ def circuit(construction: Construction | Compiled, input: str | None = None, *,
                             f"interval: {found.as_values()}")
     lo, hi, shift = interval
     start = start + shift
-    labels = dict(found.branches)
+    labels = dict(found.held_branches)
     passes = []
     def run(values, labels):
         """One pass from its first value to its last, tracked from the given branches.
@@ -362,7 +367,7 @@ def circuit(construction: Construction | Compiled, input: str | None = None, *,
         """
         inputs = {k: np.full(len(values), v) for k, v in held.items()}
         inputs[name] = values
-        part = evaluate(compiled, inputs, len(values), initial=labels)
+        part = evaluate(compiled, inputs, len(values), start=labels)
         branches = part.branches
         passes.append((values, branches))
         return {k: int(b[-1]) for k, b in branches.items()}
@@ -410,13 +415,13 @@ def circuit(construction: Construction | Compiled, input: str | None = None, *,
     inputs = {k: np.full(len(values), v) for k, v in held.items()}
     inputs[name] = values
     result = evaluate(compiled, inputs, len(values), per_sample, track=False)
-    steps = _steps_by_name(compiled)
+    events = []
     for node, label in per_sample.items():
-        names = steps[node].node.branch_names()
+        names = compiled.step_named(node).node.branch_names
         for i in np.flatnonzero(np.diff(label)) + 1:
-            result.events.append(BranchEvent(node, int(i), names[label[i - 1]], names[label[i]]))
-    result.events.sort(key=lambda e: e.index)
-    return result
+            events.append(BranchEvent(node, int(i), names[label[i - 1]], names[label[i]]))
+    events.sort(key=lambda e: e.index)
+    return replace(result, events=tuple(events))
 
 
 def _through_toggle(compiled, name, held, labels, limit: Limit) -> dict:

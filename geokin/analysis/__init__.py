@@ -1,0 +1,43 @@
+"""Engineering analysis of a linkage and of its motion.
+
+- :mod:`~geokin.analysis.fourbar`: Grashof classification and transmission angles;
+- :mod:`~geokin.analysis.mobility`: degrees of freedom;
+- :mod:`~geokin.analysis.measures`: stroke, time ratio and coupler-curve measures;
+- :mod:`~geokin.analysis.report`: all of these for one construction (:func:`analyze`).
+
+Angles are radians throughout.
+"""
+
+from ..kinematics import link_angles, unwrap_valid
+from .fourbar import (
+    KINDS,
+    Grashof,
+    TransmissionAngle,
+    fourbar_transmission_extremes,
+    fourth_link_range,
+    grashof,
+    transmission_angles,
+)
+from .measures import Curve, Stroke, curve_measures, stroke, time_ratio
+from .mobility import Mobility, degrees_of_freedom
+from .report import analyze
+
+__all__ = [
+    "KINDS",
+    "Curve",
+    "Grashof",
+    "Mobility",
+    "Stroke",
+    "TransmissionAngle",
+    "analyze",
+    "curve_measures",
+    "degrees_of_freedom",
+    "fourbar_transmission_extremes",
+    "fourth_link_range",
+    "grashof",
+    "link_angles",
+    "stroke",
+    "time_ratio",
+    "transmission_angles",
+    "unwrap_valid",
+]

@@ -1,0 +1,333 @@
+"""Measures of a motion: stroke and time ratio of an output, coupler curves.
+
+The stroke of an output over one turn of its input (:func:`stroke`), the
+time ratio of its working and return strokes (:func:`time_ratio`), and
+measures of a traced curve (:func:`curve_measures`). Angles are radians.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import shapely
+from numpy.typing import ArrayLike
+
+from ..errors import AnalysisError
+
+__all__ = ["Curve", "Stroke", "curve_measures", "stroke", "time_ratio"]
+
+# -- stroke and time ratio ----------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Stroke:
+    """Extremes of an output over one turn of a constant-speed input.
+
+    Attributes
+    ----------
+    minimum, maximum : float
+        The output's extremes (refined between samples).
+    input_at_min, input_at_max : float
+        Where they occur, within the input's first turn.
+    stroke : float
+        ``maximum - minimum``.
+    forward, back : float
+        The input travelled (increasing) from the minimum to the maximum, and
+        from the maximum back to the minimum; they add up to one turn.
+    time_ratio : float
+        ``forward / back``: for a constant input speed, the time of the
+        forward stroke (minimum to maximum) over that of the return.
+    """
+
+    minimum: float
+    maximum: float
+    input_at_min: float
+    input_at_max: float
+    stroke: float
+    forward: float
+    back: float
+    time_ratio: float
+
+    @property
+    def quick_return_ratio(self) -> float:
+        """Return the slower stroke's time over the faster one's (at least 1)."""
+        return max(self.forward, self.back) / min(self.forward, self.back)
+
+
+def _vertex(x, y):
+    """Return the extremum (x, y) of the polynomial through the samples around x[k//2].
+
+    A polynomial of degree len(x) - 1 (a quartic on five samples), so the
+    extremum is found to a high order in the sample spacing.
+    """
+    mid = len(x) // 2
+    x0 = x[mid]
+    h = max(np.max(np.abs(np.diff(x))), np.finfo(float).tiny)
+    poly = np.polynomial.Polynomial.fit((x - x0) / h, y, len(x) - 1, domain=[-1, 1],
+                                        window=[-1, 1])
+    roots = poly.deriv().roots()
+    roots = roots[np.isreal(roots)].real
+    roots = roots[np.abs(roots) <= 1.0]
+    if roots.size == 0:
+        return x0, y[mid]
+    t = roots[np.argmin(np.abs(roots))]
+    return x0 + t * h, float(poly(t))
+
+
+def stroke(output: ArrayLike, input_values: ArrayLike, *, period: float = 2 * np.pi) -> Stroke:
+    """Return the extremes, stroke and time ratio of an output over one input turn.
+
+    Parameters
+    ----------
+    output : array_like, shape (N,)
+        The output at each sample: a point coordinate, a link angle. The
+        extremes are refined between samples by a quartic through the five
+        samples around each.
+    input_values : array_like, shape (N,)
+        The input, increasing over at least one full ``period`` (the last
+        sample may repeat the first one turn later). NaN outputs are left out.
+    period : float
+        One turn of the input.
+
+    Returns
+    -------
+    Stroke
+
+    Examples
+    --------
+    The sine of a crank angle: equal forward and return times.
+
+    >>> t = np.linspace(0, 2 * np.pi, 361)
+    >>> s = stroke(np.sin(t), t)
+    >>> round(s.stroke, 9), round(s.time_ratio, 9)
+    (2.0, 1.0)
+    """
+    y = np.asarray(output, dtype=float)
+    x = np.asarray(input_values, dtype=float)
+    if x.shape != y.shape or x.ndim != 1:
+        raise AnalysisError("output and input must be one-dimensional arrays of one length")
+    if np.any(np.diff(x) <= 0):
+        raise AnalysisError("the input must increase from sample to sample")
+    keep = x < x[0] + period - 1e-12 * period
+    span = x[-1] - x[0]
+    step = np.max(np.diff(x)) if len(x) > 1 else np.inf
+    if span < period - 1.5 * step:
+        raise AnalysisError(f"the input covers {span:g}, less than one turn ({period:g})")
+    x, y = x[keep], y[keep]
+    ok = np.isfinite(y)
+    if ok.sum() < 3:
+        raise AnalysisError("fewer than three finite output values")
+    n = len(x)
+
+    def extreme(index):
+        around = np.arange(index - 2, index + 3)
+        wrapped = around % n
+        if not ok[wrapped].all():
+            return x[index], y[index]
+        return _vertex(x[wrapped] + period * np.floor_divide(around, n), y[wrapped])
+
+    x_min, y_min = extreme(int(np.nanargmin(y)))
+    x_max, y_max = extreme(int(np.nanargmax(y)))
+    forward = float((x_max - x_min) % period)
+    back = period - forward
+    return Stroke(float(y_min), float(y_max), float(x_min), float(x_max),
+                  float(y_max - y_min), forward, float(back), forward / back)
+
+
+def time_ratio(output: ArrayLike, input_values: ArrayLike, *, period: float = 2 * np.pi) -> float:
+    """Return the forward over return time of an output over one input turn.
+
+    The forward stroke runs from the output's minimum to its maximum; see
+    :func:`stroke`.
+
+    Examples
+    --------
+    >>> t = np.linspace(0, 2 * np.pi, 721)
+    >>> round(time_ratio(np.sin(t) + 0.2 * np.sin(2 * t), t), 4)
+    0.6577
+    """
+    return stroke(output, input_values, period=period).time_ratio
+
+
+# -- curve measures -----------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Curve:
+    """Measures of a traced curve (see :func:`curve_measures`).
+
+    Attributes
+    ----------
+    length : float
+        Total length of the polyline.
+    closed : bool
+        Whether it ends where it starts (within the tolerance).
+    signed_area : float
+        For a closed curve, the shoelace area: positive counter-clockwise;
+        lobes traced in opposite senses cancel. NaN for an open curve.
+    area : float
+        For a closed curve, the area of the regions it encloses, each region
+        once (a figure-eight: both lobes). NaN for an open curve.
+    bounds : (float, float, float, float)
+        ``(xmin, ymin, xmax, ymax)``.
+    double_points : ndarray, shape (K, 2)
+        Where the curve crosses or touches itself.
+    """
+
+    length: float
+    closed: bool
+    signed_area: float
+    area: float
+    bounds: tuple[float, float, float, float]
+    double_points: np.ndarray = field(repr=False)
+
+    @property
+    def simple(self) -> bool:
+        """Return whether the curve has no double point."""
+        return len(self.double_points) == 0
+
+
+def _runs(points):
+    ok = np.all(np.isfinite(points), axis=1)
+    runs, start = [], None
+    for i, good in enumerate(ok):
+        if good and start is None:
+            start = i
+        if not good and start is not None:
+            runs.append(points[start:i])
+            start = None
+    if start is not None:
+        runs.append(points[start:])
+    return runs
+
+
+def curve_measures(points: ArrayLike, *, tol: float | None = None) -> Curve:
+    """Measure a curve given as a polyline: length, area, bounds, double points.
+
+    Parameters
+    ----------
+    points : array_like, shape (N, 2)
+        The curve's points in order, for example a coupler trace. Rows with
+        NaN (invalid samples) split it into pieces; a split curve is open.
+    tol : float, optional
+        Distance below which the ends count as one point (a closed curve);
+        by default ``1e-8`` times the diagonal of the bounding box.
+
+    Returns
+    -------
+    Curve
+
+    Examples
+    --------
+    A square, and a figure-eight with its double point at the origin:
+
+    >>> square = [(0, 0), (2, 0), (2, 2), (0, 2), (0, 0)]
+    >>> m = curve_measures(square)
+    >>> m.length, m.signed_area, m.closed, m.simple
+    (8.0, 4.0, True, True)
+    >>> t = np.linspace(0, 2 * np.pi, 201)
+    >>> eight = np.c_[np.sin(t), np.sin(t) * np.cos(t)]
+    >>> m = curve_measures(eight)
+    >>> np.round(m.double_points, 9) + 0.0, round(m.signed_area, 9) + 0.0
+    (array([[0., 0.]]), 0.0)
+    """
+    xy = np.asarray(points, dtype=float)
+    if xy.ndim != 2 or xy.shape[1] != 2:
+        raise AnalysisError(f"points must have shape (N, 2), got {xy.shape}")
+    runs = [r for r in _runs(xy) if len(r) >= 2]
+    if not runs:
+        raise AnalysisError("a curve needs at least two finite points in a row")
+    everything = np.concatenate(runs)
+    lo, hi = everything.min(axis=0), everything.max(axis=0)
+    bounds = (float(lo[0]), float(lo[1]), float(hi[0]), float(hi[1]))
+    # measured on the curve brought to about unit size by a power of two, which is
+    # exact: lengths and areas of a tiny or huge curve would underflow or overflow
+    size = float(np.max(np.abs(everything)))
+    unit = 2.0 ** -math.frexp(size)[1] if 0 < size < np.inf else 1.0
+    runs = [r * unit for r in runs]
+    if tol is None:
+        tol = 1e-8 * float(np.hypot(*(hi - lo))) * unit
+    else:
+        tol = tol * unit
+    closed = len(runs) == 1 and len(runs[0]) >= 4 and \
+        float(np.hypot(*(runs[0][-1] - runs[0][0]))) <= tol
+    if closed:
+        runs[0] = runs[0].copy()
+        runs[0][-1] = runs[0][0]
+    lines = [shapely.LineString(r) for r in runs]
+    length = float(sum(line.length for line in lines))
+    signed = area = np.nan
+    if closed:
+        ring = runs[0]
+        x, y = ring[:, 0], ring[:, 1]
+        signed = 0.5 * float(np.sum(x[:-1] * y[1:] - x[1:] * y[:-1]))
+    noded = shapely.unary_union(shapely.MultiLineString(lines))
+    if closed:
+        faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(noded)))
+        area = float(sum(f.area for f in faces))
+    least_angle = min(max(GRAZING_ANGLE, 3 * _turn_per_sample(runs)), np.radians(20))
+    return Curve(length / unit, closed, _unscaled_area(signed, unit),
+                 _unscaled_area(area, unit), bounds, _double_points(noded, least_angle) / unit)
+
+
+def _unscaled_area(area: float, unit: float) -> float:
+    """Return an area measured at ``unit`` times the size, at the true size.
+
+    NaN where that lies beyond the normal range of floats (a curve of size
+    1e-200 encloses some 1e-400): never a rounded zero or a subnormal value.
+    """
+    value = area / unit / unit
+    if area != 0 and not (np.finfo(float).tiny <= abs(value) < np.inf):
+        return np.nan
+    return value
+
+
+GRAZING_ANGLE = np.radians(2.0)
+"""The least angle between pieces meeting at a node that makes a crossing.
+
+Where a path runs back over itself, as a rocker's joint does, two polylines
+of the same arc sampled differently cross each other at angles up to about
+the turn of the path between samples; so the angle used is the larger of
+this and three times the path's median turn per sample."""
+
+
+def _turn_per_sample(runs) -> float:
+    """Return the median angle the polyline turns through from one segment to the next."""
+    turns = []
+    for run in runs:
+        steps = np.diff(run, axis=0)
+        steps = steps[np.hypot(*steps.T) > 0]
+        if len(steps) >= 2:
+            a, b = steps[:-1], steps[1:]
+            turns.append(np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0],
+                                           np.einsum("ij,ij->i", a, b))))
+    return float(np.median(np.concatenate(turns))) if turns else 0.0
+
+
+def _double_points(noded, least_angle=GRAZING_ANGLE) -> np.ndarray:
+    """Nodes where three or more pieces of the noded curve end, crossing each other.
+
+    A crossing ends four pieces; an end of an open curve ends one, the
+    joined ends of a closed curve two. Nodes where every piece runs along the
+    same line (a path retraced) are not crossings.
+    """
+    directions: dict[tuple[float, float], list] = {}
+    for part in shapely.get_parts(noded):
+        coords = shapely.get_coordinates(part)
+        if len(coords) < 2:  # a path that never moves has no pieces to cross
+            continue
+        for end, toward in ((coords[0], coords[1]), (coords[-1], coords[-2])):
+            key = (float(end[0]), float(end[1]))
+            step = toward - end
+            directions.setdefault(key, []).append(step / max(np.hypot(*step), 1e-300))
+    found = []
+    for key, units in directions.items():
+        if len(units) < 3:
+            continue
+        u = np.array(units)
+        sines = np.abs(u[:, None, 0] * u[None, :, 1] - u[:, None, 1] * u[None, :, 0])
+        if sines.max() > np.sin(least_angle):
+            found.append(key)
+    return np.array(sorted(found), dtype=float).reshape(-1, 2)

@@ -1,0 +1,491 @@
+"""Node kinds: how each point of a construction is found, declared once.
+
+Every kind of point is one class here. The class says everything geokin
+needs to know about the kind, and nothing about it is repeated elsewhere:
+
+- its fields (the dataclass fields) and its script keys (:attr:`Node.keys`),
+  from which the builder (:meth:`~geokin.construction.Construction.add`),
+  the script reader and the script writer are made;
+- which of its values are angles (``Key.angle``);
+- its roots and their branch names (:attr:`Node.branch_names`; none for a
+  node with one root);
+- whether it can be ground (:attr:`Node.ground_kind`);
+- how its roots are computed (:meth:`Node.candidates`), and why a chosen
+  root may not exist (:func:`failure_reasons`).
+
+The engine evaluates nodes through :meth:`Node.candidates` only; it never
+asks which kind a node is.
+
+Examples
+--------
+>>> CircleCircle.branch_names
+('left', 'right')
+>>> [key.name for key in Polar.keys]
+['origin', 'distance', 'angle', 'reference']
+>>> sorted(NODE_KINDS)[:3]
+['along', 'circle_circle', 'fixed']
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import ClassVar, TypeAlias
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from . import primitives as prim
+from .expressions import Expr
+
+__all__ = [
+    "BRANCHES",
+    "HOLDS",
+    "NODE_KINDS",
+    "REASONS",
+    "Along",
+    "Candidates",
+    "CircleCircle",
+    "Fixed",
+    "Key",
+    "LineCircle",
+    "LineLine",
+    "Node",
+    "Polar",
+    "RayCircle",
+    "SegmentCircle",
+    "failure_reasons",
+]
+
+# Why a sample could not be assembled at a node; codes stored per sample.
+REASONS = (
+    "",
+    "no intersection: the curves do not meet",
+    "degenerate input: coincident centres, zero-length line or parallel lines",
+    "the chosen root lies off the ray or segment",
+    "a value is not finite, or a radius is negative",
+)
+NO_INTERSECTION, DEGENERATE, OFF_LINE, NOT_FINITE = 1, 2, 3, 4
+
+HOLDS = ("point", "point pair", "value", "value pair", "branch", "sketch")
+"""What a script key may hold: a point name, two point names, a value
+(number or arithmetic), two values, a branch name, or a sketch position
+``[x, y]`` (plain numbers)."""
+
+
+@dataclass(frozen=True)
+class Key:
+    """One key of a node kind, as scripts and the builder take it.
+
+    Attributes
+    ----------
+    name : str
+        The key in scripts, and the keyword of
+        :meth:`~geokin.construction.Construction.add`.
+    holds : str
+        One of :data:`HOLDS`.
+    attributes : tuple of str
+        The node fields it fills: by default the one named like the key;
+        two for a pair spread over two fields (a fixed point's ``at`` fills
+        ``x`` and ``y``).
+    required : bool
+    angle : bool
+        Whether its values are angles (radians inside, degrees in scripts).
+    """
+
+    name: str
+    holds: str
+    attributes: tuple[str, ...] = ()
+    required: bool = True
+    angle: bool = False
+
+    def __post_init__(self) -> None:
+        if self.holds not in HOLDS:
+            raise ValueError(f"unknown holds {self.holds!r}")
+        if not self.attributes:
+            object.__setattr__(self, "attributes", (self.name,))
+
+    def fields(self) -> tuple[str, ...]:
+        """Return the field names this key's errors and values are known by.
+
+        One per value: ``("x", "y")`` for ``at``, ``("radii[0]", "radii[1]")``
+        for ``radii``, ``("distance",)`` for ``distance``.
+        """
+        if len(self.attributes) > 1:
+            return self.attributes
+        if self.holds in ("point pair", "value pair", "sketch"):
+            return (f"{self.name}[0]", f"{self.name}[1]")
+        return self.attributes
+
+
+Coords: TypeAlias = Mapping[str, tuple[np.ndarray, np.ndarray]]
+"""The x and y arrays of the points already found, by name."""
+Values: TypeAlias = Mapping[str, np.ndarray | float]
+"""A node's evaluated value fields, angles in radians."""
+
+
+@dataclass(frozen=True, slots=True)
+class Candidates:
+    """What a node computes for every sample, before a branch is chosen.
+
+    Attributes
+    ----------
+    x, y : tuple of ndarray
+        One entry per root (one for a single-root node, two for a two-root
+        node), each broadcastable to the N samples; NaN where the root does
+        not exist.
+    margin : ndarray or None
+        Distance from tangency of a two-root node (positive: two roots,
+        zero: tangent, negative: none), smooth in the inputs.
+    on_line : tuple of ndarray or None
+        For a ray or a segment: whether each root lies on it (with the
+        tolerance of :data:`~geokin.primitives.PARAMETER_RTOL`).
+    t : tuple of ndarray or None
+        For a ray or a segment: each root's parameter along it, which lies
+        within the node's ``low``..``high`` exactly on it.
+    """
+
+    x: tuple
+    y: tuple
+    margin: np.ndarray | None = None
+    on_line: tuple | None = None
+    t: tuple | None = None
+
+
+def failure_reasons(cand: Candidates, values: Mapping[str, ArrayLike],
+                    root: int | np.ndarray) -> np.ndarray:
+    """Say why the chosen roots do not exist, as codes into ``REASONS``.
+
+    Parameters
+    ----------
+    cand : Candidates
+        The node's candidates at the failing samples only.
+    values : mapping
+        The node's values at those samples.
+    root : int or ndarray
+        The chosen root at each of those samples.
+    """
+    shape = np.shape(cand.x[0] if np.ndim(root) == 0 else root)
+    finite = np.ones(shape, dtype=bool)
+    for field_name, value in values.items():
+        finite &= np.isfinite(value)
+        if "radius" in field_name or "radii" in field_name:
+            with np.errstate(invalid="ignore"):
+                finite &= ~(np.asarray(value) < 0)
+    reason = np.full(shape, DEGENERATE, dtype=np.int8)
+    if cand.margin is not None:
+        with np.errstate(invalid="ignore"):
+            reason[np.broadcast_to(cand.margin < 0, shape)] = NO_INTERSECTION
+        if cand.on_line is not None:
+            exists = np.broadcast_to(np.isfinite(cand.margin) & (cand.margin >= 0), shape)
+            on_line = np.where(root, cand.on_line[1], cand.on_line[0])
+            reason[exists & ~np.broadcast_to(on_line, shape)] = OFF_LINE
+    reason[~finite] = NOT_FINITE
+    return reason
+
+
+@dataclass(frozen=True)
+class Node:
+    """A point of a construction. Subclasses say how it is found.
+
+    Class attributes
+    ----------------
+    kind : str
+        The kind's name, the ``op`` of scripts.
+    keys : tuple of Key
+        Its script keys, in the order a script is written.
+    branch_names : tuple of str
+        The names of its roots in the primitive's order; empty for a node
+        with one root.
+    ground_kind : bool
+        Whether a point of this kind is ground when none of its values
+        uses an input (see :meth:`is_ground`).
+    low, high : float
+        Where along its line a root counts, as the line's parameter:
+        ``low <= t <= high``.
+    """
+
+    name: str
+    kind: ClassVar[str] = ""
+    keys: ClassVar[tuple[Key, ...]] = ()
+    branch_names: ClassVar[tuple[str, ...]] = ()
+    ground_kind: ClassVar[bool] = False
+    low: ClassVar[float] = -np.inf
+    high: ClassVar[float] = np.inf
+
+    @property
+    def roots(self) -> int:
+        """Return the number of roots: 1, or 2 for a node with branches."""
+        return len(self.branch_names) or 1
+
+    def point_fields(self) -> dict[str, tuple[str, ...]]:
+        """Return the points this node is built on, by field."""
+        fields = {}
+        for key in self.keys:
+            if key.holds in ("point", "point pair"):
+                value = getattr(self, key.attributes[0])
+                if value is not None:
+                    fields[key.name] = (value,) if key.holds == "point" else tuple(value)
+        return fields
+
+    def value_fields(self) -> dict[str, Expr]:
+        """Return the values (numbers, names, arithmetic) by field."""
+        fields: dict[str, Expr] = {}
+        for key in self.keys:
+            if key.holds in ("value", "value pair"):
+                values = [getattr(self, a) for a in key.attributes]
+                if key.holds == "value pair" and len(values) == 1:
+                    values = list(values[0])
+                fields.update(zip(key.fields(), values, strict=True))
+        return fields
+
+    def angle_fields(self) -> frozenset[str]:
+        """Return the value fields that are angles."""
+        return frozenset(f for key in self.keys if key.angle for f in key.fields())
+
+    def depends_on(self) -> tuple[str, ...]:
+        """Return every point this node is built on, in order, without repeats."""
+        seen: dict[str, None] = {}
+        for names in self.point_fields().values():
+            seen.update(dict.fromkeys(names))
+        return tuple(seen)
+
+    def is_ground(self, inputs: frozenset[str] | set[str]) -> bool:
+        """Whether the point never moves: a ground kind whose values use none of ``inputs``.
+
+        Examples
+        --------
+        >>> from geokin.expressions import as_expr
+        >>> Fixed("A", as_expr(0), as_expr("s")).is_ground({"s"})
+        False
+        >>> Fixed("A", as_expr(0), as_expr(1)).is_ground({"s"})
+        True
+        """
+        return self.ground_kind and not any(
+            expr.names() & inputs for expr in self.value_fields().values())
+
+    def choice(self) -> str | None:
+        """Return how the initial branch is chosen, as text (None for one root)."""
+        return None
+
+    def describe(self) -> str:
+        """Return the node's right-hand side, as a step list shows it."""
+        raise NotImplementedError
+
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
+        """Compute every root for all samples.
+
+        Parameters
+        ----------
+        coords : mapping of str to (x, y)
+            Coordinate arrays of the points already known.
+        values : mapping of str to ndarray or float
+            The evaluated value fields, angles in radians.
+        """
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class Fixed(Node):
+    """A fixed point (a ground pivot) at ``(x, y)``.
+
+    A coordinate that uses an input makes a point driven along a line (a
+    slider moved directly); such a point is not ground.
+    """
+
+    x: Expr
+    y: Expr
+    kind: ClassVar[str] = "fixed"
+    keys: ClassVar[tuple[Key, ...]] = (Key("at", "value pair", ("x", "y")),)
+    ground_kind: ClassVar[bool] = True
+
+    def describe(self) -> str:
+        return f"fixed({self.x}, {self.y})"
+
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
+        return Candidates((values["x"],), (values["y"],))
+
+
+@dataclass(frozen=True)
+class Polar(Node):
+    """The point at ``distance`` from ``origin`` at ``angle``.
+
+    The angle is absolute (counter-clockwise from the x axis), or, with
+    ``reference=(P, Q)``, measured from the direction of the line P -> Q.
+    """
+
+    origin: str
+    distance: Expr
+    angle: Expr
+    reference: tuple[str, str] | None = None
+    kind: ClassVar[str] = "polar"
+    keys: ClassVar[tuple[Key, ...]] = (
+        Key("origin", "point"), Key("distance", "value"), Key("angle", "value", angle=True),
+        Key("reference", "point pair", required=False))
+
+    def describe(self) -> str:
+        ref = "" if self.reference is None else f" from {self.reference[0]}->{self.reference[1]}"
+        return f"polar({self.origin}, {self.distance}, {self.angle}{ref})"
+
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
+        ox, oy = coords[self.origin]
+        distance, angle = values["distance"], values["angle"]
+        if self.reference is None:
+            x = ox + distance * np.cos(angle)
+            y = oy + distance * np.sin(angle)
+        else:
+            (x1, y1), (x2, y2) = coords[self.reference[0]], coords[self.reference[1]]
+            x, y = prim.relative_point_xy(ox, oy, x1, y1, x2, y2, distance, angle)
+        return Candidates((x,), (y,))
+
+
+@dataclass(frozen=True)
+class Along(Node):
+    """The point at a signed ``distance`` from ``line[0]`` towards ``line[1]``."""
+
+    line: tuple[str, str]
+    distance: Expr
+    kind: ClassVar[str] = "along"
+    keys: ClassVar[tuple[Key, ...]] = (Key("line", "point pair"), Key("distance", "value"))
+
+    def describe(self) -> str:
+        return f"along({self.line[0]}->{self.line[1]}, {self.distance})"
+
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
+        (x1, y1), (x2, y2) = coords[self.line[0]], coords[self.line[1]]
+        x, y = prim.relative_point_xy(x1, y1, x1, y1, x2, y2, values["distance"], 0.0)
+        return Candidates((x,), (y,))
+
+
+@dataclass(frozen=True)
+class LineLine(Node):
+    """The intersection of the lines ``first[0]-first[1]`` and ``second[0]-second[1]``."""
+
+    first: tuple[str, str]
+    second: tuple[str, str]
+    kind: ClassVar[str] = "line_line"
+    keys: ClassVar[tuple[Key, ...]] = (Key("first", "point pair"), Key("second", "point pair"))
+
+    def describe(self) -> str:
+        return f"line_line({self.first[0]}-{self.first[1]}; {self.second[0]}-{self.second[1]})"
+
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
+        args = [c for name in (*self.first, *self.second) for c in coords[name]]
+        x, y, _, _, _ = prim.line_line_xy(*args)
+        return Candidates((x,), (y,))
+
+
+_CHOICE = (Key("branch", "branch", required=False), Key("near", "sketch", required=False))
+
+
+@dataclass(frozen=True)
+class _TwoRoot(Node):
+    """A node with two candidate roots, chosen by ``branch`` or ``near``."""
+
+    branch: str | None = None
+    near: tuple[float, float] | None = None
+
+    def choice(self) -> str | None:
+        """Return how the initial branch is chosen, as text (None if neither is given)."""
+        if self.near is not None:
+            return f"near ({self.near[0]:g}, {self.near[1]:g})"
+        return self.branch
+
+
+@dataclass(frozen=True)
+class CircleCircle(_TwoRoot):
+    """An intersection of two circles: centres ``centers``, radii ``radii``.
+
+    Branch ``left`` is left of the directed line from the first centre to the
+    second, ``right`` right of it.
+    """
+
+    # after the optional branch and near: given by keyword
+    centers: tuple[str, str] = field(kw_only=True)
+    radii: tuple[Expr, Expr] = field(kw_only=True)
+    kind: ClassVar[str] = "circle_circle"
+    keys: ClassVar[tuple[Key, ...]] = (Key("centers", "point pair"), Key("radii", "value pair"),
+                                       *_CHOICE)
+    branch_names: ClassVar[tuple[str, ...]] = ("left", "right")
+
+    def describe(self) -> str:
+        (a, b), (ra, rb) = self.centers, self.radii
+        return f"circle_circle({a}, {ra}; {b}, {rb})  [{self.choice()}]"
+
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
+        (x1, y1), (x2, y2) = coords[self.centers[0]], coords[self.centers[1]]
+        r1, r2 = values["radii[0]"], values["radii[1]"]
+        xl, yl, xr, yr, margin = prim.circle_circle_xy(x1, y1, r1, x2, y2, r2)
+        return Candidates((xl, xr), (yl, yr), margin)
+
+
+@dataclass(frozen=True)
+class _LineCircle(_TwoRoot):
+    """An intersection of the line ``line[0] -> line[1]`` with a circle.
+
+    Branch ``first`` comes first along the line's direction, ``second`` after it.
+    """
+
+    # after the optional branch and near: given by keyword
+    line: tuple[str, str] = field(kw_only=True)
+    center: str = field(kw_only=True)
+    radius: Expr = field(kw_only=True)
+    keys: ClassVar[tuple[Key, ...]] = (Key("line", "point pair"), Key("center", "point"),
+                                       Key("radius", "value"), *_CHOICE)
+    branch_names: ClassVar[tuple[str, ...]] = ("first", "second")
+    joint: ClassVar[str] = "-"
+    """How a step list joins the line's two points."""
+
+    def describe(self) -> str:
+        return (f"{self.kind}({self.line[0]}{self.joint}{self.line[1]}; {self.center}, "
+                f"{self.radius})  [{self.choice()}]")
+
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
+        (x1, y1), (x2, y2) = coords[self.line[0]], coords[self.line[1]]
+        cx, cy = coords[self.center]
+        r = values["radius"]
+        xa, ya, xb, yb, ta, tb, margin = prim.line_circle_xy(x1, y1, x2, y2, cx, cy, r)
+        on_line = None
+        if self.low != -np.inf or self.high != np.inf:
+            # off-line roots keep their positions: branch tracking follows them
+            low, high = self.low - prim.PARAMETER_RTOL, self.high + prim.PARAMETER_RTOL
+            on_line = ((ta >= low) & (ta <= high), (tb >= low) & (tb <= high))
+            return Candidates((xa, xb), (ya, yb), margin, on_line, (ta, tb))
+        return Candidates((xa, xb), (ya, yb), margin)
+
+
+@dataclass(frozen=True)
+class LineCircle(_LineCircle):
+    """An intersection of the whole line through ``line`` with a circle."""
+
+    kind: ClassVar[str] = "line_circle"
+
+
+@dataclass(frozen=True)
+class RayCircle(_LineCircle):
+    """An intersection of the ray from ``line[0]`` through ``line[1]`` with a circle."""
+
+    kind: ClassVar[str] = "ray_circle"
+    joint: ClassVar[str] = "->"
+    low: ClassVar[float] = 0.0
+
+
+@dataclass(frozen=True)
+class SegmentCircle(_LineCircle):
+    """An intersection of the segment ``line[0]..line[1]`` with a circle."""
+
+    kind: ClassVar[str] = "segment_circle"
+    joint: ClassVar[str] = ".."
+    low: ClassVar[float] = 0.0
+    high: ClassVar[float] = 1.0
+
+
+NODE_KINDS: dict[str, type[Node]] = {
+    cls.kind: cls
+    for cls in (Fixed, Polar, Along, LineLine, LineCircle, SegmentCircle, RayCircle, CircleCircle)
+}
+"""Every point node kind by its name in scripts, in the order the docs list them."""
+
+BRANCHES: dict[str, tuple[str, ...]] = {
+    kind: cls.branch_names for kind, cls in NODE_KINDS.items() if cls.branch_names}
+"""Branch names of each two-root node kind, in the primitives' root order."""

@@ -1,0 +1,237 @@
+"""The results of a sweep: immutable, with public fields only.
+
+:class:`Sweep` is what every layer above the engine reads: kinematics,
+limits, analysis, export and drawing. It holds arrays over the N samples of
+a sweep; nothing in it changes once the engine has made it.
+"""
+
+from __future__ import annotations
+
+import unicodedata
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .construction import Compiled
+from .errors import did_you_mean
+from .nodes import REASONS
+
+__all__ = ["BranchEvent", "PointTable", "Sweep", "read_only"]
+
+
+def read_only(array: np.ndarray) -> np.ndarray:
+    """Return ``array`` marked read-only (a view where it is not already so).
+
+    Examples
+    --------
+    >>> a = read_only(np.zeros(2))
+    >>> a.flags.writeable
+    False
+    """
+    if array.flags.writeable:
+        array = array.view()
+        array.flags.writeable = False
+    return array
+
+
+@dataclass(frozen=True)
+class BranchEvent:
+    """A change of branch of one node between samples ``index - 1`` and ``index``."""
+
+    node: str
+    index: int
+    before: str
+    after: str
+    fraction: float = 0.0
+    """Where the roots meet, as a fraction of the step from sample ``index - 1``
+    to ``index``: 0 at sample ``index - 1`` itself."""
+
+    def __str__(self) -> str:
+        if self.fraction > 0:
+            where = f"between samples {self.index - 1} and {self.index}"
+        else:
+            where = f"at sample {self.index - 1}"
+        return (f"node {self.node!r} changes branch from {self.before} to {self.after} "
+                f"at sample {self.index} (the two roots meet {where})")
+
+
+@dataclass(frozen=True, eq=False)
+class Sweep:
+    """The motion of a construction over a sweep of its inputs.
+
+    Made by :func:`geokin.sweep` (and by :func:`geokin.circuit`); every field
+    is public and none changes after it is made (the arrays are read-only).
+
+    Attributes
+    ----------
+    construction : Compiled
+        What was evaluated.
+    inputs : mapping of str to ndarray, shape (N,)
+        Input values, radians for angles.
+    points : mapping of str to ndarray, shape (N, 2)
+        Position of every point; NaN at samples that cannot be assembled.
+    valid : ndarray of bool, shape (N,)
+        Whether each sample can be assembled.
+    failed_step : ndarray of int, shape (N,)
+        The 1-based index of the step that failed first at each sample, 0 where valid.
+    reason_code : ndarray of int8, shape (N,)
+        Why it failed (see :attr:`failure_reason`).
+    branches : mapping of str to ndarray of int8, shape (N,)
+        For every two-root node, 0 or 1 at every sample: the index of its
+        root in the primitive's order (``left``/``right``,
+        ``first``/``second``). A node that keeps one branch throughout has
+        a broadcast array (stride 0).
+    events : tuple of BranchEvent
+        Every branch change along the sweep, in order.
+    margins : mapping of str to ndarray, shape (N,)
+        For every two-root node, its distance from tangency (positive: two
+        roots, zero: tangent, negative: none), relative to its scale.
+    line_parameters : mapping of str to ndarray, shape (N,)
+        For every ray or segment node, its chosen root's parameter ``t``
+        along the line: the root is ``line[0] + t * (line[1] - line[0])``,
+        on the ray for ``t >= 0`` and on the segment for ``0 <= t <= 1``.
+    """
+
+    construction: Compiled
+    inputs: Mapping[str, np.ndarray]
+    points: Mapping[str, np.ndarray]
+    valid: np.ndarray
+    failed_step: np.ndarray
+    reason_code: np.ndarray
+    branches: Mapping[str, np.ndarray]
+    events: tuple[BranchEvent, ...]
+    margins: Mapping[str, np.ndarray]
+    line_parameters: Mapping[str, np.ndarray] = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return len(self.valid)
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        """Return the (N, 2) positions of a point."""
+        return self.points[name]
+
+    def __repr__(self) -> str:
+        return (f"<Sweep of {self.construction.name!r}: {len(self)} samples, "
+                f"{int(self.valid.sum())} valid, {len(self.events)} branch changes>")
+
+    @property
+    def input_values(self) -> np.ndarray:
+        """Return the values of the construction's first input (radians for an angle)."""
+        if not self.inputs:
+            raise AttributeError(f"construction {self.construction.name!r} has no input")
+        return next(iter(self.inputs.values()))
+
+    @property
+    def failed_node(self) -> np.ndarray:
+        """Return the name of the node that failed at each sample ('' where valid)."""
+        names = np.array(["", *self.construction.point_names], dtype=object)
+        return names[self.failed_step]
+
+    @property
+    def failure_reason(self) -> np.ndarray:
+        """Return why each sample failed, as text ('' where valid)."""
+        return np.array(REASONS, dtype=object)[self.reason_code]
+
+    def event_inputs(self, event: BranchEvent) -> dict[str, float]:
+        """Return the input values where the roots of a branch change meet.
+
+        They lie on the straight path from sample ``event.index - 1`` to
+        ``event.index``, at ``event.fraction`` of it.
+
+        Examples
+        --------
+        A parallelogram (ground 10, crank 4, coupler 10, rocker 4) passes its
+        change point at 180 degrees, three tenths of the way along a step:
+
+        >>> from geokin import Construction, sweep
+        >>> c = Construction()
+        >>> c.input("theta")
+        >>> c.fixed("O2", 0, 0)
+        >>> c.fixed("O4", 10, 0)
+        >>> c.polar("A", "O2", 4, "theta")
+        >>> c.circle_circle("B", ("A", "O4"), (10, 4), branch="left")
+        >>> s = sweep(c, np.radians([177.0, 187.0]))
+        >>> round(float(np.degrees(s.event_inputs(s.events[0])["theta"])), 4)
+        180.0
+        """
+        before, after = event.index - 1, event.index
+        return {name: float(values[before] + event.fraction * (values[after] - values[before]))
+                for name, values in self.inputs.items()}
+
+    def named_branches(self, node: str) -> np.ndarray:
+        """Return the branch of a two-root node at each sample, by name.
+
+        Examples
+        --------
+        >>> from geokin import Construction, sweep
+        >>> c = Construction()
+        >>> c.input("theta")
+        >>> c.fixed("O2", 0, 0)
+        >>> c.fixed("O4", 10, 0)
+        >>> c.polar("A", "O2", 4, "theta")
+        >>> c.circle_circle("B", ("A", "O4"), (10, 4), branch="left")
+        >>> sweep(c, np.radians([170.0, 190.0])).named_branches("B").tolist()
+        ['left', 'right']
+        """
+        step = self.construction.step_named(node)
+        if not step.node.branch_names:
+            raise KeyError(f"point {node!r} is a {step.node.kind} node: it has one root")
+        return np.array(step.node.branch_names, dtype=object)[self.branches[node]]
+
+    def explain(self, index: int) -> str:
+        """Say in words whether sample ``index`` is assembled, and if not why.
+
+        Examples
+        --------
+        >>> from geokin import Construction, sweep
+        >>> c = Construction("reach")
+        >>> c.input("r", kind="length", range=(1, 3), samples=3)
+        >>> c.fixed("O", 0, 0)
+        >>> c.fixed("Q", 4, 0)
+        >>> c.circle_circle("P", ("O", "Q"), ("r", 1), branch="left")
+        >>> s = sweep(c)
+        >>> s.explain(0)
+        "sample 0 (r = 1): node 'P' cannot be assembled: no intersection: the curves do not meet"
+        >>> s.explain(2)
+        'sample 2 (r = 3): assembled'
+        """
+        values = ", ".join(f"{k} = {v[index]:g}" for k, v in self.inputs.items())
+        if self.valid[index]:
+            return f"sample {index} ({values}): assembled"
+        return (f"sample {index} ({values}): node {self.failed_node[index]!r} cannot be "
+                f"assembled: {self.failure_reason[index]}")
+
+
+class PointTable(Mapping):
+    """Point positions as (N, 2) arrays, stacked from coordinates when first read."""
+
+    def __init__(self, coords, valid):
+        self._coords = coords
+        self._valid = valid
+        self._stacked = {}
+
+    def __getitem__(self, name):
+        if isinstance(name, str) and not name.isascii():
+            name = unicodedata.normalize("NFKC", name)  # names are declared in NFKC
+        stacked = self._stacked.get(name)
+        if stacked is None:
+            try:
+                x, y = self._coords[name]
+            except KeyError:
+                raise KeyError(f"no point {name!r}{did_you_mean(name, self._coords)}") from None
+            stacked = np.empty((len(self._valid), 2))
+            stacked[:, 0] = x
+            stacked[:, 1] = y
+            if not self._valid.all():
+                stacked[~self._valid] = np.nan
+            self._stacked[name] = stacked
+        return stacked
+
+    def __iter__(self):
+        return iter(self._coords)
+
+    def __len__(self):
+        return len(self._coords)
+
+
