@@ -19,17 +19,19 @@ from .fourbar import (
     transmission_angles,
 )
 from .measures import Curve, Stroke, curve_measures, stroke, time_ratio
-from .mobility import Mobility, degrees_of_freedom
+from .mobility import Crank, Mobility, cranks, degrees_of_freedom
 from .report import analyze
 
 __all__ = [
     "KINDS",
+    "Crank",
     "Curve",
     "Grashof",
     "Mobility",
     "Stroke",
     "TransmissionAngle",
     "analyze",
+    "cranks",
     "curve_measures",
     "degrees_of_freedom",
     "fourbar_transmission_extremes",

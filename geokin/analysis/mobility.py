@@ -6,8 +6,9 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from ..construction import Compiled, Construction, as_compiled
+from ..nodes import Polar
 
-__all__ = ["Mobility", "degrees_of_freedom"]
+__all__ = ["Crank", "Mobility", "cranks", "degrees_of_freedom"]
 
 # -- degrees of freedom -----------------------------------------------------------
 
@@ -129,3 +130,60 @@ def degrees_of_freedom(construction: Construction | Compiled) -> Mobility:
     moving = len(bodies)
     return Mobility(moving, revolute, prismatic, lower, 0, 3 * moving - 2 * lower,
                     len(compiled.inputs), tuple(bodies), joints, guides)
+
+
+@dataclass(frozen=True)
+class Crank:
+    """A point turned directly by an angle input about another point.
+
+    Attributes
+    ----------
+    origin, tip : str
+        The point it turns about, and the point it places.
+    input_name : str
+        The angle input that turns it.
+    on_link : bool
+        Whether a declared link joins ``origin`` and ``tip`` (True where no
+        link is declared): a helper point of a construction is no crank.
+    grounded : bool
+        Whether ``origin`` is a ground point.
+    """
+
+    origin: str
+    tip: str
+    input_name: str
+    on_link: bool
+    grounded: bool
+
+
+def cranks(construction: Construction | Compiled) -> tuple[Crank, ...]:
+    """Return the cranks of a construction, the likeliest driving crank first.
+
+    A crank is a ``polar`` point without a reference line whose angle uses
+    an angle input. Cranks on a declared link come first, then those on a
+    ground pivot, then declaration order.
+
+    Examples
+    --------
+    >>> from geokin import Construction
+    >>> c = Construction()
+    >>> c.input("theta")
+    >>> c.fixed("O", 0, 0)
+    >>> c.polar("A", "O", 1, "theta")
+    >>> cranks(c)
+    (Crank(origin='O', tip='A', input_name='theta', on_link=True, grounded=True),)
+    """
+    compiled = as_compiled(construction)
+    angles = {name for name, declared in compiled.inputs.items() if declared.kind == "angle"}
+    links = [set(link.points) for link in compiled.links]
+    found = []
+    for step in compiled.steps:
+        node = step.node
+        if not isinstance(node, Polar) or node.reference is not None:
+            continue
+        driven = sorted(node.angle.names() & angles)
+        if driven:
+            on_link = not links or any({node.origin, node.name} <= link for link in links)
+            found.append(Crank(node.origin, node.name, driven[0], on_link,
+                               node.origin in compiled.ground))
+    return tuple(sorted(found, key=lambda c: (not c.on_link, not c.grounded)))
