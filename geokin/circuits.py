@@ -209,7 +209,7 @@ def limits(construction: Construction | Compiled, input_name: str | None = None,
 
     Examples
     --------
-    Seed 000's triple rocker (ground 7, crank 5, coupler 6, follower 5):
+    A triple rocker (ground 7, crank 5, coupler 6, follower 5):
     the crank rocks between -132.1774 and 132.1774 degrees.
 
     >>> import numpy as np

@@ -467,12 +467,10 @@ class Construction:
             raise ConstructionError(f"unknown input kind {show(kind)}; use one of "
                                     f"{', '.join(INPUT_KINDS)}{did_you_mean(kind, INPUT_KINDS)}",
                                     node=name, field="kind")
-        if range is None:
-            if kind == "length":
-                raise ConstructionError("a length input needs a range", node=name,
-                                        field="range")
-            range = (0.0, 2 * np.pi)
-        lo_hi = _pair_of_numbers(range, node=name, field="range")
+        if range is None and kind == "length":
+            raise ConstructionError("a length input needs a range", node=name, field="range")
+        lo_hi = _pair_of_numbers((0.0, 2 * np.pi) if range is None else range, node=name,
+                                 field="range")
         if lo_hi[0] == lo_hi[1]:
             raise ConstructionError("the range's two ends are equal: nothing to sweep",
                                     node=name, field="range")

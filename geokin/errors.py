@@ -10,6 +10,8 @@ from __future__ import annotations
 import difflib
 from collections.abc import Iterable
 
+from .terminal import cut_text
+
 
 class GeokinError(Exception):
     """Base class of every error geokin raises on purpose."""
@@ -112,24 +114,23 @@ def quote(text, limit: int = SHOWN_CHARACTERS) -> str:
     r"""Return ``repr(text)`` for a message, cut short if it is long.
 
     Control characters come out escaped, as ``repr`` writes them; a text of
-    more than ``limit`` characters shows its first ``limit`` and its length.
-    Anything that is not a string is shown by :func:`show`.
+    more than ``limit`` characters shows its start and end around an
+    ellipsis (:func:`geokin.terminal.cut_text`) and its length. Anything that
+    is not a string is shown by :func:`show`.
 
     Examples
     --------
     >>> quote("l3")
     "'l3'"
     >>> quote("x" * 10_000_000)
-    "'xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx...' (10,000,000 characters)"
+    "'xxxxxxxxxxxxxxxxxxxxxxxxxx…xxxxxxxxxxxxx' [10,000,000 characters]"
     >>> print(quote("a\x1b]0;title\x07"))
     'a\x1b]0;title\x07'
     """
     if not isinstance(text, str):
         return show(text, limit)
-    if len(text) <= limit:
-        return repr(text)
-    start = repr(text[:limit])
-    return f"{start[:-1]}...{start[-1]} ({len(text):,} characters)"
+    cut = cut_text(text, limit)
+    return repr(text) if cut is text else f"{cut!r} [{len(text):,} characters]"
 
 
 def show(value, limit: int = SHOWN_CHARACTERS) -> str:

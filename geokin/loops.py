@@ -3,12 +3,12 @@
 The classical way to analyse a linkage writes one vector equation per loop
 (the links as vectors adding up to zero), splits it into x and y parts and
 solves them for the unknown angles and lengths. This module does that for
-the four-bar and for the crank and slotted-lever quick-return mechanism of
-seed 001, in closed form and by Newton-Raphson with an analytic Jacobian,
+the four-bar and for the crank and slotted-lever quick-return mechanism,
+in closed form and by Newton-Raphson with an analytic Jacobian,
 continuing from sample to sample. It shares no code with the construction
 engine, so agreement between the two is a real test of both.
 
-Four-bar loop (seed 000), with ground angle ``theta1``::
+Four-bar loop, with ground angle ``theta1``::
 
     r2 e(theta2) + r3 e(theta3) - r4 e(theta4) - r1 e(theta1) = 0
 
@@ -19,7 +19,7 @@ output (``O4 -> B``). *Open* is the circuit where B lies left of the line
 the ground line), *crossed* the other one; in construction terms
 ``circle_circle(A, r3; O4, r4)`` on branch ``left`` or ``right``.
 
-Quick-return loops (seed 001): the slotted lever turns about ``O1`` at the
+Quick-return loops: the slotted lever turns about ``O1`` at the
 origin, the crank ``r2`` about ``O2 = (0, r1)``; the crank pin A slides in
 the lever at distance ``r3`` from ``O1``; the lever drives a slider B on the
 horizontal line ``y = r1 + r6`` at distance ``r4`` from ``O1`` and ``r5``
@@ -186,8 +186,8 @@ def _newton(residual, jacobian, x, u, tol, maxiter):
 # -- four-bar -------------------------------------------------------------------------
 
 
-def fourbar_closed_form(ground: float, input: float, coupler: float, output: float, theta2,
-                        open: bool = True, *, theta1: float = 0.0):
+def fourbar_closed_form(ground: float, input_link: float, coupler: float, output_link: float,
+                        theta2, crossed: bool = False, *, theta1: float = 0.0):
     """Solve the four-bar loop in closed form (the half-angle formula).
 
     The loop gives ``A cos(theta4) + B sin(theta4) + C = 0`` with
@@ -202,12 +202,12 @@ def fourbar_closed_form(ground: float, input: float, coupler: float, output: flo
 
     Parameters
     ----------
-    ground, input, coupler, output : float
+    ground, input_link, coupler, output_link : float
         ``r1``, ``r2``, ``r3``, ``r4``.
     theta2 : float or array_like
         Input angle, radians.
-    open : bool
-        The open circuit (B left of ``A -> O4``) or the crossed one.
+    crossed : bool
+        The crossed circuit, or (by default) the open one (B left of ``A -> O4``).
     theta1 : float
         Angle of the ground line ``O2 -> O4``.
 
@@ -219,16 +219,17 @@ def fourbar_closed_form(ground: float, input: float, coupler: float, output: flo
 
     Examples
     --------
-    Seed 004's crank-rocker at theta2 = 0, open and crossed:
+    A crank-rocker (ground 24, crank 10.55, coupler 25, rocker 14) at
+    theta2 = 0, open and crossed:
 
     >>> t3, t4 = fourbar_closed_form(24, 10.55, 25, 14, 0.0)
     >>> round(float(np.degrees(t3)), 6), round(float(np.degrees(t4)), 6)
     (24.917114, 48.792913)
-    >>> t3, t4 = fourbar_closed_form(24, 10.55, 25, 14, 0.0, open=False)
+    >>> t3, t4 = fourbar_closed_form(24, 10.55, 25, 14, 0.0, crossed=True)
     >>> round(float(np.degrees(t3)), 6), round(float(np.degrees(t4)), 6)
     (-24.917114, -48.792913)
     """
-    r1, r2, r3, r4 = (float(v) for v in (ground, input, coupler, output))
+    r1, r2, r3, r4 = (float(v) for v in (ground, input_link, coupler, output_link))
     t2 = np.asarray(theta2, dtype=float)
     a = 2 * r1 * r4 * np.cos(theta1) - 2 * r2 * r4 * np.cos(t2)
     b = 2 * r1 * r4 * np.sin(theta1) - 2 * r2 * r4 * np.sin(t2)
@@ -243,7 +244,7 @@ def fourbar_closed_form(ground: float, input: float, coupler: float, output: flo
     sign = np.where(b >= 0, 1.0, -1.0)
     q = -b - sign * root
     minus_is_q = sign > 0
-    stable_first = minus_is_q if open else ~minus_is_q
+    stable_first = ~minus_is_q if crossed else minus_is_q
     t4 = np.where(stable_first, 2 * np.arctan2(q, c - a), 2 * np.arctan2(a + c, q))
     x = r1 * np.cos(theta1) + r4 * np.cos(t4) - r2 * np.cos(t2)
     y = r1 * np.sin(theta1) + r4 * np.sin(t4) - r2 * np.sin(t2)
@@ -251,7 +252,8 @@ def fourbar_closed_form(ground: float, input: float, coupler: float, output: flo
     return _wrap(t3), _wrap(t4)
 
 
-def fourbar_loop(ground: float, input: float, coupler: float, output: float, theta2, *,
+def fourbar_loop(ground: float, input_link: float, coupler: float, output_link: float,
+                 theta2, *,
                  guess, theta1: float = 0.0, tol: float = 1e-12, maxiter: int = 50,
                  on_failure: str = "raise") -> LoopSolution:
     """Solve the four-bar loop for ``theta3`` and ``theta4`` by Newton-Raphson.
@@ -263,7 +265,7 @@ def fourbar_loop(ground: float, input: float, coupler: float, output: float, the
 
     Parameters
     ----------
-    ground, input, coupler, output : float
+    ground, input_link, coupler, output_link : float
     theta2 : array_like, shape (N,)
         Input angles in radians, in the order of the motion.
     guess : (float, float)
@@ -285,7 +287,7 @@ def fourbar_loop(ground: float, input: float, coupler: float, output: float, the
     >>> np.round(np.degrees(sol.x[0]), 6)
     array([24.917114, 48.792913])
     """
-    r1, r2, r3, r4 = (float(v) for v in (ground, input, coupler, output))
+    r1, r2, r3, r4 = (float(v) for v in (ground, input_link, coupler, output_link))
     g = (r1 * np.cos(theta1), r1 * np.sin(theta1))
 
     def residual(x, t2):
@@ -308,7 +310,7 @@ def fourbar_loop(ground: float, input: float, coupler: float, output: float, the
 
 
 def quick_return_closed_form(r1: float, r2: float, r6: float, theta2) -> dict[str, np.ndarray]:
-    """Solve seed 001's quick-return loops analytically.
+    """Solve the quick-return loops analytically.
 
     ``r3 = sqrt(r1**2 + r2**2 + 2 r1 r2 sin theta2)``,
     ``theta3 = atan2(r1 + r2 sin theta2, r2 cos theta2)``,
@@ -332,7 +334,8 @@ def quick_return_closed_form(r1: float, r2: float, r6: float, theta2) -> dict[st
 
     Examples
     --------
-    Seed 001 at theta2 = 30 degrees:
+    With r1 = 60, r2 = 40, r6 = 60 (the crank 40 on a pivot 60 above the
+    lever's, the slider's line 60 above that) at theta2 = 30 degrees:
 
     >>> q = quick_return_closed_form(60, 40, 60, np.radians(30))
     >>> [round(float(q[k]), 3) for k in ("r3", "r4", "r5")]
@@ -351,7 +354,7 @@ def quick_return_closed_form(r1: float, r2: float, r6: float, theta2) -> dict[st
 
 def quick_return_loop(r1: float, r2: float, r6: float, theta2, *, guess, tol: float = 1e-12,
                       maxiter: int = 50, on_failure: str = "raise") -> LoopSolution:
-    """Solve seed 001's four loop equations for ``r3, r4, r5, theta3`` by Newton-Raphson.
+    """Solve the four quick-return loop equations for ``r3, r4, r5, theta3`` by Newton-Raphson.
 
     The unknowns are ``x = (r3, r4, r5, theta3)``; the Jacobian of the
     residuals (module docstring) with respect to them is::
@@ -380,7 +383,7 @@ def quick_return_loop(r1: float, r2: float, r6: float, theta2, *, guess, tol: fl
 
     Examples
     --------
-    Seed 001's solution at theta2 = 30 degrees, from a rough guess:
+    The same mechanism at theta2 = 30 degrees, from a rough guess:
 
     >>> sol = quick_return_loop(60, 40, 60, [np.radians(30)], guess=(80, 120, 50, 1.0))
     >>> np.round(sol.x[0, :3], 3), round(float(np.degrees(sol["theta3"][0])), 3)

@@ -95,15 +95,24 @@ def shorten(text: str, limit: int = LONG_TEXT) -> str:
     >>> shorten("a" * 50 + "b" * 50, 30)
     'aaaaaaaaaaaaaaaaaaaa…bbbbbbbbb [100 characters]'
     """
-    cut = _cut(text, limit)
-    return text if cut is None else f"{cut} [{len(text):,} characters]"
+    cut = cut_text(text, limit)
+    return text if cut is text else f"{cut} [{len(text):,} characters]"
 
 
-def _cut(text: str, limit: int) -> str | None:
-    """Return the start and end of ``text`` around an ellipsis, or None if it is short."""
+def cut_text(text: str, limit: int = LONG_TEXT) -> str:
+    """Return ``text`` if it is short, else its start and end around an ellipsis.
+
+    The one rule by which geokin shortens what it shows: :func:`shorten` adds
+    the length, :func:`geokin.errors.quote` quotes the result.
+
+    Examples
+    --------
+    >>> cut_text("a" * 50 + "b" * 50, 30)
+    'aaaaaaaaaaaaaaaaaaaa…bbbbbbbbb'
+    """
     limit = max(int(limit), 10)
     if len(text) <= limit:
-        return None
+        return text
     tail = (limit - 1) // 3
     head = limit - 1 - tail
     return f"{text[:head]}…{text[len(text) - tail:]}"
@@ -136,8 +145,8 @@ def _shorten_run(run: str) -> str:
     before, core, after = match.groups()
     if not core:  # punctuation only
         before, core, after = "", run, ""
-    cut = _cut(core, LONG_TEXT)
-    return run if cut is None else f"{before}{cut}{after} [{len(core):,} characters]"
+    cut = cut_text(core, LONG_TEXT)
+    return run if cut is core else f"{before}{cut}{after} [{len(core):,} characters]"
 
 
 def clip_message(message: str, limit: int = MAX_MESSAGE) -> str:

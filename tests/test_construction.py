@@ -356,7 +356,7 @@ def test_a_scaled_four_bar_moves_as_the_closed_form_says(scale):
     theta = np.linspace(0, 2 * np.pi, 73)
     s = sweep(c, theta)
     assert s.valid.all()
-    t3, t4 = fourbar_closed_form(g, i, cpl, o, theta, open=True)
+    t3, t4 = fourbar_closed_form(g, i, cpl, o, theta)
     b = np.stack([g + o * np.cos(t4), o * np.sin(t4)], axis=-1)
     p = i * np.stack([np.cos(theta), np.sin(theta)], axis=-1) + 0.5 * cpl * np.stack(
         [np.cos(t3 + 0.3), np.sin(t3 + 0.3)], axis=-1)
@@ -474,7 +474,7 @@ def test_a_four_bar_at_any_scale_is_refused_or_right(exponent, theta1):
         return
     assert 1e-290 <= largest <= 1e290
     assert s.valid.all()
-    t3, t4 = fourbar_closed_form(g, i, cpl, o, theta - theta1, open=True)
+    t3, t4 = fourbar_closed_form(g, i, cpl, o, theta - theta1)
     t3, t4 = t3 + theta1, t4 + theta1
     o4 = g * np.array([np.cos(theta1), np.sin(theta1)])
     b = o4 + o * np.stack([np.cos(t4), np.sin(t4)], axis=-1)

@@ -26,7 +26,7 @@ def test_quote_escapes_control_characters():
     (2 ** 1328, "an integer of 400 digits"),  # 1329 bits, yet 400 digits
     (10 ** 400 - 1, "an integer of 400 digits"),
     ([1, 10 ** 5000], "[1, an integer of 5,001 digits]"),
-    ((0, "x" * 100_000), "(0, 'xxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxxx...' (100,000 characters))"),
+    ((0, "x" * 100_000), "(0, 'xxxxxxxxxxxxxxxxxxxxxxxxxx…xxxxxxxxxxxxx' [100,000 characters])"),
     ([[1] * 100], "[a list of 100 items]"),
     (list(range(10 ** 6)), "a list of 1,000,000 items"),
     ((1.5, 2), "(1.5, 2)"),

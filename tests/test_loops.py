@@ -13,42 +13,43 @@ from geokin.loops import (
     quick_return_loop,
 )
 
-SEED_004 = dict(ground=24.0, input=10.55, coupler=25.0, output=14.0)
+SEED_004 = dict(ground=24.0, input_link=10.55, coupler=25.0, output_link=14.0)
 
 
-def fourbar(ground, input, coupler, output, open=True, theta1=0.0):
-    """O2 at the origin, O4 at angle theta1: open is B left of A -> O4."""
+def fourbar(ground, input_link, coupler, output_link, crossed=False, theta1=0.0):
+    """O2 at the origin, O4 at angle theta1: open (not crossed) is B left of A -> O4."""
     c = Construction("four-bar")
     c.input("theta")
     c.fixed("O2", 0, 0)
     c.fixed("O4", ground * np.cos(theta1), ground * np.sin(theta1))
-    c.polar("A", "O2", input, "theta")
-    c.circle_circle("B", ("A", "O4"), (coupler, output), branch="left" if open else "right")
+    c.polar("A", "O2", input_link, "theta")
+    c.circle_circle("B", ("A", "O4"), (coupler, output_link),
+                    branch="right" if crossed else "left")
     return c
 
 
-def positions(ground, input, coupler, output, theta2, theta3, theta4, theta1=0.0):
+def positions(ground, input_link, coupler, output_link, theta2, theta3, theta4, theta1=0.0):
     """Points A and B from the loop's angles, B both from the coupler and the output."""
     e = np.stack
-    a = input * e([np.cos(theta2), np.sin(theta2)], axis=-1)
+    a = input_link * e([np.cos(theta2), np.sin(theta2)], axis=-1)
     o4 = ground * np.array([np.cos(theta1), np.sin(theta1)])
-    b_out = o4 + output * e([np.cos(theta4), np.sin(theta4)], axis=-1)
+    b_out = o4 + output_link * e([np.cos(theta4), np.sin(theta4)], axis=-1)
     b_cpl = a + coupler * e([np.cos(theta3), np.sin(theta3)], axis=-1)
     return a, b_out, b_cpl
 
 
-@pytest.mark.parametrize("open", [True, False])
-def test_engine_agrees_with_closed_form_and_newton_seed_004(open):
+@pytest.mark.parametrize("crossed", [False, True])
+def test_engine_agrees_with_closed_form_and_newton_seed_004(crossed):
     theta = np.linspace(0, 6 * np.pi, 3 * 720 + 1)
-    s = sweep(fourbar(**SEED_004, open=open), theta)
+    s = sweep(fourbar(**SEED_004, crossed=crossed), theta)
     assert s.valid.all()
-    t3, t4 = fourbar_closed_form(**SEED_004, theta2=theta, open=open)
+    t3, t4 = fourbar_closed_form(**SEED_004, theta2=theta, crossed=crossed)
     a, b_out, b_cpl = positions(*SEED_004.values(), theta, t3, t4)
     np.testing.assert_allclose(s["A"], a, atol=1e-9)
     np.testing.assert_allclose(s["B"], b_out, atol=1e-9)
     np.testing.assert_allclose(s["B"], b_cpl, atol=1e-9)
     # Newton from a rough guess on the right side, continued over three turns
-    guess = (0.4, 0.8) if open else (-0.4, -0.8)
+    guess = (-0.4, -0.8) if crossed else (0.4, 0.8)
     sol = fourbar_loop(**SEED_004, theta2=theta, guess=guess)
     assert sol.valid.all() and sol.residual.max() < 1e-11
     _, b_out, b_cpl = positions(*SEED_004.values(), theta, sol["theta3"], sol["theta4"])
@@ -60,7 +61,7 @@ def test_engine_agrees_with_closed_form_and_newton_seed_004(open):
 def test_closed_form_angles_keep_their_quadrant():
     # the coupler angle of the crossed circuit lies beyond 90 degrees: atan would fold it
     theta = np.linspace(-np.pi, np.pi, 721)
-    t3, t4 = fourbar_closed_form(**SEED_004, theta2=theta, open=False)
+    t3, t4 = fourbar_closed_form(**SEED_004, theta2=theta, crossed=True)
     assert np.any(np.abs(t3) > np.pi / 2) or np.any(np.abs(t4) > np.pi / 2)
     a, b_out, b_cpl = positions(*SEED_004.values(), theta, t3, t4)
     np.testing.assert_allclose(b_out, b_cpl, atol=1e-12)
@@ -69,14 +70,14 @@ def test_closed_form_angles_keep_their_quadrant():
 
 def test_triple_rocker_seed_000_within_its_limits():
     # seed 000: r1=7, r2=5, r3=6, r4=5, crank range -132.1774 to 132.1774 degrees
-    lengths = dict(ground=7.0, input=5.0, coupler=6.0, output=5.0)
+    lengths = dict(ground=7.0, input_link=5.0, coupler=6.0, output_link=5.0)
     limit = np.arccos((7**2 + 5**2 - 11**2) / (2 * 7 * 5))
     assert np.degrees(limit) == pytest.approx(132.1774, abs=5e-5)
     theta = np.linspace(-limit, limit, 1001)[1:-1]
-    for open in (True, False):
-        s = sweep(fourbar(**lengths, open=open), theta)
+    for crossed in (False, True):
+        s = sweep(fourbar(**lengths, crossed=crossed), theta)
         assert s.valid.all()
-        t3, t4 = fourbar_closed_form(**lengths, theta2=theta, open=open)
+        t3, t4 = fourbar_closed_form(**lengths, theta2=theta, crossed=crossed)
         _, b_out, _ = positions(*lengths.values(), theta, t3, t4)
         np.testing.assert_allclose(s["B"], b_out, atol=1e-9)
     beyond = fourbar_closed_form(**lengths, theta2=[limit + 0.01, np.pi])
@@ -87,13 +88,13 @@ lengths = st.floats(1.0, 20.0)
 
 
 @given(lengths, lengths, lengths, lengths, st.floats(-np.pi, np.pi), st.booleans())
-def test_closed_form_matches_the_engine(g, i, c, o, theta1, open):
+def test_closed_form_matches_the_engine(g, i, c, o, theta1, crossed):
     """Wherever the engine assembles a four-bar, the closed form gives the same points."""
     assume(grashof(g, i, c, o).kind not in ("immobile", "unassemblable"))
     theta = np.linspace(-np.pi, np.pi, 181)
-    s = sweep(fourbar(g, i, c, o, open, theta1), theta)
+    s = sweep(fourbar(g, i, c, o, crossed, theta1), theta)
     assume(not s.events)  # a change point: the engine may change circuit there
-    t3, t4 = fourbar_closed_form(g, i, c, o, theta, open, theta1=theta1)
+    t3, t4 = fourbar_closed_form(g, i, c, o, theta, crossed, theta1=theta1)
     _, b_out, b_cpl = positions(g, i, c, o, theta, t3, t4, theta1)
     margin = s.margins["B"]
     # away from tangency and from coincident centres (a kite's A on O4), where the
