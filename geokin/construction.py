@@ -40,6 +40,7 @@ import math
 import unicodedata
 from collections.abc import Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
+from types import MappingProxyType
 from typing import ClassVar
 
 import numpy as np
@@ -192,6 +193,18 @@ class Compiled:
     sliders: tuple[Slider, ...] = ()
     traced: tuple[str, ...] = ()
     ground: frozenset[str] = frozenset()
+
+    def __post_init__(self) -> None:
+        # read-only views of its own copies: a compiled construction is shared by
+        # every sweep of it, and must not change under them
+        for name in ("parameters", "inputs"):
+            object.__setattr__(self, name, MappingProxyType(dict(getattr(self, name))))
+
+    def __reduce__(self):
+        # mapping proxies do not pickle: rebuild from plain copies
+        fields = [getattr(self, f.name) for f in dataclasses.fields(self)]
+        fields[2], fields[3] = dict(self.parameters), dict(self.inputs)
+        return (type(self), tuple(fields))
 
     def __len__(self) -> int:
         return len(self.steps)

@@ -225,7 +225,7 @@ class PointTable(Mapping):
             stacked[:, 1] = y
             if not self._valid.all():
                 stacked[~self._valid] = np.nan
-            self._stacked[name] = stacked
+            self._stacked[name] = stacked = read_only(stacked)
         return stacked
 
     def __iter__(self):

@@ -1,3 +1,5 @@
+import dataclasses
+
 import numpy as np
 import pytest
 from mechanisms import FOURBAR_004, SIXBAR, coupler_fourbar, fourbar, sixbar, triple_rocker
@@ -346,3 +348,21 @@ def test_a_point_is_found_by_any_spelling_of_its_name_that_reads_the_same():
     s = sweep(c, [0.0])
     np.testing.assert_array_equal(s["Ａ"], s["A"])
     np.testing.assert_allclose(s["A"][0], [1.0, 0.0])
+
+
+def test_a_sweep_and_its_construction_cannot_be_changed_once_made():
+    c = fourbar()
+    s = sweep(c, np.linspace(0, 1, 5))
+    for array in (s.valid, s.failed_step, s.reason_code, s["B"], s.inputs["theta"],
+                  s.branches["B"], s.margins["B"]):
+        with pytest.raises(ValueError, match="read-only"):
+            array[0] = 0
+    with pytest.raises(dataclasses.FrozenInstanceError):
+        s.events = ()  # type: ignore[misc]
+    compiled = c.compile()
+    with pytest.raises(TypeError):
+        compiled.parameters["crank"] = 1.0  # type: ignore[index]
+    with pytest.raises(TypeError):
+        compiled.inputs["theta"] = compiled.inputs["theta"]  # type: ignore[index]
+    # a second sweep of the same compiled construction sees it as the first did
+    np.testing.assert_array_equal(sweep(c, np.linspace(0, 1, 5))["B"], s["B"])
