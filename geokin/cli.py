@@ -67,7 +67,7 @@ from . import __version__
 from .analysis import analyze, degrees_of_freedom
 from .atomic import replacing
 from .circuits import circuit
-from .construction import MAX_SAMPLES, Construction
+from .construction import MAX_SAMPLES, Construction, whole_steps
 from .engine import evaluate
 from .engine import sweep as run_sweep
 from .errors import GeokinError, did_you_mean
@@ -132,7 +132,7 @@ def _sample(lo, hi, samples=None, step=None, *, label="--range") -> np.ndarray:
         if not (math.isfinite(step) and step != 0):
             raise UsageError(f"--step must be a non-zero number, got {step:g}")
         step = math.copysign(step, hi - lo)  # its size counts: the range gives the direction
-        count = (hi - lo) / step * (1 + 1e-12) + 1e-9  # inf for a step too small to divide by
+        count = whole_steps(lo, hi, step)
         if not count + 1 <= MAX_SAMPLES:
             shown = (f"{math.floor(count) + 1}" if count < 1e15
                      else f"about {count:.1e}" if math.isfinite(count) else "too many")

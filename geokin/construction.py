@@ -62,6 +62,7 @@ from .nodes import NODE_KINDS, Key, Node
 
 __all__ = [
     "MAX_SAMPLES",
+    "whole_steps",
     "as_compiled",
     "Compiled",
     "Construction",
@@ -125,8 +126,7 @@ class Input:
         if samples is not None:
             _check_samples(samples, node=self.name, field="samples")
         if samples is None and self.step is not None:
-            count = int(np.floor((hi - lo) / self.step * (1 + 1e-12) + 1e-9)) + 1
-            return lo + self.step * np.arange(count)
+            return lo + self.step * np.arange(math.floor(whole_steps(lo, hi, self.step)) + 1)
         return np.linspace(lo, hi, samples or self.samples)
 
 
@@ -500,9 +500,9 @@ class Construction:
             if step == 0 or (step > 0) != (width > 0):
                 raise ConstructionError("step must be a non-zero number that goes from "
                                         "range[0] towards range[1]", node=name, field="step")
-            count = abs(width / step) + 1  # inf for a step too small to divide by
-            if not count <= MAX_SAMPLES:
-                raise ConstructionError(f"a step of {step:g} makes {count:.3g} samples over "
+            steps = whole_steps(lo_hi[0], lo_hi[1], step)  # inf for a tiny step
+            if not steps < MAX_SAMPLES:
+                raise ConstructionError(f"a step of {step:g} makes {steps + 1:.3g} samples over "
                                         f"the range, more than the {MAX_SAMPLES:,} a default "
                                         "sweep may have", node=name, field="step")
         if speed is None:
@@ -971,6 +971,24 @@ def _find_cycle(waiting: Mapping[str, set[str]]) -> list[str]:
 
 MAX_SAMPLES = 1_000_000
 """The most samples an input's default sweep may have."""
+
+
+def whole_steps(start: float, stop: float, step: float) -> float:
+    """Return how many steps of ``step`` fit from ``start`` to ``stop``, not rounded down.
+
+    A sampling by steps (like MATLAB's ``start:step:stop``) has
+    ``floor(whole_steps(...)) + 1`` samples, the last not beyond ``stop``;
+    a stop that the steps reach to rounding counts as reached. Infinite for a
+    step too small to divide by.
+
+    Examples
+    --------
+    >>> math.floor(whole_steps(0, 1800, 16))
+    112
+    >>> math.floor(whole_steps(0.0, 0.3, 0.1))  # 0.3 / 0.1 is 2.9999999999999996
+    3
+    """
+    return (stop - start) / step * (1 + 1e-12) + 1e-9
 
 
 def _number(value, *, node, field) -> float:
