@@ -206,6 +206,27 @@ def _candidates(step: _PlannedStep, coords, values, origin):
     return cand
 
 
+BLOCK_SAMPLES = 2**14
+"""How many samples an evaluation that tracks no branch takes at a time (the
+finite differences of kinematics, the bisections of limits): its temporary
+arrays then stay in the processor's cache and are reused, and memory beyond
+the results does not grow with the number of samples."""
+
+
+@dataclass
+class _Evaluated:
+    """What evaluating every step gives, before it is made a Sweep."""
+
+    coords: dict[str, tuple[np.ndarray, np.ndarray]]
+    labels: dict[str, np.ndarray | int]
+    margins: dict[str, np.ndarray]
+    parameters: dict[str, np.ndarray]
+    events: list[BranchEvent]
+    valid: np.ndarray
+    failed_step: np.ndarray
+    reason_code: np.ndarray
+
+
 def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndarray], n: int,
              held: Mapping[str, np.ndarray | int] | None = None, *, track: bool = True,
              start: Mapping[str, int] | None = None,
@@ -225,6 +246,8 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
     track : bool
         Whether the samples form a path along which branches are tracked
         (rules 2 to 4); turned off when evaluating at isolated perturbed inputs.
+        Without tracking, samples are evaluated :data:`BLOCK_SAMPLES` at a time
+        where no node's branch depends on all of them (a ``near`` choice).
     start : mapping of str to int, optional
         The branch (0 or 1) some nodes start on, instead of their declared choice.
     origin : (float, float), optional
@@ -239,10 +262,41 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
     """
     compiled = as_compiled(construction)
     plan = _plan(compiled)
+    chosen = {**(start or {}), **(held or {})}
+    if (not track and n > BLOCK_SAMPLES
+            and all(step.node.name in chosen or getattr(step.node, "near", None) is None
+                    for step in plan if step.node.roots == 2)):
+        parts = _evaluate_in_blocks(compiled, plan, inputs, n, held, start, origin)
+    else:
+        parts = _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track)
+
+    def per_sample(array, dtype=float):
+        return read_only(np.broadcast_to(np.asarray(array, dtype=dtype), (n,)))
+
+    return Sweep(
+        construction=compiled,
+        inputs={name: read_only(values) for name, values in inputs.items()},
+        points=PointTable(parts.coords, parts.valid),
+        valid=read_only(parts.valid), failed_step=read_only(parts.failed_step),
+        reason_code=read_only(parts.reason_code),
+        branches={name: per_sample(label, np.int8) for name, label in parts.labels.items()},
+        events=tuple(parts.events),
+        margins={name: per_sample(margin) for name, margin in parts.margins.items()},
+        line_parameters={name: per_sample(t) for name, t in parts.parameters.items()})
+
+
+def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track) -> _Evaluated:
+    """Evaluate every step for all N samples at once, tracking branches if asked."""
     env = _environment(compiled, inputs)
-    coords: dict[str, tuple[np.ndarray, np.ndarray]]
+    coords: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     label: np.ndarray | int | None
-    coords, labels, margins, parameters, events, results = {}, {}, {}, {}, [], []
+    labels: dict[str, np.ndarray | int] = {}
+    margins: dict[str, np.ndarray] = {}
+    parameters: dict[str, np.ndarray] = {}
+    events: list[BranchEvent] = []
+    valid = np.ones(n, dtype=bool)
+    failed_step = np.zeros(n, dtype=np.int32)
+    reason_code = np.zeros(n, dtype=np.int8)
     with np.errstate(all="ignore"):
         tracker = _Tracker(compiled, plan, inputs, n, origin) if track and n >= 2 else None
         for position, step in enumerate(plan):
@@ -271,29 +325,58 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
                     parameters[node.name] = (cand.t[label] if np.ndim(label) == 0
                                              else np.where(label, cand.t[1], cand.t[0]))
             coords[node.name] = (x, y)
-            results.append((step, cand, values, label, np.isfinite(x) & np.isfinite(y)))
-        valid = np.ones(n, dtype=bool)
-        for *_, finite in results:
-            valid &= finite
-    failed_step = np.zeros(n, dtype=np.int32)
-    reason_code = np.zeros(n, dtype=np.int8)
-    if not valid.all():
-        _record_failures(results, n, failed_step, reason_code)
+            failing = valid & ~np.broadcast_to(np.isfinite(x) & np.isfinite(y), (n,))
+            if failing.any():
+                # the first step that fails at a sample is its reason: recorded now, so
+                # that no step's candidates are kept for later
+                _record_failures(step, cand, values, label, failing, failed_step, reason_code)
+                valid &= ~failing
     events.sort(key=lambda e: (e.index, e.fraction))
+    return _Evaluated(coords, labels, margins, parameters, events, valid, failed_step,
+                      reason_code)
 
-    def per_sample(array, dtype=float):
-        return read_only(np.broadcast_to(np.asarray(array, dtype=dtype), (n,)))
 
-    return Sweep(
-        construction=compiled,
-        inputs={name: read_only(values) for name, values in inputs.items()},
-        points=PointTable(coords, valid),
-        valid=read_only(valid), failed_step=read_only(failed_step),
-        reason_code=read_only(reason_code),
-        branches={name: per_sample(label, np.int8) for name, label in labels.items()},
-        events=tuple(events),
-        margins={name: per_sample(margin) for name, margin in margins.items()},
-        line_parameters={name: per_sample(t) for name, t in parameters.items()})
+def _evaluate_in_blocks(compiled, plan, inputs, n, held, start, origin) -> _Evaluated:
+    """Evaluate without tracking, :data:`BLOCK_SAMPLES` samples at a time, into whole arrays."""
+    whole: _Evaluated | None = None
+    for lo in range(0, n, BLOCK_SAMPLES):
+        hi = min(lo + BLOCK_SAMPLES, n)
+
+        def part(value, lo=lo, hi=hi):
+            return value[lo:hi] if np.ndim(value) else value
+
+        block = _evaluate_steps(compiled, plan, {k: v[lo:hi] for k, v in inputs.items()},
+                                hi - lo, None if held is None else
+                                {k: part(v) for k, v in held.items()}, start, origin, False)
+        if whole is None:
+            whole = _Evaluated(
+                {k: (_whole(x, n), _whole(y, n)) for k, (x, y) in block.coords.items()},
+                {k: _whole(v, n, np.int8) for k, v in block.labels.items()},
+                {k: _whole(v, n) for k, v in block.margins.items()},
+                {k: _whole(v, n) for k, v in block.parameters.items()}, [],
+                np.empty(n, dtype=bool), np.empty(n, dtype=np.int32), np.empty(n, dtype=np.int8))
+        for name, (x, y) in block.coords.items():
+            _fill(whole.coords[name][0], x, lo, hi)
+            _fill(whole.coords[name][1], y, lo, hi)
+        for mine, theirs in ((whole.labels, block.labels), (whole.margins, block.margins),
+                             (whole.parameters, block.parameters)):
+            for name, value in theirs.items():
+                _fill(mine[name], value, lo, hi)
+        whole.valid[lo:hi] = block.valid
+        whole.failed_step[lo:hi] = block.failed_step
+        whole.reason_code[lo:hi] = block.reason_code
+    assert whole is not None  # n > BLOCK_SAMPLES: at least one block
+    return whole
+
+
+def _whole(value, n, dtype=float):
+    """Return room for a value over all N samples: the value itself if it is one number."""
+    return value if np.ndim(value) == 0 else np.empty(n, dtype=dtype)
+
+
+def _fill(whole, value, lo, hi):
+    if np.ndim(whole):
+        whole[lo:hi] = value
 
 
 def _choose(cand, label):
@@ -313,25 +396,20 @@ def _choose(cand, label):
     return x, y
 
 
-def _record_failures(results, n, failed_step, reason_code):
-    """Name the first node that fails at each invalid sample, and why."""
-    pending = np.ones(n, dtype=bool)
-    for step, cand, values, label, finite in results:
-        failing = pending & ~np.broadcast_to(finite, (n,))
-        if not failing.any():
-            continue
-        at = np.flatnonzero(failing)
+def _record_failures(step, cand, values, label, failing, failed_step, reason_code):
+    """Record that ``step`` is the first to fail at the ``failing`` samples, and why."""
+    n = len(failing)
+    at = np.flatnonzero(failing)
 
-        def pick(a, at=at):
-            return None if a is None else np.broadcast_to(a, (n,))[at]
+    def pick(a):
+        return None if a is None else np.broadcast_to(a, (n,))[at]
 
-        local = type(cand)(tuple(pick(a) for a in cand.x), tuple(pick(a) for a in cand.y),
-                           pick(cand.margin),
-                           None if cand.on_line is None else tuple(map(pick, cand.on_line)))
-        root = 0 if label is None else pick(np.asarray(label))
-        failed_step[at] = step.index
-        reason_code[at] = failure_reasons(local, {k: pick(v) for k, v in values.items()}, root)
-        pending &= ~failing
+    local = type(cand)(tuple(pick(a) for a in cand.x), tuple(pick(a) for a in cand.y),
+                       pick(cand.margin),
+                       None if cand.on_line is None else tuple(map(pick, cand.on_line)))
+    root = 0 if label is None else pick(np.asarray(label))
+    failed_step[at] = step.index
+    reason_code[at] = failure_reasons(local, {k: pick(v) for k, v in values.items()}, root)
 
 
 def sweep(construction: Construction | Compiled,

@@ -95,7 +95,7 @@ class Sweep:
 
     construction: Compiled
     inputs: Mapping[str, np.ndarray]
-    points: Mapping[str, np.ndarray]
+    points: PointTable
     valid: np.ndarray
     failed_step: np.ndarray
     reason_code: np.ndarray
@@ -204,22 +204,57 @@ class Sweep:
 
 
 class PointTable(Mapping):
-    """Point positions as (N, 2) arrays, stacked from coordinates when first read."""
+    """Point positions as (N, 2) arrays, stacked from coordinates when first read.
 
-    def __init__(self, coords, valid):
+    Parameters
+    ----------
+    coords : mapping of str to (x, y)
+        Each point's coordinates as evaluated, arrays of shape (N,) or
+        numbers for a point that does not move.
+    valid : ndarray of bool, shape (N,)
+    """
+
+    def __init__(self, coords: Mapping[str, tuple[np.ndarray, np.ndarray]],
+                 valid: np.ndarray) -> None:
         self._coords = coords
         self._valid = valid
-        self._stacked = {}
+        self._stacked: dict[str, np.ndarray] = {}
 
-    def __getitem__(self, name):
+    def xy(self, name: str) -> tuple[np.ndarray, np.ndarray]:
+        """Return a point's x and y coordinates as two read-only arrays of shape (N,).
+
+        They are the coordinates as evaluated, without the copy that stacking
+        makes: unlike ``table[name]`` they are not NaN at a sample where the
+        point was found but a later one failed.
+
+        Examples
+        --------
+        >>> from geokin import Construction, sweep
+        >>> c = Construction()
+        >>> c.input("t")
+        >>> c.fixed("O", 0, 0)
+        >>> c.polar("A", "O", 2, "t")
+        >>> x, y = sweep(c, [0.0, np.pi]).points.xy("A")
+        >>> x.round(12).tolist()
+        [2.0, -2.0]
+        """
+        x, y = self._coords[self._name(name)]
+        n = len(self._valid)
+        return (read_only(np.broadcast_to(np.asarray(x, dtype=float), (n,))),
+                read_only(np.broadcast_to(np.asarray(y, dtype=float), (n,))))
+
+    def _name(self, name: str) -> str:
         if isinstance(name, str) and not name.isascii():
             name = unicodedata.normalize("NFKC", name)  # names are declared in NFKC
+        if name not in self._coords:
+            raise KeyError(f"no point {name!r}{did_you_mean(name, self._coords)}")
+        return name
+
+    def __getitem__(self, name: str) -> np.ndarray:
+        name = self._name(name)
         stacked = self._stacked.get(name)
         if stacked is None:
-            try:
-                x, y = self._coords[name]
-            except KeyError:
-                raise KeyError(f"no point {name!r}{did_you_mean(name, self._coords)}") from None
+            x, y = self._coords[name]
             stacked = np.empty((len(self._valid), 2))
             stacked[:, 0] = x
             stacked[:, 1] = y

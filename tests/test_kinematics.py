@@ -92,7 +92,7 @@ def test_one_sided_stencils_are_exact_where_a_segment_ends():
     c.fixed("R", 0, 3)
     c.polar("Cs", "R", "s", 0)
     c.segment_circle("P", ("O", "Q"), "Cs", 5, branch="second")
-    h = RELATIVE_STEP * 3  # a length input's step: a fraction of the span swept, 3 to 6
+    h = RELATIVE_STEP * 10  # a length input's step: a fraction of the mechanism's size
     s = sweep(c, [3.0, 6 - 1.5 * h, 6.0])
     d = input_derivatives(s)
     assert d.step == h
