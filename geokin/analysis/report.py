@@ -17,7 +17,7 @@ from ..circuits import circuit, describe_limit, limits
 from ..construction import Compiled, Construction, as_compiled
 from ..engine import sweep
 from ..errors import AnalysisError
-from ..kinematics import unwrap_valid
+from ..kinematics import link_angles
 from ..nodes import CircleCircle, Polar
 from ..results import Sweep
 from .fourbar import grashof, transmission_angles
@@ -242,13 +242,11 @@ def _strokes(compiled, motion: Sweep, angle) -> dict:
             unit = guide / np.hypot(*guide.T)[:, None]
         outputs[f"{slider.name}.position"] = (
             np.einsum("ij,ij->i", motion[slider.point] - motion[a], unit), False)
+    angles = link_angles(motion)
     for link in compiled.links:
         if set(link.points[:2]) <= compiled.ground:
             continue
-        a, b = link.points[:2]
-        direction = motion[b] - motion[a]
-        outputs[f"{link.name}.angle"] = (
-            unwrap_valid(np.arctan2(direction[:, 1], direction[:, 0])), True)
+        outputs[f"{link.name}.angle"] = (angles[link.name], True)
     # where the input runs on through a sample, on the same branches
     step = np.diff(motion.inputs[name])
     smooth = np.zeros(len(motion), dtype=bool)
