@@ -18,35 +18,35 @@ from ..construction import Compiled, Construction, as_compiled
 from ..engine import sweep
 from ..errors import AnalysisError
 from ..kinematics import link_angles
-from ..nodes import CircleCircle, Polar
+from ..nodes import CircleCircle
 from ..results import Sweep
 from .fourbar import grashof, transmission_angles
 from .measures import curve_measures, stroke
-from .mobility import degrees_of_freedom
+from .mobility import cranks, degrees_of_freedom
 
 __all__ = ["analyze"]
 
 
-def _four_bars(compiled, motion: Sweep):
+def _four_bars(compiled: Compiled, motion: Sweep):
     """Find circle-circle nodes closing a four-bar on a driven crank and a fixed pivot.
 
-    Where links are declared, the crank, the coupler and the output must be
-    among them; a helper point of the construction is not a crank.
+    The crank is one of :func:`~geokin.analysis.mobility.cranks` turning
+    about a ground pivot. Where links are declared, the crank, the coupler
+    and the output must be among them; a helper point of the construction
+    is not a crank.
     """
-    nodes = {step.node.name: step.node for step in compiled.steps}
+    driven = {crank.tip: crank for crank in cranks(compiled) if crank.grounded and crank.on_link}
     found = []
-    for node in nodes.values():
+    for step in compiled.steps:
+        node = step.node
         if not isinstance(node, CircleCircle):
             continue
         for crank_pin, pivot in (node.centers, node.centers[::-1]):
-            crank = nodes[crank_pin]
-            if not (isinstance(crank, Polar) and pivot in compiled.ground
-                    and crank.origin in compiled.ground and crank.reference is None
-                    and crank.angle.names() & compiled.inputs.keys()):
+            crank = driven.get(crank_pin)
+            if crank is None or pivot not in compiled.ground:
                 continue
-            # with declared links, the loop must be made of them: a helper point
-            # of the construction is not a crank
-            bars = [(crank.origin, crank_pin), (crank_pin, node.name), (node.name, pivot)]
+            # with declared links, coupler and output must be among them too
+            bars = [(crank_pin, node.name), (node.name, pivot)]
             if compiled.links and not all(
                     any({a, b} <= set(link.points) for link in compiled.links) for a, b in bars):
                 continue
