@@ -18,7 +18,7 @@ from .fourbar import (
     grashof,
     transmission_angles,
 )
-from .measures import Curve, Stroke, curve_measures, stroke, time_ratio
+from .measures import Curve, Stroke, curve_measures, refine_extreme, stroke, time_ratio
 from .mobility import Crank, Mobility, cranks, degrees_of_freedom
 from .report import analyze
 
@@ -38,6 +38,7 @@ __all__ = [
     "fourth_link_range",
     "grashof",
     "link_angles",
+    "refine_extreme",
     "stroke",
     "time_ratio",
     "transmission_angles",

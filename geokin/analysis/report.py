@@ -21,7 +21,7 @@ from ..kinematics import link_angles
 from ..nodes import CircleCircle
 from ..results import Sweep
 from .fourbar import grashof, transmission_angles
-from .measures import curve_measures, stroke
+from .measures import curve_measures, refine_extreme, stroke
 from .mobility import cranks, degrees_of_freedom
 
 __all__ = ["analyze"]
@@ -196,27 +196,26 @@ def _peaks(values, span) -> int:
     return max(int(np.count_nonzero(rising & ~np.roll(rising, -1))), 1)
 
 
-def _refined_extreme(values, sign, smooth) -> float:
+_AROUND = np.array([-1.0, 0.0, 1.0])
+"""A sample and its neighbours, by index."""
+
+
+def _extreme(values, sign, smooth) -> float:
     """Return the largest (sign 1) or smallest (sign -1) value, refined between samples.
 
-    A parabola through the extreme sample and its neighbours places the
-    extreme between samples where the motion runs smoothly through that
-    sample (``smooth``); at the ends of a run, where the neighbours are
-    missing, and where the input turns back or a branch changes (a limit,
-    where the output may have a corner), the sample itself is taken.
+    :func:`~geokin.analysis.measures.refine_extreme` places the extreme
+    between samples through the extreme sample and its neighbours, where
+    the motion runs smoothly through that sample (``smooth``); at the ends
+    of a run, where the neighbours are missing, and where the input turns
+    back or a branch changes (a limit, where the output may have a corner),
+    the sample itself is taken.
     """
     finite = np.where(np.isfinite(values), sign * values, -np.inf)
     i = int(np.argmax(finite))
-    best = finite[i]
     if (0 < i < len(values) - 1 and smooth[i] and np.isfinite(finite[i - 1])
             and np.isfinite(finite[i + 1])):
-        left, right = finite[i - 1], finite[i + 1]
-        curvature = left - 2 * best + right
-        if curvature < 0:
-            # the vertex of the parabola, in a form that cannot overflow at any scale
-            spread = right - left
-            best = best - spread / 8 * (spread / curvature)
-    return float(sign * best)
+        return refine_extreme(_AROUND, values[i - 1:i + 2])[1]
+    return float(values[i])
 
 
 def _strokes(compiled, motion: Sweep, angle) -> dict:
@@ -264,7 +263,7 @@ def _strokes(compiled, motion: Sweep, angle) -> dict:
             strokes[label] = {"turns": True}
             continue
         convert = angle if is_angle else (lambda v: v)
-        low, high = _refined_extreme(values, -1, smooth), _refined_extreme(values, 1, smooth)
+        low, high = _extreme(values, -1, smooth), _extreme(values, 1, smooth)
         entry: dict[str, Any] = {
             "turns": False, "min": float(convert(low)), "max": float(convert(high)),
             "stroke": float(convert(high - low)), "time_ratio": None}
