@@ -655,7 +655,7 @@ def add_analyze(subparsers: Subparsers) -> None:
 
 def run_analyze(args: argparse.Namespace) -> int:
     construction = load(args.script)
-    report = analyze(construction, degrees=True)
+    report = analyze(construction, degrees=True).to_dict()
     if args.json:
         json.dump(report, sys.stdout, indent=2, allow_nan=False,
                   default=lambda value: None)

@@ -3,7 +3,8 @@
 - :mod:`~geokin.analysis.fourbar`: Grashof classification and transmission angles;
 - :mod:`~geokin.analysis.mobility`: degrees of freedom;
 - :mod:`~geokin.analysis.measures`: stroke, time ratio and coupler-curve measures;
-- :mod:`~geokin.analysis.report`: all of these for one construction (:func:`analyze`).
+- :mod:`~geokin.analysis.report`: all of these for one construction (:func:`analyze`,
+  which returns a :class:`Report`).
 
 Angles are radians throughout.
 """
@@ -20,16 +21,32 @@ from .fourbar import (
 )
 from .measures import Curve, Stroke, curve_measures, refine_extreme, stroke, time_ratio
 from .mobility import Crank, Mobility, cranks, degrees_of_freedom
-from .report import analyze
+from .report import (
+    CurveReport,
+    FourBarReport,
+    InputReport,
+    LimitReport,
+    Report,
+    StrokeReport,
+    TransmissionReport,
+    analyze,
+)
 
 __all__ = [
     "KINDS",
     "Crank",
     "Curve",
+    "CurveReport",
+    "FourBarReport",
     "Grashof",
+    "InputReport",
+    "LimitReport",
     "Mobility",
+    "Report",
     "Stroke",
+    "StrokeReport",
     "TransmissionAngle",
+    "TransmissionReport",
     "analyze",
     "cranks",
     "curve_measures",
