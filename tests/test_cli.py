@@ -319,9 +319,12 @@ def test_analyze_json_has_dof_and_intervals_in_script_units(capsys):
 
 
 @pytest.mark.parametrize("script", sorted(CONSTRUCTIONS.glob("*.toml")), ids=lambda p: p.stem)
-def test_analyze_json_is_the_report_as_data(capsys, script):
+def test_analyze_prints_the_report_as_text_and_as_data(capsys, script):
+    construction = geokin.load(script)
+    report = geokin.analyze(construction, degrees=True)
+    status, out, _ = run(capsys, "analyze", script)
+    assert status == 0 and out == report.to_text(construction.units)
     status, out, _ = run(capsys, "analyze", "--json", script)
-    report = geokin.analyze(geokin.load(script), degrees=True)
     assert status == 0 and out == json.dumps(report.to_dict(), indent=2) + "\n"
 
 

@@ -214,3 +214,13 @@ def test_the_report_as_data_has_the_shape_and_values_of_the_closed_form():
     data = analyze(load(CONSTRUCTIONS / "crank_rocker.toml"), degrees=True).to_dict()
     assert data == expected
     assert shape(data) == shape(expected)
+
+
+def test_the_text_gives_angles_in_the_reports_unit():
+    c = fourbar(7, 5, 6, 5)
+    degrees, radians = analyze(c, degrees=True).to_text(), analyze(c).to_text()
+    assert "input theta2: assemblable from -132.177419 to 132.177419 deg" in degrees
+    assert "input theta2: assemblable from -2.306931 to 2.306931 rad" in radians
+    assert "transmission angle at C: 18.19 to 180.00 deg" in degrees
+    assert "transmission angle at C: 0.32 to 3.14 rad" in radians
+    assert " deg" not in radians and " rad" not in degrees

@@ -5,7 +5,8 @@ input, the Grashof class of every four-bar loop it recognises, the
 transmission angle at every circle-circle node, strokes and time ratios of
 the traced points and the declared links, and measures of the traced
 curves, in a :class:`Report`. ``geokin analyze`` prints it;
-:meth:`Report.to_dict` gives it as the plain data of ``geokin analyze --json``.
+:meth:`Report.to_dict` gives it as the plain data of ``geokin analyze --json``,
+:meth:`Report.to_text` as the text of ``geokin analyze``.
 """
 
 from __future__ import annotations
@@ -23,6 +24,7 @@ from ..errors import AnalysisError
 from ..kinematics import link_angles
 from ..nodes import CircleCircle
 from ..results import Sweep
+from ..terminal import one_line
 from .fourbar import ROLES, grashof, transmission_angles
 from .measures import curve_measures, refine_extreme, stroke
 from .mobility import Mobility, cranks, degrees_of_freedom
@@ -345,6 +347,109 @@ class Report:
         report["strokes"] = {label: s.to_dict() for label, s in self.strokes.items()}
         report["curves"] = {point: curve.to_dict() for point, curve in self.curves.items()}
         return report
+
+    def to_text(self, units: str = "") -> str:
+        """Return the report as ``geokin analyze`` prints it, one finding a line.
+
+        Parameters
+        ----------
+        units : str
+            The unit written after lengths (a construction's ``units``);
+            none by default. Angles are followed by ``deg`` or ``rad``, the
+            report's :attr:`angle_unit`.
+
+        Returns
+        -------
+        str
+            Lines, each ending in a newline. What came from a script (the
+            construction's name, ``units``, the warnings) is escaped and cut
+            to 1000 characters (:func:`geokin.terminal.one_line`), so that
+            each stays on its line.
+
+        Examples
+        --------
+        A line too long for this page is broken in two:
+
+        >>> from geokin import Construction
+        >>> c = Construction("crank-rocker")
+        >>> c.input("theta")
+        >>> c.fixed("O2", 0, 0)
+        >>> c.fixed("O4", 4, 0)
+        >>> c.polar("A", "O2", 1, "theta")
+        >>> c.circle_circle("B", ("A", "O4"), (4, 3), branch="left")
+        >>> c.link("crank", "O2", "A")
+        >>> c.link("coupler", "A", "B")
+        >>> c.link("rocker", "O4", "B")
+        >>> print(analyze(c, degrees=True).to_text(), end="")
+        crank-rocker
+        degrees of freedom: DOF = 3(3) - 2(4) - 0 = 1; 1 input
+        input theta: turns fully
+        four-bar O2-A-B-O4 (ground 4, input 1, coupler 4, output 3): crank-rocker (GCRR);
+        input turns fully
+        transmission angle at B: 48.19 to 90.00 deg
+        crank.angle: turns fully
+        coupler.angle: 28.9550 to 60.0000 deg, stroke 31.0450 deg, time ratio 1.1887
+        rocker.angle: 90.0000 to 131.8103 deg, stroke 41.8103 deg, time ratio 1.1342
+        """
+        lengths = f" {one_line(units, 1000)}" if units else ""
+        angles = " deg" if self.angle_unit == "deg" else " rad"
+        lines = [one_line(self.construction, 1000),
+                 f"degrees of freedom: {self.mobility}"]
+        lines += [f"warning: {one_line(warning, 1000)}" for warning in self.warnings]
+        for name, entry in self.inputs.items():
+            unit = angles if entry.kind == "angle" else lengths
+            if entry.full_turn:
+                lines.append(f"input {name}: turns fully")
+                continue
+            spans = ", ".join(f"{lo:.6f}{_range_end(entry, lo)} to {hi:.6f}{unit}"
+                              f"{_range_end(entry, hi)}" for lo, hi in entry.intervals)
+            lines.append(f"input {name}: assemblable from {spans}")
+            for limit in entry.limits:
+                lines.append(f"  limit at {limit.value:.6f}{unit}: {limit.meaning}")
+        for bar in self.four_bars:
+            sides = ", ".join(f"{role} {bar.lengths[role]:g}" for role in ROLES)
+            turning = ", ".join(bar.turning) or "no link"
+            lines.append(f"four-bar {'-'.join(bar.points)} ({sides}): {bar.kind}"
+                         f"{' (' + bar.code + ')' if bar.code else ''}; "
+                         f"{turning} turns fully")
+        for node, mu in self.transmission_angles.items():
+            lines.append(f"transmission angle at {node}: {mu.minimum:.2f} to "
+                         f"{mu.maximum:.2f}{angles}")
+        for label, s in self.strokes.items():
+            if s.turns:
+                lines.append(f"{label}: turns fully")
+                continue
+            unit = angles if label.endswith(".angle") else lengths
+            ratio = "" if s.time_ratio is None else f", time ratio {s.time_ratio:.4f}"
+            if s.strokes_per_turn is not None and s.strokes_per_turn > 1:
+                ratio = f", {s.strokes_per_turn} strokes per turn"
+            lines.append(f"{label}: {_figure(s.minimum)} to {_figure(s.maximum)}{unit}, stroke "
+                         f"{_figure(s.stroke)}{unit}{ratio}")
+        for point, curve in self.curves.items():
+            area = "" if curve.area is None else f", encloses {_figure(curve.area)}"
+            lines.append(f"path of {point}: length {_figure(curve.length)}{lengths}"
+                         f"{', closed' if curve.closed else ', open'}{area}, "
+                         f"{len(curve.double_points)} double point(s)")
+        return "\n".join(lines) + "\n"
+
+
+def _range_end(entry: InputReport, value: float) -> str:
+    """Mark an interval's end that is the end of the searched range, not a limit."""
+    if any(abs(limit.value - value) <= 1e-9 * max(1.0, abs(value)) for limit in entry.limits):
+        return ""
+    return " (end of the declared range)"
+
+
+def _figure(value: float | None) -> str:
+    """Four decimals for a figure of everyday size, six significant digits otherwise.
+
+    >>> _figure(52.95454), _figure(5.2954e-159), _figure(0.0)
+    ('52.9545', '5.2954e-159', '0.0000')
+    """
+    assert value is not None  # a stroke's figures are given wherever it does not turn
+    if value == 0 or 1e-3 <= abs(value) < 1e9:
+        return f"{value:.4f}"
+    return f"{value:.6g}"
 
 
 # -- analysis -------------------------------------------------------------------------
