@@ -84,13 +84,34 @@ def test_a_rocker_swing_is_measured_between_samples():
     np.testing.assert_allclose(got, [extreme, 360 - extreme], atol=1e-4)
 
 
-def test_an_output_with_two_strokes_a_turn_has_no_time_ratio():
-    """The quick return's ram block rises and falls twice a turn; its lever once."""
+def test_the_quick_returns_strokes_and_time_ratios_match_the_closed_form():
+    """Seed 001: crank r2 = 40 turning about O2, r1 = 60 above the lever's pivot O1; the ram's
+    guide r1 + r6 = 120 above O1. The lever swings beta = asin(r2 / r1) either side of
+    upright, where it is tangent to the crank circle: the crank turns 180 + 2 beta degrees
+    from the lever's right extreme to its left one, 180 - 2 beta back. The block on the
+    ram's pin slides out to 120 / cos(beta) and back to 120 twice a turn: no time ratio."""
     strokes = analyze(load(CONSTRUCTIONS / "quick_return.toml")).strokes
-    assert strokes["ram_block.position"].strokes_per_turn == 2
-    assert strokes["ram_block.position"].time_ratio is None
-    assert strokes["lever.angle"].strokes_per_turn == 1
-    assert strokes["lever.angle"].time_ratio is not None
+    beta = np.arcsin(40 / 60)
+    slow = (np.pi + 2 * beta) / (np.pi - 2 * beta)
+    lever = strokes["lever.angle"]
+    assert lever.minimum == pytest.approx(np.pi / 2 - beta, abs=1e-9)
+    assert lever.maximum == pytest.approx(np.pi / 2 + beta, abs=1e-9)
+    assert lever.stroke == pytest.approx(2 * beta, abs=1e-9)
+    assert lever.time_ratio == pytest.approx(slow, rel=5e-7)
+    assert lever.strokes_per_turn == 1
+    # the ram, 120 tan(beta) either side of the guide's point C, left while the lever swings left
+    for ram in (strokes["B.x"], strokes["ram.position"]):
+        assert (ram.minimum, ram.maximum) == pytest.approx(
+            (-120 * np.tan(beta), 120 * np.tan(beta)), rel=1e-9)
+        assert ram.time_ratio == pytest.approx(1 / slow, rel=5e-7)
+    # the block on the crank pin, from O1: r1 - r2 at the bottom, r1 + r2 at the top, half
+    # a turn apart
+    pin = strokes["pin_block.position"]
+    assert (pin.minimum, pin.maximum, pin.stroke) == pytest.approx((20, 100, 80), rel=1e-12)
+    assert pin.time_ratio == pytest.approx(1, rel=1e-12)
+    block = strokes["ram_block.position"]
+    assert (block.minimum, block.maximum) == pytest.approx((120, 120 / np.cos(beta)), rel=1e-9)
+    assert block.strokes_per_turn == 2 and block.time_ratio is None
 
 
 @pytest.mark.parametrize("k", [-660, -530, 530, 660])
