@@ -53,8 +53,9 @@ class LimitReport:
     ----------
     value : float
         The input's value there.
-    node : str
-        The node that cannot be assembled beyond it.
+    node : str or None
+        The node that cannot be assembled beyond it (None only at the end
+        of a searched range, which is not reported as a limit).
     kind : {"tangent", "end"}
         ``"tangent"`` where the node's two roots meet (a toggle or dead
         centre), ``"end"`` where its root leaves its ray or segment (see
@@ -522,10 +523,10 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False) -> 
     >>> c.polar("B", "A", 5, "theta2")
     >>> c.circle_circle("C", ("B", "D"), (6, 5), branch="left")
     >>> report = analyze(c, degrees=True)
-    >>> report.dof, report.angle_unit
-    (0, 'deg')
     >>> [round(v, 4) for v in report.inputs["theta2"].intervals[0]]
     [-132.1774, 132.1774]
+    >>> [limit.kind for limit in report.inputs["theta2"].limits]
+    ['tangent', 'tangent']
     >>> report.four_bars[0].kind
     'triple-rocker RRR1'
     """
