@@ -16,7 +16,7 @@ array([[10.,  0.],
        [ 0., 10.]])
 """
 
-from .analysis import analyze
+from .analysis import Report, analyze
 from .circuits import Limits, circuit, limits
 from .construction import Compiled, Construction, Input, Link, Parameter, Slider
 from .engine import sweep
@@ -46,6 +46,7 @@ __all__ = [
     "Link",
     "Motion",
     "Parameter",
+    "Report",
     "ScriptError",
     "Slider",
     "Sweep",

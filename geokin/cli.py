@@ -23,7 +23,7 @@ Commands
     An animation of the motion with the paths growing.
 ``geokin analyze SCRIPT [--json]``
     Degrees of freedom, limits, Grashof classes, transmission angles,
-    strokes and curve measures (see :func:`geokin.report.analyze`).
+    strokes and curve measures (see :func:`geokin.analyze`).
 
 ``trace``, ``plot`` and ``animate`` take the sweep options ``--range A B``
 and ``--samples N`` or ``--step S`` for the first input (other inputs are
@@ -657,72 +657,12 @@ def run_analyze(args: argparse.Namespace) -> int:
     construction = load(args.script)
     report = analyze(construction, degrees=True)
     if args.json:
-        json.dump(report, sys.stdout, indent=2, allow_nan=False,
+        json.dump(report.to_dict(), sys.stdout, indent=2, allow_nan=False,
                   default=lambda value: None)
         sys.stdout.write("\n")
     else:
-        _print_lines(_report_text(construction, report).rstrip("\n"))
+        _print_lines(report.to_text(construction.units).rstrip("\n"))
     return 0
-
-
-def _range_end(info, value) -> str:
-    """Mark an interval's end that is the end of the searched range, not a limit."""
-    if any(abs(limit["value"] - value) <= 1e-9 * max(1.0, abs(value))
-           for limit in info["limits"]):
-        return ""
-    return " (end of the declared range)"
-
-
-def _figure(value: float) -> str:
-    """Four decimals for a figure of everyday size, six significant digits otherwise.
-
-    >>> _figure(52.95454), _figure(5.2954e-159), _figure(0.0)
-    ('52.9545', '5.2954e-159', '0.0000')
-    """
-    if value == 0 or 1e-3 <= abs(value) < 1e9:
-        return f"{value:.4f}"
-    return f"{value:.6g}"
-
-
-def _report_text(construction, report) -> str:
-    units = f" {_free_text(construction.units)}" if construction.units else ""
-    lines = [_free_text(f"{report['construction']}"),
-             f"degrees of freedom: {report['mobility']['formula']}"]
-    lines += [f"warning: {_free_text(warning)}" for warning in report.get("warnings", [])]
-    for name, info in report["inputs"].items():
-        unit = " deg" if info["kind"] == "angle" else units
-        if info["full_turn"]:
-            lines.append(f"input {name}: turns fully")
-            continue
-        spans = ", ".join(f"{lo:.6f}{_range_end(info, lo)} to {hi:.6f}{unit}"
-                          f"{_range_end(info, hi)}" for lo, hi in info["intervals"])
-        lines.append(f"input {name}: assemblable from {spans}")
-        for limit in info["limits"]:
-            lines.append(f"  limit at {limit['value']:.6f}{unit}: {limit['meaning']}")
-    for bar in report.get("four_bars", []):
-        lengths = ", ".join(f"{k} {bar[k]:g}" for k in ("ground", "input", "coupler", "output"))
-        turning = ", ".join(bar["turning"]) or "no link"
-        lines.append(f"four-bar {'-'.join(bar['points'])} ({lengths}): {bar['class']}"
-                     f"{' (' + bar['code'] + ')' if bar['code'] else ''}; "
-                     f"{turning} turns fully")
-    for node, mu in report.get("transmission_angles", {}).items():
-        lines.append(f"transmission angle at {node}: {mu['min']:.2f} to {mu['max']:.2f} deg")
-    for label, s in report.get("strokes", {}).items():
-        if s["turns"]:
-            lines.append(f"{label}: turns fully")
-            continue
-        unit = " deg" if label.endswith(".angle") else units
-        ratio = "" if s["time_ratio"] is None else f", time ratio {s['time_ratio']:.4f}"
-        if s.get("strokes_per_turn", 1) > 1:
-            ratio = f", {s['strokes_per_turn']} strokes per turn"
-        lines.append(f"{label}: {_figure(s['min'])} to {_figure(s['max'])}{unit}, stroke "
-                     f"{_figure(s['stroke'])}{unit}{ratio}")
-    for point, curve in report.get("curves", {}).items():
-        area = "" if curve["area"] is None else f", encloses {_figure(curve['area'])}"
-        lines.append(f"path of {point}: length {_figure(curve['length'])}{units}"
-                     f"{', closed' if curve['closed'] else ', open'}{area}, "
-                     f"{len(curve['double_points'])} double point(s)")
-    return "\n".join(lines) + "\n"
 
 
 # -- the program ---------------------------------------------------------------------

@@ -339,9 +339,9 @@ def test_a_circuit_passes_a_toggle_of_two_dyads_at_once():
                          ("A", "Q", 2), ("B", "Q", 2)):
         np.testing.assert_allclose(np.hypot(*(s[p] - s[q]).T), length, rtol=1e-9)
     report = geokin.analyze(c)
-    assert report["warnings"] == []
-    crank = report["strokes"]["crank.angle"]
-    assert crank["min"] >= lo.value - 1e-9 and crank["max"] <= hi.value + 1e-9
+    assert report.warnings == ()
+    crank = report.strokes["crank.angle"]
+    assert crank.minimum >= lo.value - 1e-9 and crank.maximum <= hi.value + 1e-9
 
 
 def test_analyze_keeps_extremes_inside_the_limits_it_reports():
@@ -355,10 +355,10 @@ def test_analyze_keeps_extremes_inside_the_limits_it_reports():
     c.link("coupler", "B", "C")
     c.link("follower", "D", "C")
     report = geokin.analyze(c)
-    (lo, hi), = report["inputs"]["theta2"]["intervals"]
-    crank = report["strokes"]["crank.angle"]
-    assert lo - 1e-12 <= crank["min"] and crank["max"] <= hi + 1e-12
-    np.testing.assert_allclose([crank["min"], crank["max"]], [lo, hi], atol=1e-9)
+    (lo, hi), = report.inputs["theta2"].intervals
+    crank = report.strokes["crank.angle"]
+    assert lo - 1e-12 <= crank.minimum and crank.maximum <= hi + 1e-12
+    np.testing.assert_allclose([crank.minimum, crank.maximum], [lo, hi], atol=1e-9)
 
 
 def test_analyze_warns_when_part_of_the_motion_cannot_be_assembled():
@@ -371,7 +371,7 @@ def test_analyze_warns_when_part_of_the_motion_cannot_be_assembled():
     c.polar("B", "A", 5, "theta2")
     c.circle_circle("C", ("B", "D"), (6, 5), branch="left")
     report = geokin.analyze(c)
-    assert any("cannot be assembled" in w for w in report["warnings"])
+    assert any("cannot be assembled" in w for w in report.warnings)
 
 
 # -- meetings at a sample, for every kind ------------------------------------------------

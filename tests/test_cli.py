@@ -318,6 +318,16 @@ def test_analyze_json_has_dof_and_intervals_in_script_units(capsys):
     assert (round(lo, 4), round(hi, 4)) == (47.8226, 312.1774)
 
 
+@pytest.mark.parametrize("script", sorted(CONSTRUCTIONS.glob("*.toml")), ids=lambda p: p.stem)
+def test_analyze_prints_the_report_as_text_and_as_data(capsys, script):
+    construction = geokin.load(script)
+    report = geokin.analyze(construction, degrees=True)
+    status, out, _ = run(capsys, "analyze", script)
+    assert status == 0 and out == report.to_text(construction.units)
+    status, out, _ = run(capsys, "analyze", "--json", script)
+    assert status == 0 and out == json.dumps(report.to_dict(), indent=2) + "\n"
+
+
 def test_trace_circuit_passes_the_toggles_and_closes(capsys):
     status, out, _ = run(capsys, "trace", "--circuit", "--points", "C", "--samples", "91",
                          str(CONSTRUCTIONS / "triple_rocker_crank.toml"))

@@ -25,27 +25,27 @@ def fourbar(ground, crank, coupler, follower):
 
 def test_seed_000_transmission_angle_extremes_for_7_4_5_5():
     report = analyze(fourbar(7, 4, 5, 5), degrees=True)
-    mu = report["transmission_angles"]["C"]
-    assert round(mu["min"], 2) == 34.92 and round(mu["max"], 2) == 180.0
-    assert report["four_bars"][0]["class"].startswith("triple-rocker")
+    mu = report.transmission_angles["C"]
+    assert round(mu.minimum, 2) == 34.92 and round(mu.maximum, 2) == 180.0
+    assert report.four_bars[0].kind.startswith("triple-rocker")
 
 
 def test_triple_rocker_report_has_its_limits_dof_and_class():
     report = analyze(fourbar(7, 5, 6, 5), degrees=True)
-    assert report["dof"] == 1 and report["mobility"]["matches_inputs"]
-    [[lo, hi]] = report["inputs"]["theta2"]["intervals"]
+    assert report.dof == 1 and report.mobility.matches_inputs
+    [(lo, hi)] = report.inputs["theta2"].intervals
     assert (round(lo, 4), round(hi, 4)) == (-132.1774, 132.1774)
-    assert [limit["kind"] for limit in report["inputs"]["theta2"]["limits"]] == ["tangent"] * 2
-    assert report["four_bars"][0]["code"] == "RRR1"
+    assert [limit.kind for limit in report.inputs["theta2"].limits] == ["tangent"] * 2
+    assert report.four_bars[0].code == "RRR1"
     # the circuit's coupler curve is closed
-    assert report["curves"]["C"]["closed"]
+    assert report.curves["C"].closed
 
 
 def test_crank_rocker_turns_fully_and_has_a_time_ratio():
     report = analyze(fourbar(40, 10, 35, 30))
-    assert report["inputs"]["theta2"]["full_turn"]
-    assert report["four_bars"][0]["class"] == "crank-rocker"
-    follower = report["strokes"]["follower.angle"]
+    assert report.inputs["theta2"].full_turn
+    assert report.four_bars[0].kind == "crank-rocker"
+    follower = report.strokes["follower.angle"]
     # the follower's dead positions: crank and coupler in line, B at 10 + 35 or 35 - 10
     # from A; B above the ground, on the left of A -> D as declared
     angles, cranks = [], []
@@ -55,42 +55,63 @@ def test_crank_rocker_turns_fully_and_has_a_time_ratio():
         bx, by = 40 + 30 * np.cos(angles[-1]), 30 * np.sin(angles[-1])
         cranks.append(np.arctan2(by, bx) + crank_turn)  # A on the line A-B, or against it
     low, high = min(angles), max(angles)
-    assert follower["min"] == pytest.approx(low, abs=1e-6)
-    assert follower["max"] == pytest.approx(high, abs=1e-6)
+    assert follower.minimum == pytest.approx(low, abs=1e-6)
+    assert follower.maximum == pytest.approx(high, abs=1e-6)
     forward = (cranks[angles.index(high)] - cranks[angles.index(low)]) % (2 * np.pi)
-    assert follower["time_ratio"] == pytest.approx(forward / (2 * np.pi - forward), rel=1e-6)
+    assert follower.time_ratio == pytest.approx(forward / (2 * np.pi - forward), rel=1e-6)
 
 
 def test_quick_return_time_ratio_matches_the_closed_form():
     report = analyze(load(CONSTRUCTIONS / "quick_return.toml"), degrees=True)
     alpha = 2 * np.degrees(np.arcsin(40 / 60))
-    ratio = report["strokes"]["lever.angle"]["time_ratio"]
+    ratio = report.strokes["lever.angle"].time_ratio
     assert max(ratio, 1 / ratio) == pytest.approx((180 + alpha) / (180 - alpha), rel=1e-6)
 
 
 def test_the_shipped_sixbar_has_one_degree_of_freedom():
     report = analyze(load(CONSTRUCTIONS / "sixbar.toml"))
-    assert report["dof"] == 1
-    assert report["mobility"]["moving_links"] == 5 and report["mobility"]["lower_pairs"] == 7
+    assert report.dof == 1
+    assert report.mobility.moving_links == 5 and report.mobility.lower_pairs == 7
 
 
 def test_a_rocker_swing_is_measured_between_samples():
     """Ground 40, crank 30, coupler 20, follower 25: the follower swings between the
     angles where crank and coupler line up, cos(phi) = (50^2 - 40^2 - 25^2) / (2 40 25)."""
     report = analyze(fourbar(40, 30, 20, 25), degrees=True)
-    swing = report["strokes"]["follower.angle"]
+    swing = report.strokes["follower.angle"]
     extreme = np.degrees(np.arccos((50**2 - 40**2 - 25**2) / (2 * 40 * 25)))
-    got = sorted(v % 360 for v in (swing["min"], swing["max"]))
+    got = sorted(v % 360 for v in (swing.minimum, swing.maximum))
     np.testing.assert_allclose(got, [extreme, 360 - extreme], atol=1e-4)
 
 
-def test_an_output_with_two_strokes_a_turn_has_no_time_ratio():
-    """The quick return's ram block rises and falls twice a turn; its lever once."""
-    strokes = analyze(load(CONSTRUCTIONS / "quick_return.toml"))["strokes"]
-    assert strokes["ram_block.position"]["strokes_per_turn"] == 2
-    assert strokes["ram_block.position"]["time_ratio"] is None
-    assert strokes["lever.angle"]["strokes_per_turn"] == 1
-    assert strokes["lever.angle"]["time_ratio"] is not None
+def test_the_quick_returns_strokes_and_time_ratios_match_the_closed_form():
+    """Seed 001: crank r2 = 40 turning about O2, r1 = 60 above the lever's pivot O1; the ram's
+    guide r1 + r6 = 120 above O1. The lever swings beta = asin(r2 / r1) either side of
+    upright, where it is tangent to the crank circle: the crank turns 180 + 2 beta degrees
+    from the lever's right extreme to its left one, 180 - 2 beta back. The block on the
+    ram's pin slides out to 120 / cos(beta) and back to 120 twice a turn: no time ratio."""
+    strokes = analyze(load(CONSTRUCTIONS / "quick_return.toml")).strokes
+    beta = np.arcsin(40 / 60)
+    slow = (np.pi + 2 * beta) / (np.pi - 2 * beta)
+    lever = strokes["lever.angle"]
+    assert lever.minimum == pytest.approx(np.pi / 2 - beta, abs=1e-9)
+    assert lever.maximum == pytest.approx(np.pi / 2 + beta, abs=1e-9)
+    assert lever.stroke == pytest.approx(2 * beta, abs=1e-9)
+    assert lever.time_ratio == pytest.approx(slow, rel=5e-7)
+    assert lever.strokes_per_turn == 1
+    # the ram, 120 tan(beta) either side of the guide's point C, left while the lever swings left
+    for ram in (strokes["B.x"], strokes["ram.position"]):
+        assert (ram.minimum, ram.maximum) == pytest.approx(
+            (-120 * np.tan(beta), 120 * np.tan(beta)), rel=1e-9)
+        assert ram.time_ratio == pytest.approx(1 / slow, rel=5e-7)
+    # the block on the crank pin, from O1: r1 - r2 at the bottom, r1 + r2 at the top, half
+    # a turn apart
+    pin = strokes["pin_block.position"]
+    assert (pin.minimum, pin.maximum, pin.stroke) == pytest.approx((20, 100, 80), rel=1e-12)
+    assert pin.time_ratio == pytest.approx(1, rel=1e-12)
+    block = strokes["ram_block.position"]
+    assert (block.minimum, block.maximum) == pytest.approx((120, 120 / np.cos(beta)), rel=1e-9)
+    assert block.strokes_per_turn == 2 and block.time_ratio is None
 
 
 @pytest.mark.parametrize("k", [-660, -530, 530, 660])
@@ -111,13 +132,116 @@ def test_analyze_at_any_scale_gives_the_same_figures_scaled_or_none(k):
         return c
 
     base, scaled = analyze(crank_rocker(1.0)), analyze(crank_rocker(2.0**k))
-    for node, mu in base["transmission_angles"].items():
-        assert scaled["transmission_angles"][node]["min"] == pytest.approx(mu["min"], rel=1e-12)
-        assert scaled["transmission_angles"][node]["max"] == pytest.approx(mu["max"], rel=1e-12)
-    assert set(scaled["strokes"]) == set(base["strokes"])
-    assert scaled["strokes"]["P.x"]["stroke"] == pytest.approx(
-        base["strokes"]["P.x"]["stroke"] * 2.0**k, rel=1e-9)
-    assert scaled["curves"]["P"]["length"] == pytest.approx(
-        base["curves"]["P"]["length"] * 2.0**k, rel=1e-12)
+    for node, mu in base.transmission_angles.items():
+        assert scaled.transmission_angles[node].minimum == pytest.approx(mu.minimum, rel=1e-12)
+        assert scaled.transmission_angles[node].maximum == pytest.approx(mu.maximum, rel=1e-12)
+    assert set(scaled.strokes) == set(base.strokes)
+    assert scaled.strokes["P.x"].stroke == pytest.approx(
+        base.strokes["P.x"].stroke * 2.0**k, rel=1e-9)
+    assert scaled.curves["P"].length == pytest.approx(
+        base.curves["P"].length * 2.0**k, rel=1e-12)
     # an area beyond the normal range of floats is not given, rather than given wrong
-    assert scaled["curves"]["P"]["area"] is None
+    assert scaled.curves["P"].area is None
+
+
+# -- the report as data ------------------------------------------------------------------
+
+
+def shape(data):
+    """The keys of nested dicts in order, and the items of lists: a report's shape."""
+    if isinstance(data, dict):
+        return [(key, shape(value)) for key, value in data.items()]
+    if isinstance(data, list):
+        return [shape(value) for value in data]
+    return None
+
+
+def crank_rocker_closed_form(theta):
+    """The shipped crank-rocker 40/10/35/30 with P 20 from A at 30 degrees off A->B."""
+    a = np.c_[10 * np.cos(theta), 10 * np.sin(theta)]
+    d = np.array([40.0, 0.0]) - a
+    dist = np.hypot(*d.T)[:, None]
+    along = (35**2 - 30**2 + dist**2) / (2 * dist)
+    across = np.sqrt(35**2 - along**2)
+    b = a + (along * d + across * np.c_[-d[:, 1], d[:, 0]]) / dist  # left of A -> O4
+    u = (b - a) / 35
+    turn = np.radians(30)
+    p = a + 20 * np.c_[u[:, 0] * np.cos(turn) - u[:, 1] * np.sin(turn),
+                       u[:, 0] * np.sin(turn) + u[:, 1] * np.cos(turn)]
+    angles = {"coupler.angle": np.degrees(np.unwrap(np.arctan2(*(b - a).T[::-1]))),
+              "rocker.angle": np.degrees(np.arctan2(b[:, 1], b[:, 0] - 40))}
+    return p, angles
+
+
+def stroke_of(theta, values):
+    """Extremes and time ratio of an output over a dense turn, each extreme's place
+    refined by the parabola through its neighbours."""
+    def extreme(i):
+        left, mid, right = values[i - 1], values[i], values[i + 1]
+        shift = 0.5 * (left - right) / (left - 2 * mid + right)
+        return theta[i] + shift * (theta[1] - theta[0]), mid - 0.25 * (left - right) * shift
+    (at_min, low), (at_max, high) = extreme(np.argmin(values)), extreme(np.argmax(values))
+    forward = (at_max - at_min) % (2 * np.pi)
+    return {"turns": False, "min": pytest.approx(low, abs=1e-8),
+            "max": pytest.approx(high, abs=1e-8), "stroke": pytest.approx(high - low, abs=1e-8),
+            "time_ratio": pytest.approx(forward / (2 * np.pi - forward), rel=1e-7),
+            "strokes_per_turn": 1}
+
+
+def test_the_report_as_data_has_the_shape_and_values_of_the_closed_form():
+    """The shipped crank-rocker, every figure of the JSON report against its closed form:
+    the transmission angle at B from the law of cosines at theta = 0 and 180 degrees,
+    strokes from a dense sampling of the loop's solution, the path of P as sampled."""
+    dense = np.linspace(0, 2 * np.pi, 2_000_001)[:-1]
+    p, angles = crank_rocker_closed_form(dense)
+    strokes = {"P.x": stroke_of(dense, p[:, 0]), "P.y": stroke_of(dense, p[:, 1]),
+               "crank.angle": {"turns": True},
+               "coupler.angle": stroke_of(dense, angles["coupler.angle"]),
+               "rocker.angle": stroke_of(dense, angles["rocker.angle"])}
+    path, _ = crank_rocker_closed_form(np.radians(np.arange(361.0)))  # the circuit's samples
+    x, y = path[:, 0], path[:, 1]
+
+    def mu(diagonal):  # the angle at B between B->A and B->O4
+        return pytest.approx(np.degrees(np.arccos((35**2 + 30**2 - diagonal**2) / (2 * 35 * 30))),
+                             rel=1e-12)
+
+    expected = {
+        "construction": "crank-rocker with coupler point",
+        "angle_unit": "deg",
+        "dof": 1,
+        "mobility": {"moving_links": 3, "revolute_joints": 4, "prismatic_pairs": 0,
+                     "lower_pairs": 4, "higher_pairs": 0, "inputs": 1, "matches_inputs": True,
+                     "formula": "DOF = 3(3) - 2(4) - 0 = 1; 1 input"},
+        "inputs": {"theta": {"kind": "angle", "full_turn": True, "intervals": [[0.0, 360.0]],
+                             "limits": []}},
+        "warnings": [],
+        "four_bars": [{"node": "B", "points": ["O2", "A", "B", "O4"],
+                       "ground": pytest.approx(40, rel=1e-12),
+                       "input": pytest.approx(10, rel=1e-12),
+                       "coupler": pytest.approx(35, rel=1e-12),
+                       "output": pytest.approx(30, rel=1e-12),
+                       "class": "crank-rocker", "code": "GCRR", "grashof": True,
+                       "turning": ["input"]}],
+        "transmission_angles": {"B": {"min": mu(40 - 10), "max": mu(40 + 10),
+                                      "at_min": {"theta": 0.0}, "at_max": {"theta": 180.0}}},
+        "strokes": strokes,
+        "curves": {"P": {
+            "length": pytest.approx(np.hypot(*np.diff(path, axis=0).T).sum(), rel=1e-12),
+            "closed": True,
+            "area": pytest.approx(0.5 * abs(np.sum(x[:-1] * y[1:] - x[1:] * y[:-1])), rel=1e-12),
+            "bounds": [pytest.approx(v, rel=1e-12) for v in (x.min(), y.min(), x.max(), y.max())],
+            "double_points": []}},
+    }
+    data = analyze(load(CONSTRUCTIONS / "crank_rocker.toml"), degrees=True).to_dict()
+    assert data == expected
+    assert shape(data) == shape(expected)
+
+
+def test_the_text_gives_angles_in_the_reports_unit():
+    c = fourbar(7, 5, 6, 5)
+    degrees, radians = analyze(c, degrees=True).to_text(), analyze(c).to_text()
+    assert "input theta2: assemblable from -132.177419 to 132.177419 deg" in degrees
+    assert "input theta2: assemblable from -2.306931 to 2.306931 rad" in radians
+    assert "transmission angle at C: 18.19 to 180.00 deg" in degrees
+    assert "transmission angle at C: 0.32 to 3.14 rad" in radians
+    assert " deg" not in radians and " rad" not in degrees

@@ -3,7 +3,8 @@
 - :mod:`~geokin.analysis.fourbar`: Grashof classification and transmission angles;
 - :mod:`~geokin.analysis.mobility`: degrees of freedom;
 - :mod:`~geokin.analysis.measures`: stroke, time ratio and coupler-curve measures;
-- :mod:`~geokin.analysis.report`: all of these for one construction (:func:`analyze`).
+- :mod:`~geokin.analysis.report`: all of these for one construction (:func:`analyze`,
+  which returns a :class:`Report`).
 
 Angles are radians throughout.
 """
@@ -18,18 +19,34 @@ from .fourbar import (
     grashof,
     transmission_angles,
 )
-from .measures import Curve, Stroke, curve_measures, stroke, time_ratio
+from .measures import Curve, Stroke, curve_measures, refine_extreme, stroke, time_ratio
 from .mobility import Crank, Mobility, cranks, degrees_of_freedom
-from .report import analyze
+from .report import (
+    CurveReport,
+    FourBarReport,
+    InputReport,
+    LimitReport,
+    Report,
+    StrokeReport,
+    TransmissionReport,
+    analyze,
+)
 
 __all__ = [
     "KINDS",
     "Crank",
     "Curve",
+    "CurveReport",
+    "FourBarReport",
     "Grashof",
+    "InputReport",
+    "LimitReport",
     "Mobility",
+    "Report",
     "Stroke",
+    "StrokeReport",
     "TransmissionAngle",
+    "TransmissionReport",
     "analyze",
     "cranks",
     "curve_measures",
@@ -38,6 +55,7 @@ __all__ = [
     "fourth_link_range",
     "grashof",
     "link_angles",
+    "refine_extreme",
     "stroke",
     "time_ratio",
     "transmission_angles",

@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike
 
 from ..errors import AnalysisError
 
-__all__ = ["Curve", "Stroke", "curve_measures", "stroke", "time_ratio"]
+__all__ = ["Curve", "Stroke", "curve_measures", "refine_extreme", "stroke", "time_ratio"]
 
 # -- stroke and time ratio ----------------------------------------------------------
 
@@ -56,12 +56,45 @@ class Stroke:
         return max(self.forward, self.back) / min(self.forward, self.back)
 
 
-def _vertex(x, y):
-    """Return the extremum (x, y) of the polynomial through the samples around x[k//2].
+def refine_extreme(x: ArrayLike, y: ArrayLike) -> tuple[float, float]:
+    """Return an extreme placed between samples: the turning point of their polynomial.
 
-    A polynomial of degree len(x) - 1 (a quartic on five samples), so the
-    extremum is found to a high order in the sample spacing.
+    The polynomial of degree ``len(x) - 1`` through the samples (a parabola
+    through three, a quartic through five) is taken about the middle
+    sample; its turning point nearest that sample, within one step of it,
+    is the extreme. Where there is none (samples that do not turn, or turn
+    too far away), the middle sample itself is returned.
+
+    Parameters
+    ----------
+    x, y : array_like, shape (K,)
+        An odd number K >= 3 of samples, the extreme sample in the middle.
+        ``x`` need not be evenly spaced; it may be a sample's index.
+
+    Returns
+    -------
+    (float, float)
+        Where the extreme lies, and its value.
+
+    See Also
+    --------
+    stroke : which places an output's extremes over a turn with it.
+
+    Examples
+    --------
+    The top of ``1 - (x - 0.3)**2`` from three samples, and of a sine from five
+    samples 5 degrees apart:
+
+    >>> x, y = refine_extreme([-1, 0, 1], [-0.69, 0.91, 0.51])
+    >>> round(x, 12), round(y, 12)
+    (0.3, 1.0)
+    >>> x = np.radians([80, 85, 90, 95, 100]) + 0.01
+    >>> top, value = refine_extreme(x, np.sin(x))
+    >>> abs(top - np.pi / 2) < 1e-7, abs(value - 1) < 1e-9
+    (True, True)
     """
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
     mid = len(x) // 2
     x0 = x[mid]
     h = max(np.max(np.abs(np.diff(x))), np.finfo(float).tiny)
@@ -71,9 +104,9 @@ def _vertex(x, y):
     roots = roots[np.isreal(roots)].real
     roots = roots[np.abs(roots) <= 1.0]
     if roots.size == 0:
-        return x0, y[mid]
+        return float(x0), float(y[mid])
     t = roots[np.argmin(np.abs(roots))]
-    return x0 + t * h, float(poly(t))
+    return float(x0 + t * h), float(poly(t))
 
 
 def stroke(output: ArrayLike, input_values: ArrayLike, *, period: float = 2 * np.pi) -> Stroke:
@@ -84,7 +117,7 @@ def stroke(output: ArrayLike, input_values: ArrayLike, *, period: float = 2 * np
     output : array_like, shape (N,)
         The output at each sample: a point coordinate, a link angle. The
         extremes are refined between samples by a quartic through the five
-        samples around each.
+        samples around each (:func:`refine_extreme`).
     input_values : array_like, shape (N,)
         The input, increasing over at least one full ``period`` (the last
         sample may repeat the first one turn later). NaN outputs are left out.
@@ -126,7 +159,7 @@ def stroke(output: ArrayLike, input_values: ArrayLike, *, period: float = 2 * np
         wrapped = around % n
         if not ok[wrapped].all():
             return x[index], y[index]
-        return _vertex(x[wrapped] + period * np.floor_divide(around, n), y[wrapped])
+        return refine_extreme(x[wrapped] + period * np.floor_divide(around, n), y[wrapped])
 
     x_min, y_min = extreme(int(np.nanargmin(y)))
     x_max, y_max = extreme(int(np.nanargmax(y)))

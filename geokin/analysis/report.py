@@ -4,11 +4,15 @@
 input, the Grashof class of every four-bar loop it recognises, the
 transmission angle at every circle-circle node, strokes and time ratios of
 the traced points and the declared links, and measures of the traced
-curves. It is what ``geokin analyze`` prints.
+curves, in a :class:`Report`. ``geokin analyze`` prints it;
+:meth:`Report.to_dict` gives it as the plain data of ``geokin analyze --json``,
+:meth:`Report.to_text` as the text of ``geokin analyze``.
 """
 
 from __future__ import annotations
 
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -17,36 +21,461 @@ from ..circuits import circuit, describe_limit, limits
 from ..construction import Compiled, Construction, as_compiled
 from ..engine import sweep
 from ..errors import AnalysisError
-from ..kinematics import unwrap_valid
-from ..nodes import CircleCircle, Polar
+from ..kinematics import link_angles
+from ..nodes import CircleCircle
 from ..results import Sweep
-from .fourbar import grashof, transmission_angles
-from .measures import curve_measures, stroke
-from .mobility import degrees_of_freedom
+from ..terminal import one_line
+from .fourbar import ROLES, grashof, transmission_angles
+from .measures import curve_measures, refine_extreme, stroke
+from .mobility import Mobility, cranks, degrees_of_freedom
 
-__all__ = ["analyze"]
+__all__ = [
+    "CurveReport",
+    "FourBarReport",
+    "InputReport",
+    "LimitReport",
+    "Report",
+    "StrokeReport",
+    "TransmissionReport",
+    "analyze",
+]
+
+# -- the report ---------------------------------------------------------------------
+# Angles are in the report's unit (Report.angle_unit); lengths and input values
+# of length inputs in the construction's length unit.
 
 
-def _four_bars(compiled, motion: Sweep):
+@dataclass(frozen=True)
+class LimitReport:
+    """One end of an input's assemblable interval, set by a node.
+
+    Attributes
+    ----------
+    value : float
+        The input's value there.
+    node : str or None
+        The node that cannot be assembled beyond it (None only at the end
+        of a searched range, which is not reported as a limit).
+    kind : {"tangent", "end"}
+        ``"tangent"`` where the node's two roots meet (a toggle or dead
+        centre), ``"end"`` where its root leaves its ray or segment (see
+        :class:`geokin.circuits.Limit`).
+    meaning : str
+        The same in words.
+    """
+
+    value: float
+    node: str | None
+    kind: str
+    meaning: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """Return the limit as plain data: ``value``, ``node``, ``kind``, ``meaning``."""
+        return {"value": self.value, "node": self.node, "kind": self.kind,
+                "meaning": self.meaning}
+
+
+@dataclass(frozen=True)
+class InputReport:
+    """Where one input can go.
+
+    Attributes
+    ----------
+    kind : {"angle", "length"}
+        The input's kind.
+    full_turn : bool
+        Whether an angle input turns fully, without any limit.
+    intervals : tuple of (float, float)
+        Each assemblable interval as ``(low, high)``, within the declared
+        range, in order.
+    limits : tuple of LimitReport
+        The ends of the intervals that a node sets, in order (an end of the
+        declared range is not one).
+    """
+
+    kind: str
+    full_turn: bool
+    intervals: tuple[tuple[float, float], ...]
+    limits: tuple[LimitReport, ...]
+
+    def to_dict(self) -> dict[str, Any]:
+        """Return the input as plain data: ``kind``, ``full_turn``, ``intervals``, ``limits``."""
+        return {"kind": self.kind, "full_turn": self.full_turn,
+                "intervals": [[low, high] for low, high in self.intervals],
+                "limits": [limit.to_dict() for limit in self.limits]}
+
+
+@dataclass(frozen=True)
+class FourBarReport:
+    """A four-bar loop closed at a circle-circle node, and its Grashof class.
+
+    Attributes
+    ----------
+    node : str
+        The circle-circle node that closes the loop.
+    points : (str, str, str, str)
+        The crank's ground pivot, the crank pin, ``node`` and the output's
+        ground pivot.
+    lengths : mapping of str to float
+        The lengths of the ``"ground"``, ``"input"``, ``"coupler"`` and
+        ``"output"`` links, in that order.
+    kind : str
+        The Grashof class (``"class"`` in :meth:`to_dict`), one of
+        :data:`geokin.analysis.KINDS`.
+    code : str
+        Its short code (``"GCRR"``, ``"RRR1"``), ``""`` for none.
+    grashof : bool
+        Whether the shortest link turns fully relative to the others.
+    turning : tuple of str
+        The links (``"input"``, ``"coupler"``, ``"output"``) that turn fully
+        relative to the ground.
+    """
+
+    node: str
+    points: tuple[str, str, str, str]
+    lengths: Mapping[str, float]
+    kind: str
+    code: str
+    grashof: bool
+    turning: tuple[str, ...]
+
+    def to_dict(self) -> dict[str, Any]:
+        """Return the four-bar as plain data, each length under its role's name."""
+        return {"node": self.node, "points": list(self.points),
+                **{role: self.lengths[role] for role in ROLES},
+                "class": self.kind, "code": self.code, "grashof": self.grashof,
+                "turning": list(self.turning)}
+
+
+@dataclass(frozen=True)
+class TransmissionReport:
+    """The extremes of the transmission angle at a circle-circle node.
+
+    Attributes
+    ----------
+    minimum, maximum : float
+        The extremes of the angle between the node's two links, in
+        ``[0, 180]`` degrees or ``[0, pi]`` radians (``min`` and ``max``
+        in :meth:`to_dict`).
+    at_minimum, at_maximum : mapping of str to float
+        The input values where they occur (``at_min`` and ``at_max``).
+    """
+
+    minimum: float
+    maximum: float
+    at_minimum: Mapping[str, float]
+    at_maximum: Mapping[str, float]
+
+    def to_dict(self) -> dict[str, Any]:
+        """Return the extremes as plain data: ``min``, ``max``, ``at_min``, ``at_max``."""
+        return {"min": self.minimum, "max": self.maximum, "at_min": dict(self.at_minimum),
+                "at_max": dict(self.at_maximum)}
+
+
+@dataclass(frozen=True)
+class StrokeReport:
+    """The extremes of one output: a traced coordinate, a slider's position, a link's angle.
+
+    Attributes
+    ----------
+    turns : bool
+        Whether the output is a link angle that turns fully; the other
+        fields are then None.
+    minimum, maximum : float or None
+        The output's extremes, placed between samples (``min`` and ``max``
+        in :meth:`to_dict`).
+    stroke : float or None
+        ``maximum - minimum``.
+    time_ratio : float or None
+        Where the input turns fully and the output goes out and back once
+        a turn: the input travelled from the minimum to the maximum over
+        that from the maximum back (forward over return time at a constant
+        input speed); None otherwise.
+    strokes_per_turn : int or None
+        Where the input turns fully, how many times a turn the output goes
+        out and back; None where it does not (and :meth:`to_dict` leaves
+        it out).
+    """
+
+    turns: bool
+    minimum: float | None = None
+    maximum: float | None = None
+    stroke: float | None = None
+    time_ratio: float | None = None
+    strokes_per_turn: int | None = None
+
+    def to_dict(self) -> dict[str, Any]:
+        """Return the output's extremes as plain data: ``{"turns": True}`` for a turning link."""
+        if self.turns:
+            return {"turns": True}
+        entry: dict[str, Any] = {"turns": False, "min": self.minimum, "max": self.maximum,
+                                 "stroke": self.stroke, "time_ratio": self.time_ratio}
+        if self.strokes_per_turn is not None:
+            entry["strokes_per_turn"] = self.strokes_per_turn
+        return entry
+
+
+@dataclass(frozen=True)
+class CurveReport:
+    """Measures of a traced point's path (see :func:`~geokin.analysis.curve_measures`).
+
+    Attributes
+    ----------
+    length : float
+        The path's length.
+    closed : bool
+        Whether it ends where it starts.
+    area : float or None
+        The area it encloses, each region once; None where it is open, or
+        where the area lies beyond the range of floats.
+    bounds : (float, float, float, float)
+        ``(xmin, ymin, xmax, ymax)``.
+    double_points : tuple of (float, float)
+        Where it crosses itself.
+    """
+
+    length: float
+    closed: bool
+    area: float | None
+    bounds: tuple[float, float, float, float]
+    double_points: tuple[tuple[float, float], ...]
+
+    def to_dict(self) -> dict[str, Any]:
+        """Return the measures as plain data, with ``bounds`` and ``double_points`` as lists."""
+        return {"length": self.length, "closed": self.closed, "area": self.area,
+                "bounds": list(self.bounds),
+                "double_points": [list(point) for point in self.double_points]}
+
+
+@dataclass(frozen=True)
+class Report:
+    """What :func:`analyze` finds about a construction; immutable.
+
+    Angles (values of angle inputs, transmission angles, link angles) are in
+    :attr:`angle_unit`; lengths, and values of length inputs, in the
+    construction's length unit.
+
+    Attributes
+    ----------
+    construction : str
+        The construction's name.
+    angle_unit : {"rad", "deg"}
+        The unit of every angle in the report.
+    mobility : Mobility
+        The Gruebler-Kutzbach count of the declared links (:attr:`dof` is
+        its ``dof``).
+    inputs : mapping of str to InputReport
+        Where each input can go, by input name, in declaration order.
+    warnings : tuple of str
+        What the figures below leave out: samples of the motion that cannot
+        be assembled.
+    assembled : bool
+        Whether any sample of the motion can be assembled. Where none can,
+        the fields below are empty and :meth:`to_dict` leaves them out.
+    four_bars : tuple of FourBarReport
+        Every four-bar loop on a driven crank and a ground pivot.
+    transmission_angles : mapping of str to TransmissionReport
+        By circle-circle node whose two links are declared (every such node
+        where no link is declared).
+    strokes : mapping of str to StrokeReport
+        By output (``"<point>.x"``, ``"<point>.y"``, ``"<slider>.position"``,
+        ``"<link>.angle"``), for a construction of one input; outputs that do
+        not move are left out.
+    curves : mapping of str to CurveReport
+        By traced point.
+    """
+
+    construction: str
+    angle_unit: str
+    mobility: Mobility
+    inputs: Mapping[str, InputReport]
+    warnings: tuple[str, ...]
+    assembled: bool
+    four_bars: tuple[FourBarReport, ...]
+    transmission_angles: Mapping[str, TransmissionReport]
+    strokes: Mapping[str, StrokeReport]
+    curves: Mapping[str, CurveReport]
+
+    @property
+    def dof(self) -> int:
+        """Return the degrees of freedom of the declared links (Gruebler-Kutzbach)."""
+        return self.mobility.dof
+
+    def to_dict(self) -> dict[str, Any]:
+        """Return the report as plain data, ready for JSON: what ``geokin analyze --json`` prints.
+
+        The keys are those of the fields, in their order, with ``dof`` after
+        ``angle_unit``; ``mobility`` holds the counts of :class:`Mobility`,
+        ``matches_inputs`` and the ``formula`` as text. Where no sample can
+        be assembled, ``four_bars``, ``transmission_angles``, ``strokes``
+        and ``curves`` are left out.
+
+        Examples
+        --------
+        >>> from geokin import Construction
+        >>> c = Construction("crank")
+        >>> c.input("theta")
+        >>> c.fixed("O", 0, 0)
+        >>> c.polar("A", "O", 2, "theta")
+        >>> c.link("crank", "O", "A")
+        >>> c.trace("A")
+        >>> data = analyze(c, degrees=True).to_dict()
+        >>> list(data)  # doctest: +NORMALIZE_WHITESPACE
+        ['construction', 'angle_unit', 'dof', 'mobility', 'inputs', 'warnings',
+         'four_bars', 'transmission_angles', 'strokes', 'curves']
+        >>> data["strokes"]["crank.angle"], data["curves"]["A"]["closed"]
+        ({'turns': True}, True)
+        """
+        m = self.mobility
+        report: dict[str, Any] = {
+            "construction": self.construction,
+            "angle_unit": self.angle_unit,
+            "dof": self.dof,
+            "mobility": {
+                "moving_links": m.moving_links, "revolute_joints": m.revolute_joints,
+                "prismatic_pairs": m.prismatic_pairs, "lower_pairs": m.lower_pairs,
+                "higher_pairs": m.higher_pairs, "inputs": m.inputs,
+                "matches_inputs": m.matches_inputs, "formula": str(m),
+            },
+            "inputs": {name: entry.to_dict() for name, entry in self.inputs.items()},
+            "warnings": list(self.warnings),
+        }
+        if not self.assembled:
+            return report
+        report["four_bars"] = [bar.to_dict() for bar in self.four_bars]
+        report["transmission_angles"] = {
+            node: mu.to_dict() for node, mu in self.transmission_angles.items()}
+        report["strokes"] = {label: s.to_dict() for label, s in self.strokes.items()}
+        report["curves"] = {point: curve.to_dict() for point, curve in self.curves.items()}
+        return report
+
+    def to_text(self, units: str = "") -> str:
+        """Return the report as ``geokin analyze`` prints it, one finding a line.
+
+        Parameters
+        ----------
+        units : str
+            The unit written after lengths (a construction's ``units``);
+            none by default. Angles are followed by ``deg`` or ``rad``, the
+            report's :attr:`angle_unit`.
+
+        Returns
+        -------
+        str
+            Lines, each ending in a newline. What came from a script (the
+            construction's name, ``units``, the warnings) is escaped and cut
+            to 1000 characters (:func:`geokin.terminal.one_line`), so that
+            each stays on its line.
+
+        Examples
+        --------
+        A line too long for this page is broken in two:
+
+        >>> from geokin import Construction
+        >>> c = Construction("crank-rocker")
+        >>> c.input("theta")
+        >>> c.fixed("O2", 0, 0)
+        >>> c.fixed("O4", 4, 0)
+        >>> c.polar("A", "O2", 1, "theta")
+        >>> c.circle_circle("B", ("A", "O4"), (4, 3), branch="left")
+        >>> c.link("crank", "O2", "A")
+        >>> c.link("coupler", "A", "B")
+        >>> c.link("rocker", "O4", "B")
+        >>> print(analyze(c, degrees=True).to_text(), end="")
+        crank-rocker
+        degrees of freedom: DOF = 3(3) - 2(4) - 0 = 1; 1 input
+        input theta: turns fully
+        four-bar O2-A-B-O4 (ground 4, input 1, coupler 4, output 3): crank-rocker (GCRR);
+        input turns fully
+        transmission angle at B: 48.19 to 90.00 deg
+        crank.angle: turns fully
+        coupler.angle: 28.9550 to 60.0000 deg, stroke 31.0450 deg, time ratio 1.1887
+        rocker.angle: 90.0000 to 131.8103 deg, stroke 41.8103 deg, time ratio 1.1342
+        """
+        lengths = f" {one_line(units, 1000)}" if units else ""
+        angles = " deg" if self.angle_unit == "deg" else " rad"
+        lines = [one_line(self.construction, 1000),
+                 f"degrees of freedom: {self.mobility}"]
+        lines += [f"warning: {one_line(warning, 1000)}" for warning in self.warnings]
+        for name, entry in self.inputs.items():
+            unit = angles if entry.kind == "angle" else lengths
+            if entry.full_turn:
+                lines.append(f"input {name}: turns fully")
+                continue
+            spans = ", ".join(f"{lo:.6f}{_range_end(entry, lo)} to {hi:.6f}{unit}"
+                              f"{_range_end(entry, hi)}" for lo, hi in entry.intervals)
+            lines.append(f"input {name}: assemblable from {spans}")
+            for limit in entry.limits:
+                lines.append(f"  limit at {limit.value:.6f}{unit}: {limit.meaning}")
+        for bar in self.four_bars:
+            sides = ", ".join(f"{role} {bar.lengths[role]:g}" for role in ROLES)
+            turning = ", ".join(bar.turning) or "no link"
+            lines.append(f"four-bar {'-'.join(bar.points)} ({sides}): {bar.kind}"
+                         f"{' (' + bar.code + ')' if bar.code else ''}; "
+                         f"{turning} turns fully")
+        for node, mu in self.transmission_angles.items():
+            lines.append(f"transmission angle at {node}: {mu.minimum:.2f} to "
+                         f"{mu.maximum:.2f}{angles}")
+        for label, s in self.strokes.items():
+            if s.turns:
+                lines.append(f"{label}: turns fully")
+                continue
+            unit = angles if label.endswith(".angle") else lengths
+            ratio = "" if s.time_ratio is None else f", time ratio {s.time_ratio:.4f}"
+            if s.strokes_per_turn is not None and s.strokes_per_turn > 1:
+                ratio = f", {s.strokes_per_turn} strokes per turn"
+            lines.append(f"{label}: {_figure(s.minimum)} to {_figure(s.maximum)}{unit}, stroke "
+                         f"{_figure(s.stroke)}{unit}{ratio}")
+        for point, curve in self.curves.items():
+            area = "" if curve.area is None else f", encloses {_figure(curve.area)}"
+            lines.append(f"path of {point}: length {_figure(curve.length)}{lengths}"
+                         f"{', closed' if curve.closed else ', open'}{area}, "
+                         f"{len(curve.double_points)} double point(s)")
+        return "\n".join(lines) + "\n"
+
+
+def _range_end(entry: InputReport, value: float) -> str:
+    """Mark an interval's end that is the end of the searched range, not a limit."""
+    if any(abs(limit.value - value) <= 1e-9 * max(1.0, abs(value)) for limit in entry.limits):
+        return ""
+    return " (end of the declared range)"
+
+
+def _figure(value: float | None) -> str:
+    """Four decimals for a figure of everyday size, six significant digits otherwise.
+
+    >>> _figure(52.95454), _figure(5.2954e-159), _figure(0.0)
+    ('52.9545', '5.2954e-159', '0.0000')
+    """
+    assert value is not None  # a stroke's figures are given wherever it does not turn
+    if value == 0 or 1e-3 <= abs(value) < 1e9:
+        return f"{value:.4f}"
+    return f"{value:.6g}"
+
+
+# -- analysis -------------------------------------------------------------------------
+
+
+def _four_bars(compiled: Compiled, motion: Sweep):
     """Find circle-circle nodes closing a four-bar on a driven crank and a fixed pivot.
 
-    Where links are declared, the crank, the coupler and the output must be
-    among them; a helper point of the construction is not a crank.
+    The crank is one of :func:`~geokin.analysis.mobility.cranks` turning
+    about a ground pivot. Where links are declared, the crank, the coupler
+    and the output must be among them; a helper point of the construction
+    is not a crank.
     """
-    nodes = {step.node.name: step.node for step in compiled.steps}
+    driven = {crank.tip: crank for crank in cranks(compiled) if crank.grounded and crank.on_link}
     found = []
-    for node in nodes.values():
+    for step in compiled.steps:
+        node = step.node
         if not isinstance(node, CircleCircle):
             continue
         for crank_pin, pivot in (node.centers, node.centers[::-1]):
-            crank = nodes[crank_pin]
-            if not (isinstance(crank, Polar) and pivot in compiled.ground
-                    and crank.origin in compiled.ground and crank.reference is None
-                    and crank.angle.names() & compiled.inputs.keys()):
+            crank = driven.get(crank_pin)
+            if crank is None or pivot not in compiled.ground:
                 continue
-            # with declared links, the loop must be made of them: a helper point
-            # of the construction is not a crank
-            bars = [(crank.origin, crank_pin), (crank_pin, node.name), (node.name, pivot)]
+            # with declared links, coupler and output must be among them too
+            bars = [(crank_pin, node.name), (node.name, pivot)]
             if compiled.links and not all(
                     any({a, b} <= set(link.points) for link in compiled.links) for a, b in bars):
                 continue
@@ -63,26 +492,25 @@ def _four_bars(compiled, motion: Sweep):
     return found
 
 
-def analyze(construction: Construction | Compiled, *, degrees: bool = False) -> dict[str, Any]:
-    """Analyse a construction and return a report as plain data (JSON-ready).
+def analyze(construction: Construction | Compiled, *, degrees: bool = False) -> Report:
+    """Analyse a construction: mobility, limits, four-bars, transmission, strokes, curves.
 
     The motion analysed is the whole circuit of the first input (one turn if
     it turns fully; otherwise from limit to limit on both sides of each
-    toggle, see :func:`geokin.circuit`).
+    toggle, see :func:`geokin.circuit`); with several inputs, the sweep of
+    them all over their declared ranges.
 
     Parameters
     ----------
     construction : Construction or Compiled
     degrees : bool
         Give angles (input values of angle inputs, transmission angles, link
-        swings) in degrees instead of radians.
+        angles) in degrees instead of radians.
 
     Returns
     -------
-    dict
-        ``dof``, ``mobility``, ``inputs.<name>.intervals`` (each ``[low, high]``)
-        with ``full_turn`` and ``limits``, ``four_bars``,
-        ``transmission_angles``, ``strokes`` and ``curves``.
+    Report
+        :meth:`Report.to_dict` gives it as plain data (JSON-ready).
 
     Examples
     --------
@@ -95,91 +523,84 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False) -> 
     >>> c.polar("B", "A", 5, "theta2")
     >>> c.circle_circle("C", ("B", "D"), (6, 5), branch="left")
     >>> report = analyze(c, degrees=True)
-    >>> [round(v, 4) for v in report["inputs"]["theta2"]["intervals"][0]]
+    >>> [round(v, 4) for v in report.inputs["theta2"].intervals[0]]
     [-132.1774, 132.1774]
-    >>> report["four_bars"][0]["class"]
+    >>> [limit.kind for limit in report.inputs["theta2"].limits]
+    ['tangent', 'tangent']
+    >>> report.four_bars[0].kind
     'triple-rocker RRR1'
     """
     compiled = as_compiled(construction)
-    angle = np.degrees if degrees else (lambda v: v)
     mobility = degrees_of_freedom(compiled)
-    # JSON-ready: each key's value has its own shape
-    report: dict[str, Any] = {
-        "construction": compiled.name,
-        "angle_unit": "deg" if degrees else "rad",
-        "dof": mobility.dof,
-        "mobility": {
-            "moving_links": mobility.moving_links, "revolute_joints": mobility.revolute_joints,
-            "prismatic_pairs": mobility.prismatic_pairs, "lower_pairs": mobility.lower_pairs,
-            "higher_pairs": mobility.higher_pairs, "inputs": mobility.inputs,
-            "matches_inputs": mobility.matches_inputs, "formula": str(mobility),
-        },
-        "inputs": {},
-    }
+
+    def angle(value) -> float:
+        return float(np.degrees(value) if degrees else value)
+
+    def value_of(name: str) -> Callable[[Any], float]:
+        return angle if compiled.inputs[name].kind == "angle" else float
+
+    inputs = {}
     for name, declared in compiled.inputs.items():
-        convert = angle if declared.kind == "angle" else (lambda v: v)
+        convert = value_of(name)
         found = limits(compiled, name)
-        report["inputs"][name] = {
-            "kind": declared.kind,
-            "full_turn": found.full_turn,
-            "intervals": [[float(convert(lo)), float(convert(hi))]
-                          for lo, hi in found.as_values()],
-            "limits": [{"value": float(convert(end.value)), "node": end.node, "kind": end.kind,
-                        "meaning": describe_limit(end)}
-                       for pair in found.intervals for end in pair if end.kind != "range"],
-        }
+        inputs[name] = InputReport(
+            kind=declared.kind,
+            full_turn=found.full_turn,
+            intervals=tuple((convert(lo), convert(hi)) for lo, hi in found.as_values()),
+            limits=tuple(LimitReport(convert(end.value), end.node, end.kind, describe_limit(end))
+                         for pair in found.intervals for end in pair if end.kind != "range"))
     if len(compiled.inputs) == 1:
         motion = circuit(compiled)
     else:
         motion = sweep(compiled)
-    report["warnings"] = []
+    warnings = []
     if not motion.valid.all():
         i = int(np.flatnonzero(~motion.valid)[0])
-        report["warnings"].append(
+        warnings.append(
             f"{int((~motion.valid).sum())} of {len(motion)} samples of the "
             f"{'circuit' if len(compiled.inputs) == 1 else 'sweep'} cannot be assembled "
             f"(first at sample {i}: node {motion.failed_node[i]!r}: "
             f"{motion.failure_reason[i]}); the figures below come from the others")
+    unit = "deg" if degrees else "rad"
     if not motion.valid.any():
-        return report
-    report["four_bars"] = []
+        return Report(compiled.name, unit, mobility, inputs, tuple(warnings), assembled=False,
+                      four_bars=(), transmission_angles={}, strokes={}, curves={})
+    four_bars = []
     for node, points, lengths in _four_bars(compiled, motion):
         try:
-            g = grashof(lengths["ground"], lengths["input"], lengths["coupler"],
-                        lengths["output"])
+            g = grashof(*(lengths[role] for role in ROLES))
         except AnalysisError:  # a link of zero length: no four-bar to classify
             continue
-        report["four_bars"].append({"node": node, "points": list(points), **lengths,
-                                    "class": g.kind, "code": g.code, "grashof": g.grashof,
-                                    "turning": list(g.turning)})
-    def inputs_at(values):
-        return {k: float(angle(v) if compiled.inputs[k].kind == "angle" else v)
-                for k, v in values.items()}
+        four_bars.append(FourBarReport(node, points, lengths, g.kind, g.code, g.grashof,
+                                       g.turning))
 
-    def between_links(t):
+    def inputs_at(values: Mapping[str, float]) -> dict[str, float]:
+        return {k: value_of(k)(v) for k, v in values.items()}
+
+    def between_links(t) -> bool:
         # with declared links, the angle must be between two of them, not a helper line
         return not compiled.links or all(
             any({t.node, centre} <= set(link.points) for link in compiled.links)
             for centre in t.centers)
 
-    report["transmission_angles"] = {
-        node: {"min": float(angle(t.minimum)), "max": float(angle(t.maximum)),
-               "at_min": inputs_at(t.at_minimum), "at_max": inputs_at(t.at_maximum)}
+    transmission = {
+        node: TransmissionReport(angle(t.minimum), angle(t.maximum), inputs_at(t.at_minimum),
+                                 inputs_at(t.at_maximum))
         for node, t in transmission_angles(motion).items() if between_links(t)}
-    report["strokes"] = _strokes(compiled, motion, angle)
-    report["curves"] = {}
+    curves = {}
     for point in compiled.traced:
         try:
             curve = curve_measures(motion[point])
         except AnalysisError:  # fewer than two assembled samples in a row
             continue
-        report["curves"][point] = {
-            "length": curve.length, "closed": curve.closed,
+        curves[point] = CurveReport(
+            curve.length, curve.closed,
             # none where the curve is open, or its area is beyond the range of floats
-            "area": curve.area if np.isfinite(curve.area) else None,
-            "bounds": list(curve.bounds),
-            "double_points": curve.double_points.tolist()}
-    return report
+            curve.area if np.isfinite(curve.area) else None,
+            curve.bounds, tuple((x, y) for x, y in curve.double_points.tolist()))
+    return Report(compiled.name, unit, mobility, inputs, tuple(warnings), assembled=True,
+                  four_bars=tuple(four_bars), transmission_angles=transmission,
+                  strokes=_strokes(compiled, motion, angle), curves=curves)
 
 
 def _peaks(values, span) -> int:
@@ -196,30 +617,30 @@ def _peaks(values, span) -> int:
     return max(int(np.count_nonzero(rising & ~np.roll(rising, -1))), 1)
 
 
-def _refined_extreme(values, sign, smooth) -> float:
+_AROUND = np.array([-1.0, 0.0, 1.0])
+"""A sample and its neighbours, by index."""
+
+
+def _extreme(values, sign, smooth) -> float:
     """Return the largest (sign 1) or smallest (sign -1) value, refined between samples.
 
-    A parabola through the extreme sample and its neighbours places the
-    extreme between samples where the motion runs smoothly through that
-    sample (``smooth``); at the ends of a run, where the neighbours are
-    missing, and where the input turns back or a branch changes (a limit,
-    where the output may have a corner), the sample itself is taken.
+    :func:`~geokin.analysis.measures.refine_extreme` places the extreme
+    between samples through the extreme sample and its neighbours, where
+    the motion runs smoothly through that sample (``smooth``); at the ends
+    of a run, where the neighbours are missing, and where the input turns
+    back or a branch changes (a limit, where the output may have a corner),
+    the sample itself is taken.
     """
     finite = np.where(np.isfinite(values), sign * values, -np.inf)
     i = int(np.argmax(finite))
-    best = finite[i]
     if (0 < i < len(values) - 1 and smooth[i] and np.isfinite(finite[i - 1])
             and np.isfinite(finite[i + 1])):
-        left, right = finite[i - 1], finite[i + 1]
-        curvature = left - 2 * best + right
-        if curvature < 0:
-            # the vertex of the parabola, in a form that cannot overflow at any scale
-            spread = right - left
-            best = best - spread / 8 * (spread / curvature)
-    return float(sign * best)
+        return refine_extreme(_AROUND, values[i - 1:i + 2])[1]
+    return float(values[i])
 
 
-def _strokes(compiled, motion: Sweep, angle) -> dict:
+def _strokes(compiled: Compiled, motion: Sweep,
+             angle: Callable[[Any], float]) -> dict[str, StrokeReport]:
     """Extremes and time ratios of traced coordinates and link angles.
 
     Over one turn of an input that turns fully the time ratio is given too.
@@ -242,20 +663,18 @@ def _strokes(compiled, motion: Sweep, angle) -> dict:
             unit = guide / np.hypot(*guide.T)[:, None]
         outputs[f"{slider.name}.position"] = (
             np.einsum("ij,ij->i", motion[slider.point] - motion[a], unit), False)
+    angles = link_angles(motion)
     for link in compiled.links:
         if set(link.points[:2]) <= compiled.ground:
             continue
-        a, b = link.points[:2]
-        direction = motion[b] - motion[a]
-        outputs[f"{link.name}.angle"] = (
-            unwrap_valid(np.arctan2(direction[:, 1], direction[:, 0])), True)
+        outputs[f"{link.name}.angle"] = (angles[link.name], True)
     # where the input runs on through a sample, on the same branches
     step = np.diff(motion.inputs[name])
     smooth = np.zeros(len(motion), dtype=bool)
     smooth[1:-1] = step[:-1] * step[1:] > 0
     for event in motion.events:
         smooth[max(event.index - 1, 0):event.index + 1] = False
-    strokes: dict[str, dict[str, Any]] = {}
+    strokes: dict[str, StrokeReport] = {}
     for label, (values, is_angle) in outputs.items():
         if not np.isfinite(values).any():
             continue
@@ -263,24 +682,22 @@ def _strokes(compiled, motion: Sweep, angle) -> dict:
         if high - low <= 1e-9 * max(abs(high), abs(low)):
             continue  # it does not move (to rounding, at any scale)
         if is_angle and high - low >= 2 * np.pi - 1e-9:
-            strokes[label] = {"turns": True}
+            strokes[label] = StrokeReport(turns=True)
             continue
-        convert = angle if is_angle else (lambda v: v)
-        low, high = _refined_extreme(values, -1, smooth), _refined_extreme(values, 1, smooth)
-        entry: dict[str, Any] = {
-            "turns": False, "min": float(convert(low)), "max": float(convert(high)),
-            "stroke": float(convert(high - low)), "time_ratio": None}
+        convert = angle if is_angle else float
+        low, high = _extreme(values, -1, smooth), _extreme(values, 1, smooth)
+        found = None
         if turns:
             try:
-                s = stroke(values[:-1], motion.inputs[name][:-1])
+                found = stroke(values[:-1], motion.inputs[name][:-1])
             except AnalysisError:  # too few assembled samples to locate the extremes
-                strokes[label] = entry
-                continue
-            entry.update(min=float(convert(s.minimum)), max=float(convert(s.maximum)),
-                         stroke=float(convert(s.stroke)), time_ratio=float(s.time_ratio))
-            entry["strokes_per_turn"] = _peaks(values[:-1], high - low)
-            if entry["strokes_per_turn"] > 1:
-                # out and back more than once a turn: no one forward and return stroke
-                entry["time_ratio"] = None
-        strokes[label] = entry
+                pass
+        if found is None:
+            strokes[label] = StrokeReport(False, convert(low), convert(high), convert(high - low))
+            continue
+        per_turn = _peaks(values[:-1], high - low)
+        strokes[label] = StrokeReport(
+            False, convert(found.minimum), convert(found.maximum), convert(found.stroke),
+            # out and back more than once a turn: no one forward and return stroke
+            float(found.time_ratio) if per_turn == 1 else None, per_turn)
     return strokes
