@@ -172,6 +172,16 @@ def test_csv_keeps_its_format():
                                "1e-320,1,1.1805916207174113e+21\n")
 
 
+def test_trace_json_writes_null_for_what_is_not_a_finite_number():
+    stream = io.StringIO()
+    write_json({"t": np.arange(5.0), "valid": np.array([1, 0, 1, 1, 1], bool),
+                "x": np.array([1.5, np.nan, np.inf, -np.inf, 1e300])}, stream,
+               values_per_write=2)
+    assert json.loads(stream.getvalue()) == {
+        "t": [0, 1, 2, 3, 4], "valid": [True, False, True, True, True],
+        "x": [1.5, None, None, None, 1e300]}
+
+
 def test_a_name_that_csv_must_quote_reads_back():
     text = io.StringIO()
     names = ["a,b", 'say "x"', "line\nbreak", "plain"]
@@ -200,12 +210,18 @@ def test_npz_takes_columns_named_as_the_arguments_of_savez_and_load(tmp_path):
     assert archive.getvalue()[:2] == b"PK"
 
 
-def test_a_sweep_whose_input_is_named_file_exports_to_npz(tmp_path):
+def test_a_sweep_whose_input_is_named_file_exports_to_npz_from_python_and_the_cli(
+        tmp_path, capsys):
     names = ("file", "allow_pickle", "args")
     s = sweep(a_crank(*names), {name: np.linspace(0, 1, 4) for name in names})
     back = read_npz(export_sweep(s, tmp_path / "inputs.npz"))
     for name in names:
         np.testing.assert_array_equal(back[name], s.inputs[name])
+    script = tmp_path / "inputs.toml"
+    script.write_text(geokin.dump(a_crank(*names)))
+    assert main(["trace", str(script), "-o", str(tmp_path / "cli.npz")]) == 0
+    assert list(read_npz(tmp_path / "cli.npz"))[:4] == [*names, "valid"]
+    assert "wrote" in capsys.readouterr().err
 
 
 def test_npz_refuses_python_objects_rather_than_pickling_them():
