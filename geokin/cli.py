@@ -56,30 +56,26 @@ import sys
 import threading
 import unicodedata
 import warnings
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import Any, TextIO, TypeAlias
+from typing import TypeAlias
 
 import numpy as np
-from numpy.typing import ArrayLike
 
 from . import __version__
 from .analysis import analyze, degrees_of_freedom
-from .atomic import replacing
 from .circuits import circuit
 from .construction import MAX_SAMPLES, Construction, whole_steps
 from .engine import evaluate
 from .engine import sweep as run_sweep
 from .errors import GeokinError, did_you_mean
-from .io import load, script_steps
+from .io import EXPORT_FORMATS, columns, export_sweep, load, script_steps, write_csv
 from .kinematics import motion
 from .results import Sweep
 from .terminal import escape, one_line, shorten
 from .units import from_script, to_script, to_script_array
 
 __all__ = ["COMMANDS", "build_parser", "main"]
-
-TRACE_FORMATS = (".csv", ".json", ".npz")
 
 Subparsers: TypeAlias = "argparse._SubParsersAction[_Parser]"
 """What ``ArgumentParser.add_subparsers`` returns, to which each command adds itself."""
@@ -430,116 +426,30 @@ def _selected_points(construction, text):
     return chosen
 
 
-def trace_columns(m: ScriptSweep, points: Sequence[str], derivatives: bool = False,
-                  circuit_mode: bool = False) -> dict[str, np.ndarray]:
-    """Return the columns of ``geokin trace`` as a dict of name to array."""
-    columns = dict(m.inputs)
-    columns["valid"] = m.sweep.valid.copy()
-    rates = None
-    if derivatives:
-        if not m.construction.inputs:
-            raise UsageError("--derivatives needs a construction with an input")
-        rates = motion(m.sweep, next(iter(m.construction.inputs)))
-    if rates is not None:
-        columns["time"] = rates.time
-        columns["flagged"] = rates.flagged
-    if m.sweep.events or circuit_mode:
-        # where branches change (a circuit, a change point) the input alone is ambiguous
-        for node, branch in m.sweep.branches.items():
-            columns[f"{node}.branch"] = branch.astype(float)
-    for p in points:
-        xy = m.sweep[p]
-        columns[f"{p}.x"], columns[f"{p}.y"] = xy[:, 0], xy[:, 1]
-        if rates is not None:
-            v, a = rates.velocity[p], rates.acceleration[p]
-            columns[f"{p}.vx"], columns[f"{p}.vy"] = v[:, 0], v[:, 1]
-            columns[f"{p}.ax"], columns[f"{p}.ay"] = a[:, 0], a[:, 1]
-    return columns
-
-
-def _csv_cells(name, array) -> list[str]:
-    """Format one column: 1 and 0 for flags, else the shortest exact decimal.
-
-    Whole numbers lose their ``.0`` (``20`` rather than ``20.0``); NaN is ``nan``.
-    """
-    array = np.asarray(array)
-    if name in ("valid", "flagged"):
-        return np.where(array, "1", "0").tolist()
-    cells = [repr(value) for value in array.astype(float).tolist()]
-    return [cell[:-2] if cell.endswith(".0") else cell for cell in cells]
-
-
-def write_csv(columns: Mapping[str, ArrayLike], stream: TextIO, *,
-              rows_per_write: int = 10_000) -> None:
-    """Write trace columns as CSV: a header, then one row per sample."""
-    names = list(columns)
-    stream.write(",".join(names) + "\n")
-    arrays = [np.asarray(columns[n]) for n in names]
-    total = len(arrays[0]) if arrays else 0
-    for start in range(0, total, rows_per_write):
-        # a block of rows at a time: formatting goes column by column
-        block = [_csv_cells(n, a[start:start + rows_per_write])
-                 for n, a in zip(names, arrays, strict=True)]
-        stream.write("".join(",".join(row) + "\n" for row in zip(*block, strict=True)))
-
-
-def _json_cells(name, array) -> list[str]:
-    """Format one column for JSON: true and false for flags, null for NaN and infinities."""
-    array = np.asarray(array)
-    if name in ("valid", "flagged"):
-        return np.where(array, "true", "false").tolist()
-    values = array.astype(float)
-    cells = [repr(value) for value in values.tolist()]
-    for i in np.flatnonzero(~np.isfinite(values)).tolist():
-        cells[i] = "null"
-    return cells
-
-
-def write_json(columns: Mapping[str, ArrayLike], stream: TextIO, *,
-               values_per_write: int = 100_000) -> None:
-    """Write trace columns as one JSON object of arrays (null where not a finite number).
-
-    The text is written a block of values at a time, so that a long trace
-    never exists whole in memory as Python objects.
-    """
-    stream.write("{")
-    for k, (name, array) in enumerate(columns.items()):
-        stream.write(("" if k == 0 else ", ") + json.dumps(name) + ": [")
-        array = np.asarray(array)
-        for start in range(0, len(array), values_per_write):
-            cells = _json_cells(name, array[start:start + values_per_write])
-            stream.write(("" if start == 0 else ", ") + ", ".join(cells))
-        stream.write("]")
-    stream.write("}\n")
-
-
 def run_trace(args: argparse.Namespace) -> int:
-    kind = ".csv" if args.output is None else _output_kind(args.output, TRACE_FORMATS,
-                                                           "a trace")
+    if args.output is not None:
+        _output_kind(args.output, EXPORT_FORMATS, "a trace")
     folder = pathlib.Path(args.output or ".").parent
     if not folder.is_dir():  # say so before a long sweep, not after
         raise UsageError(f"cannot write {args.output!r}: the folder {str(folder)!r} does not "
                          "exist")
     m, _ = motion_of(args.script, args)
     points = _selected_points(m.construction, args.points)
-    columns = trace_columns(m, points, args.derivatives, args.circuit)
+    rates = None
+    if args.derivatives:
+        if not m.construction.inputs:
+            raise UsageError("--derivatives needs a construction with an input")
+        rates = motion(m.sweep, next(iter(m.construction.inputs)))
+    # inputs in the script's units, as swept: degrees converted back from radians
+    # could be an ulp off the values asked for
+    table = columns(m.sweep, points, motion=rates, branches=args.circuit or None,
+                    inputs=m.inputs)
     if args.output is None:
-        write_csv(columns, sys.stdout)
+        write_csv(table, sys.stdout)
         sys.stdout.flush()
         return 0
-    path = pathlib.Path(args.output)
-    if kind == ".npz":
-        # to a file object: np.savez given a name would add ".npz" to "out.NPZ"
-        with replacing(path, "wb") as f:
-            # np.savez takes the columns as keywords: a column named allow_pickle or file
-            # (an input may be) is taken for its argument. Kept as it was; Any lets the
-            # call type-check, where mypy rightly flags a str-keyed dict of arrays.
-            arrays: dict[str, Any] = {name: np.asarray(v) for name, v in columns.items()}
-            np.savez(f, **arrays)
-    else:
-        with replacing(path, "w", encoding="utf-8", newline="") as f:
-            (write_csv if kind == ".csv" else write_json)(columns, f)
-    print(escape(f"wrote {path}: {len(m.sweep)} samples, {len(columns)} columns"),
+    path = export_sweep(table, args.output)
+    print(escape(f"wrote {path}: {len(m.sweep)} samples, {len(table)} columns"),
           file=sys.stderr)
     return 0
 

@@ -13,6 +13,16 @@ characters and nests operations and calls at most
 :data:`~geokin.budgets.MAX_EXPRESSION_DEPTH` levels deep, so printing and
 evaluating it, which recurse once per level, always have the stack they need.
 
+Printing
+--------
+``str(expr)`` is the one writer of expressions: step lists, error messages
+and scripts (:func:`geokin.io.dump`) all show this text, and parsing it gives
+back the same tree, ``parse(str(e)) == e``. Numbers are written as the
+shortest text that reads back exactly (``20``, ``0.1``, ``1e-300``, ``-0``);
+parentheses appear only where the tree needs them, including around a right
+operand of the same precedence (``a - (b - c)``), which the parser would
+otherwise group from the left.
+
 Names
 -----
 Names are read as Python reads identifiers, in Unicode normal form NFKC:
@@ -30,6 +40,8 @@ Examples
 30.0
 >>> str(parse("2 * (a + b) ** 2"))
 '2 * (a + b) ** 2'
+>>> str(parse("a - (b - c)")), str(parse("(a - b) - c")), str(parse("0.1 * 3e20"))
+('a - (b - c)', 'a - b - c', '0.1 * 3e+20')
 """
 
 from __future__ import annotations
@@ -84,7 +96,17 @@ class Expr:
     """A value of a construction, evaluated elementwise with numpy.
 
     Build one with :func:`parse` or :func:`as_expr`, or with arithmetic on
-    other expressions: ``as_expr("l3") + 5``.
+    other expressions: ``as_expr("l3") + 5``. ``str(expr)`` writes it as
+    text that :func:`parse` reads back as the same tree (the one exception,
+    a minus applied to a :class:`Number`, is read back as a negative number).
+
+    Examples
+    --------
+    >>> e = (as_expr("a") - (as_expr("b") - 0.1)) ** -2
+    >>> str(e)
+    '(a - (b - 0.1)) ** (-2)'
+    >>> parse(str(e)) == e
+    True
     """
 
     __slots__ = ()

@@ -340,7 +340,9 @@ DATA_MUTATIONS = [_drop, _wrong_type, _swap_names, _unknown_name, _rename, _cycl
                   _scale]
 
 
-def _bytes_mutation(raw: bytes, rng: random.Random) -> bytes:
+def bytes_mutation(raw: bytes, rng: random.Random) -> bytes:
+    """Return a script's bytes with one random change: bytes inserted or changed, cut, a
+    line repeated or dropped, a byte-order mark, CRLF line ends, or a hostile table added."""
     kind = rng.randrange(8)
     i = rng.randrange(len(raw) + 1)
     if kind == 0:  # random bytes
@@ -380,12 +382,12 @@ def mutate(raw: bytes, rng: random.Random) -> bytes:
             try:
                 data = tomllib.loads(raw.decode("utf-8"))
             except (UnicodeDecodeError, ValueError, RecursionError):  # broken: mutate bytes
-                raw = _bytes_mutation(raw, rng)
+                raw = bytes_mutation(raw, rng)
                 continue
             rng.choice(DATA_MUTATIONS)(data, rng)
             raw = to_toml(data).encode("utf-8", "surrogatepass")
         else:
-            raw = _bytes_mutation(raw, rng)
+            raw = bytes_mutation(raw, rng)
     return raw
 
 

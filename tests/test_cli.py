@@ -470,18 +470,6 @@ def test_an_output_suffix_is_read_in_any_case_and_the_path_kept(capsys, tmp_path
                                                                      "M.y"]
 
 
-def test_trace_json_writes_null_for_what_is_not_a_finite_number():
-    from geokin.cli import write_json
-
-    stream = io.StringIO()
-    write_json({"t": np.arange(5.0), "valid": np.array([1, 0, 1, 1, 1], bool),
-                "x": np.array([1.5, np.nan, np.inf, -np.inf, 1e300])}, stream,
-               values_per_write=2)
-    assert json.loads(stream.getvalue()) == {
-        "t": [0, 1, 2, 3, 4], "valid": [True, False, True, True, True],
-        "x": [1.5, None, None, None, 1e300]}
-
-
 @pytest.mark.parametrize("suffix", [".csv", ".json", ".npz"])
 def test_a_failing_trace_leaves_the_old_file(capsys, tmp_path, monkeypatch, suffix):
     path = tmp_path / f"old{suffix}"
@@ -491,10 +479,8 @@ def test_a_failing_trace_leaves_the_old_file(capsys, tmp_path, monkeypatch, suff
         stream.write("theta,valid\n0,1\n" if "b" not in getattr(stream, "mode", "") else b"PK")
         raise KeyboardInterrupt
 
-    monkeypatch.setattr("geokin.cli.write_csv", half_then_fail)
-    monkeypatch.setattr("geokin.cli.write_json", half_then_fail)
-    monkeypatch.setattr("geokin.cli.np.savez", lambda stream, **arrays: half_then_fail(
-        arrays, stream))
+    for writer in ("write_csv", "write_json", "write_npz"):
+        monkeypatch.setattr(f"geokin.io.export.{writer}", half_then_fail)
     status, _, err = run(capsys, "trace", SIXBAR, "-o", path)
     assert (status, err) == (130, "geokin: interrupted\n")
     assert path.read_bytes() == b"the old file"
@@ -582,7 +568,7 @@ def test_a_full_disk_or_a_closed_folder_names_the_output(capsys, tmp_path, monke
         stream.write("theta,valid\n")
         raise OSError(errno.ENOSPC, "No space left on device")
 
-    monkeypatch.setattr("geokin.cli.write_csv", full)
+    monkeypatch.setattr("geokin.io.export.write_csv", full)
     status, _, err = run(capsys, "trace", SIXBAR, "-o", path)
     assert (status, err) == (2, f"geokin: error: cannot write '{path}': No space left on "
                                 "device\n")

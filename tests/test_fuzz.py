@@ -11,7 +11,7 @@ import pathlib
 import random
 
 import pytest
-from fuzz_scripts import DATA_MUTATIONS, SOURCES, _bytes_mutation, mutate, run_case
+from fuzz_scripts import DATA_MUTATIONS, SOURCES, bytes_mutation, mutate, run_case
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
@@ -53,7 +53,7 @@ def test_each_byte_mutation_of_each_script(tmp_path):
     for k in range(8 * len(RAW)):
         rng = random.Random(k)
         name = sorted(RAW)[k % len(RAW)]
-        outcome = run_case(_bytes_mutation(RAW[name], rng), tmp_path)
+        outcome = run_case(bytes_mutation(RAW[name], rng), tmp_path)
         check(outcome)
         endings.add(outcome.ending)
     assert {"ok", "check: error"} <= endings  # some survive, some are refused

@@ -2,10 +2,26 @@
 
 - :mod:`~geokin.io.script`: construction scripts (TOML), read with
   :func:`load` / :func:`loads` and written with :func:`dump`;
-- :mod:`~geokin.io.export`: a sweep's columns written as CSV, JSON or NPZ.
+- :mod:`~geokin.io.export`: a sweep's columns (:func:`columns`) written as
+  CSV, JSON or NPZ, to an open file (:func:`write_csv`, :func:`write_json`,
+  :func:`write_npz`) or to a path, whole or not at all (:func:`export_sweep`).
 """
 
 from ..budgets import MAX_SCRIPT_BYTES
+from .export import EXPORT_FORMATS, columns, export_sweep, write_csv, write_json, write_npz
 from .script import OPS, dump, load, loads, script_steps
 
-__all__ = ["MAX_SCRIPT_BYTES", "OPS", "dump", "load", "loads", "script_steps"]
+__all__ = [
+    "EXPORT_FORMATS",
+    "MAX_SCRIPT_BYTES",
+    "OPS",
+    "columns",
+    "dump",
+    "export_sweep",
+    "load",
+    "loads",
+    "script_steps",
+    "write_csv",
+    "write_json",
+    "write_npz",
+]

@@ -842,55 +842,14 @@ def _toml_number(value: float) -> str:
         return "nan"
     if math.isinf(value):
         return "inf" if value > 0 else "-inf"
-    if value == int(value) and abs(value) < 1e15:
-        return str(int(value))
-    return repr(value)
+    return str(Number(value))  # the shortest text that reads back exactly, as in expressions
 
 
 def _toml_expr(expr: Expr) -> str:
     if isinstance(expr, Number):
         return _toml_number(expr.value)
-    return _toml_string(_format(expr))
-
-
-_PRECEDENCE = {"+": 1, "-": 1, "*": 2, "/": 2, "**": 4}
-
-
-def _precedence(expr: Expr) -> int:
-    if isinstance(expr, BinOp):
-        return _PRECEDENCE[expr.op]
-    if isinstance(expr, Neg) or (isinstance(expr, Number) and expr.value < 0):
-        return 3
-    return 5
-
-
-def _format(expr: Expr) -> str:
-    """Write an expression so that parsing gives back the same tree.
-
-    Unlike ``str(expr)``, a right operand of equal precedence is always
-    parenthesised, so ``a + (b + c)`` stays grouped as written.
-    """
-    if isinstance(expr, Number):
-        return _toml_number(expr.value) if math.isfinite(expr.value) else repr(expr.value)
-    if isinstance(expr, Name):
-        return expr.name
-    if isinstance(expr, Neg):
-        inner = _format(expr.operand)
-        if _precedence(expr.operand) < 3 or (isinstance(expr.operand, Number)):
-            inner = f"({inner})"
-        return "-" + inner
-    if isinstance(expr, BinOp):
-        mine = _PRECEDENCE[expr.op]
-        left, right = _format(expr.left), _format(expr.right)
-        if _precedence(expr.left) < mine or (expr.op == "**" and _precedence(expr.left) <= mine):
-            left = f"({left})"
-        if _precedence(expr.right) < mine or (expr.op != "**"
-                                              and _precedence(expr.right) == mine):
-            right = f"({right})"
-        return f"{left} {expr.op} {right}"
-    if isinstance(expr, Call):
-        return f"{expr.function}({', '.join(_format(a) for a in expr.args)})"
-    return str(expr)
+    # str() writes the text that parses back to the same tree (see geokin.expressions)
+    return _toml_string(str(expr))
 
 
 class _AngleRewriter:

@@ -1,0 +1,405 @@
+"""Sweeps exported as tables: CSV, JSON and NPZ files of named columns.
+
+:func:`columns` turns a :class:`~geokin.results.Sweep` into a table, a dict
+of column name to a 1-D array with one value per sample, in this order:
+
+- one column per input, named as the input: radians for an angle input;
+- ``valid``: whether each sample can be assembled;
+- with a :class:`~geokin.kinematics.Motion`: ``time`` (seconds from the
+  first sample) and ``flagged`` (near a singular position);
+- where the sweep changes branch, or when asked: ``<node>.branch``, 0 or 1
+  for every two-root node, as the input value alone no longer tells the
+  samples apart;
+- per point ``<point>.x`` and ``<point>.y`` (NaN where a sample cannot be
+  assembled), and with a motion ``<point>.vx .vy`` (per second) and
+  ``<point>.ax .ay`` (per second squared).
+
+:func:`write_csv`, :func:`write_json` and :func:`write_npz` write a table to
+a file already open; :func:`export_sweep` writes a sweep or a table to a
+path, in the format its suffix names, whole or not at all.
+
+Formats
+-------
+CSV
+    A header of the names, then one row per sample. Numbers are written as
+    the shortest text that reads back exactly, whole numbers without ``.0``
+    (``20``, ``0.1``, ``1e-300``); NaN as ``nan``; boolean columns as 1 and 0.
+JSON
+    One object of arrays, in the column order; boolean columns as ``true``
+    and ``false``, ``null`` for NaN and infinities.
+NPZ
+    numpy's archive of one ``.npy`` array per column, with its dtype; read
+    it with :func:`numpy.load`. Any column name works, even ``file`` or
+    ``allow_pickle``, which :func:`numpy.savez` would take for its own
+    arguments.
+
+Units
+-----
+Python is in radians: the input columns of :func:`columns` hold the
+sweep's own values. ``geokin trace`` writes an angle input in degrees, the
+script's unit: the command line passes the values it swept, as typed, in
+``inputs``, since converting the radians back (``np.degrees``) can land an
+ulp away from them (22.499999999999996 for 22.5). Pass ``inputs`` to write
+degrees from Python too::
+
+    columns(s, inputs={name: np.degrees(v) for name, v in s.inputs.items()})
+
+Examples
+--------
+>>> import io
+>>> import numpy as np
+>>> import geokin
+>>> c = geokin.Construction("crank")
+>>> c.input("theta")
+>>> c.fixed("O", 0, 0)
+>>> c.polar("A", "O", 2, "theta")
+>>> s = geokin.sweep(c, [0.0, np.pi / 2])
+>>> table = columns(s, ["A"])
+>>> list(table)
+['theta', 'valid', 'A.x', 'A.y']
+>>> text = io.StringIO()
+>>> write_csv(table, text)
+>>> print(text.getvalue(), end="")
+theta,valid,A.x,A.y
+0,1,2,0
+1.5707963267948966,1,1.2246467991473532e-16,2
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+import pathlib
+import zipfile
+from collections.abc import Mapping, Sequence
+from typing import IO, TextIO
+
+import numpy as np
+from numpy.lib import format as npy_format
+from numpy.typing import ArrayLike
+
+from ..atomic import replacing
+from ..errors import ConstructionError
+from ..kinematics import Motion
+from ..results import Sweep
+
+__all__ = ["EXPORT_FORMATS", "columns", "export_sweep", "write_csv", "write_json", "write_npz"]
+
+EXPORT_FORMATS = (".csv", ".json", ".npz")
+"""The suffixes :func:`export_sweep` writes, in any case."""
+
+
+def columns(sweep: Sweep, points: Sequence[str] | None = None, *, motion: Motion | None = None,
+            branches: bool | None = None,
+            inputs: Mapping[str, ArrayLike] | None = None) -> dict[str, np.ndarray]:
+    """Return a sweep as a table: column name to a 1-D array of one value per sample.
+
+    Parameters
+    ----------
+    sweep : Sweep
+    points : sequence of str, optional
+        The points whose columns to give, in this order (default: every
+        point, in the construction's order).
+    motion : Motion, optional
+        Velocities and accelerations of this sweep (:func:`geokin.motion`):
+        adds ``time``, ``flagged`` and ``<point>.vx .vy .ax .ay``.
+    branches : bool, optional
+        Whether to give a ``<node>.branch`` column for every two-root node
+        (default: where the sweep changes branch at least once).
+    inputs : mapping of str to array_like, optional
+        The values for the input columns, one array per input of the sweep,
+        in place of the sweep's own (radians for an angle input): for
+        instance the values a script gave, in degrees.
+
+    Returns
+    -------
+    dict of str to ndarray
+        Inputs, ``valid``, then ``time`` and ``flagged``, the branches, and
+        the points (see :mod:`geokin.io.export`). ``valid`` and ``flagged``
+        are boolean, branches 0.0 or 1.0; the arrays may be read-only views
+        of the sweep's.
+
+    Raises
+    ------
+    ConstructionError
+        If an input has the name of another column (``valid``, or ``time``
+        or ``flagged`` with a motion): both cannot be written.
+    KeyError
+        For a point the sweep does not have.
+    ValueError
+        If ``motion`` is of another sweep, or ``inputs`` does not give one
+        array of the sweep's length for each input.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> import geokin
+    >>> c = geokin.Construction("crank")
+    >>> c.input("theta")
+    >>> c.fixed("O", 0, 0)
+    >>> c.polar("A", "O", 2, "theta")
+    >>> s = geokin.sweep(c, [0.0, np.pi])
+    >>> table = columns(s, ["A"], motion=geokin.motion(s, speed=2 * np.pi))
+    >>> list(table)
+    ['theta', 'valid', 'time', 'flagged', 'A.x', 'A.y', 'A.vx', 'A.vy', 'A.ax', 'A.ay']
+    >>> table["theta"], table["time"]
+    (array([0.        , 3.14159265]), array([0. , 0.5]))
+    >>> columns(s, ["A"], inputs={"theta": [0, 180]})["theta"]
+    array([  0., 180.])
+    """
+    n = len(sweep)
+    if motion is not None and motion.sweep is not sweep:
+        raise ValueError("motion is of another sweep: compute it with geokin.motion(sweep)")
+    if inputs is None:
+        values: Mapping[str, ArrayLike] = sweep.inputs
+    else:
+        if set(inputs) != set(sweep.inputs):
+            raise ValueError(f"inputs must give the sweep's inputs {list(sweep.inputs)}, "
+                             f"got {list(inputs)}")
+        values = inputs
+    table: dict[str, np.ndarray] = {}
+
+    def add(name: str, array: ArrayLike) -> None:
+        if name in table:  # only an input can have a column's name: the others have a dot
+            raise ConstructionError(f"column {name!r} would be written twice: an input has "
+                                    "that name; rename the input to export it")
+        table[name] = np.asarray(array)
+
+    for name in sweep.inputs:
+        column = np.asarray(values[name], dtype=float)
+        if column.shape != (n,):
+            raise ValueError(f"inputs[{name!r}] must have shape ({n},), got {column.shape}")
+        add(name, column)
+    add("valid", sweep.valid.copy())
+    if motion is not None:
+        add("time", motion.time)
+        add("flagged", motion.flagged)
+    if branches or (branches is None and sweep.events):
+        for node, branch in sweep.branches.items():
+            add(f"{node}.branch", branch.astype(float))
+    for point in sweep.points if points is None else points:
+        xy = sweep[point]
+        add(f"{point}.x", xy[:, 0])
+        add(f"{point}.y", xy[:, 1])
+        if motion is not None:
+            v, a = motion.velocity[point], motion.acceleration[point]
+            add(f"{point}.vx", v[:, 0])
+            add(f"{point}.vy", v[:, 1])
+            add(f"{point}.ax", a[:, 0])
+            add(f"{point}.ay", a[:, 1])
+    return table
+
+
+def _arrays(table: Mapping[str, ArrayLike]) -> dict[str, np.ndarray]:
+    """Return a table's columns as arrays, checked: string names, 1-D, of one length."""
+    arrays = {}
+    for name, column in table.items():
+        if not isinstance(name, str):
+            raise TypeError(f"a column's name must be a string, got {name!r}")
+        array = np.asarray(column)
+        if array.ndim != 1:
+            raise ValueError(f"column {name!r} must be one-dimensional, got shape {array.shape}")
+        arrays[name] = array
+    lengths = {len(a) for a in arrays.values()}
+    if len(lengths) > 1:
+        raise ValueError("columns of different lengths: "
+                         + ", ".join(f"{name!r} has {len(a)}" for name, a in arrays.items()))
+    return arrays
+
+
+def _csv_cells(array: np.ndarray) -> list[str]:
+    """Format one column: 1 and 0 for booleans, else the shortest exact decimal.
+
+    Whole numbers lose their ``.0`` (``20`` rather than ``20.0``); NaN is ``nan``.
+    """
+    if array.dtype == bool:
+        return np.where(array, "1", "0").tolist()
+    cells = [repr(value) for value in array.astype(float).tolist()]
+    return [cell[:-2] if cell.endswith(".0") else cell for cell in cells]
+
+
+def write_csv(columns: Mapping[str, ArrayLike], stream: TextIO, *,
+              rows_per_write: int = 10_000) -> None:
+    """Write a table as CSV: a header of names, then one row per sample.
+
+    Parameters
+    ----------
+    columns : mapping of str to array_like
+        The table (see :func:`columns`): 1-D columns of one length.
+    stream : text file
+        Open for writing; a file opened with ``newline=""`` ends each row
+        with a line feed on every system.
+    rows_per_write : int, optional
+        Rows formatted and written at a time, so a long table never exists
+        whole as text in memory.
+
+    Examples
+    --------
+    >>> import io
+    >>> import numpy as np
+    >>> text = io.StringIO()
+    >>> write_csv({"t": [0.0, 0.1, 20.0], "x": [np.nan, 1e-300, -2.5],
+    ...            "ok": np.array([False, True, True])}, text)
+    >>> print(text.getvalue(), end="")
+    t,x,ok
+    0,nan,0
+    0.1,1e-300,1
+    20,-2.5,1
+    """
+    arrays = _arrays(columns)
+    # names are quoted only where CSV needs it: a comma, a quote, a line break
+    csv.writer(stream, lineterminator="\n").writerow(arrays)
+    blocks = list(arrays.values())
+    total = len(blocks[0]) if blocks else 0
+    for start in range(0, total, rows_per_write):
+        # a block of rows at a time: formatting goes column by column
+        block = [_csv_cells(a[start:start + rows_per_write]) for a in blocks]
+        stream.write("".join(",".join(row) + "\n" for row in zip(*block, strict=True)))
+
+
+def _json_cells(array: np.ndarray) -> list[str]:
+    """Format one column for JSON: true and false for booleans, null for NaN and infinities."""
+    if array.dtype == bool:
+        return np.where(array, "true", "false").tolist()
+    values = array.astype(float)
+    cells = [repr(value) for value in values.tolist()]
+    for i in np.flatnonzero(~np.isfinite(values)).tolist():
+        cells[i] = "null"
+    return cells
+
+
+def write_json(columns: Mapping[str, ArrayLike], stream: TextIO, *,
+               values_per_write: int = 100_000) -> None:
+    """Write a table as one JSON object of arrays (null where not a finite number).
+
+    Parameters
+    ----------
+    columns : mapping of str to array_like
+        The table (see :func:`columns`): 1-D columns of one length.
+    stream : text file
+        Open for writing.
+    values_per_write : int, optional
+        Values formatted and written at a time, so a long table never
+        exists whole in memory as Python objects.
+
+    Examples
+    --------
+    >>> import io
+    >>> import numpy as np
+    >>> text = io.StringIO()
+    >>> write_json({"t": [0.0, 0.5], "x": [np.nan, 2.0], "ok": np.array([False, True])}, text)
+    >>> print(text.getvalue(), end="")
+    {"t": [0.0, 0.5], "x": [null, 2.0], "ok": [false, true]}
+    """
+    stream.write("{")
+    for k, (name, array) in enumerate(_arrays(columns).items()):
+        stream.write(("" if k == 0 else ", ") + json.dumps(name) + ": [")
+        for start in range(0, len(array), values_per_write):
+            cells = _json_cells(array[start:start + values_per_write])
+            stream.write(("" if start == 0 else ", ") + ", ".join(cells))
+        stream.write("]")
+    stream.write("}\n")
+
+
+def write_npz(columns: Mapping[str, ArrayLike], file: IO[bytes]) -> None:
+    """Write a table as an NPZ archive: one ``<name>.npy`` array per column.
+
+    The archive is the one :func:`numpy.savez` writes, built here so that a
+    column may have any name: ``savez`` takes the arrays as keywords, and
+    a column named ``file`` or ``allow_pickle`` would be taken for its own
+    argument.
+
+    Parameters
+    ----------
+    columns : mapping of str to array_like
+        The table (see :func:`columns`): 1-D columns of one length, of
+        numbers or booleans (no Python objects: the archive holds no pickle).
+    file : binary file
+        Open for writing.
+
+    Examples
+    --------
+    >>> import io
+    >>> import numpy as np
+    >>> archive = io.BytesIO()
+    >>> write_npz({"file": [1.5, 2.0], "allow_pickle": np.array([True, False])}, archive)
+    >>> _ = archive.seek(0)
+    >>> data = np.load(archive)
+    >>> data["file"], data["allow_pickle"]
+    (array([1.5, 2. ]), array([ True, False]))
+    """
+    arrays = _arrays(columns)
+    with zipfile.ZipFile(file, mode="w", compression=zipfile.ZIP_STORED,
+                         allowZip64=True) as archive:
+        for name, array in arrays.items():
+            with archive.open(f"{name}.npy", mode="w", force_zip64=True) as member:
+                npy_format.write_array(member, array, allow_pickle=False)
+
+
+def export_sweep(data: Sweep | Mapping[str, ArrayLike], path: str | os.PathLike[str],
+                 points: Sequence[str] | None = None, *, motion: Motion | None = None,
+                 branches: bool | None = None,
+                 inputs: Mapping[str, ArrayLike] | None = None) -> pathlib.Path:
+    """Write a sweep, or a table of columns, to a CSV, JSON or NPZ file.
+
+    The format is the path's suffix, in any case: ``.csv``, ``.json`` or
+    ``.npz``. The file is written whole or not at all
+    (:func:`geokin.atomic.replacing`): an error or Ctrl-C meanwhile leaves
+    the file that was there, or none.
+
+    Parameters
+    ----------
+    data : Sweep or mapping of str to array_like
+        A sweep, made into a table by :func:`columns` with ``points``,
+        ``motion``, ``branches`` and ``inputs``; or a table already made.
+    path : str or os.PathLike
+        The file to write; its folder must exist.
+    points, motion, branches, inputs
+        As for :func:`columns`; only with a sweep.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+
+    Raises
+    ------
+    ValueError
+        For a suffix other than those of :data:`EXPORT_FORMATS`.
+    geokin.atomic.OutputError
+        If the file cannot be written; the file there is left as it was.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> import numpy as np
+    >>> import geokin
+    >>> c = geokin.Construction("crank")
+    >>> c.input("theta")
+    >>> c.fixed("O", 0, 0)
+    >>> c.polar("A", "O", 2, "theta")
+    >>> s = geokin.sweep(c, np.linspace(0, np.pi, 5))
+    >>> path = export_sweep(s, pathlib.Path(tempfile.mkdtemp()) / "crank.npz", ["A"])
+    >>> data = np.load(path)
+    >>> list(data), bool((data["A.x"] == s["A"][:, 0]).all())
+    (['theta', 'valid', 'A.x', 'A.y'], True)
+    """
+    path = pathlib.Path(path)
+    kind = path.suffix.lower()
+    if kind not in EXPORT_FORMATS:
+        raise ValueError(f"cannot export to {str(path)!r}: use a .csv, .json or .npz file")
+    if isinstance(data, Sweep):
+        table = columns(data, points, motion=motion, branches=branches, inputs=inputs)
+    elif any(given is not None for given in (points, motion, branches, inputs)):
+        raise TypeError("points, motion, branches and inputs make a table of a sweep; "
+                        "a table is written as it is")
+    else:
+        table = _arrays(data)  # checked before the file is opened
+    if kind == ".npz":
+        with replacing(path, "wb") as f:
+            write_npz(table, f)
+    else:
+        with replacing(path, "w", encoding="utf-8", newline="") as f:
+            (write_csv if kind == ".csv" else write_json)(table, f)
+    return path
