@@ -55,9 +55,9 @@ import time
 
 import numpy as np
 
-from .atomic import replacing, replacing_path
-from .errors import GeokinError, did_you_mean
-from .terminal import escape, shorten
+from ..atomic import replacing, replacing_path
+from ..errors import GeokinError, did_you_mean
+from ..terminal import escape, shorten
 
 __all__ = [
     "animate",
