@@ -15,6 +15,7 @@ from PIL import Image
 from geokin import Construction, GeokinError, sweep
 from geokin import plotting as gp
 from geokin.plotting import mechanism as gm
+from geokin.plotting.layout import Layout
 
 BAR_WIDTH = 5.0  # the line width of a two-point link
 
@@ -106,7 +107,7 @@ def test_slider_block_sits_on_its_point():
     assert len(block) == 1
     corners = block[0].get_xy()[:4]
     np.testing.assert_allclose(corners.mean(axis=0), s["B"][4], atol=1e-9)
-    size = gm._Layout(s).size
+    size = Layout(s).size
     np.testing.assert_allclose(np.ptp(corners, axis=0), [3.2 * size, 2 * size])
     # the guide's direction point G is shown by the guide line, not labelled
     assert "G" not in texts(ax) and {"O", "A", "B"} <= texts(ax)

@@ -57,7 +57,7 @@ import numpy as np
 
 from ..atomic import replacing, replacing_path
 from ..errors import GeokinError, did_you_mean
-from ..terminal import escape, shorten
+from .layout import Layout, input_text, shown_text
 
 __all__ = [
     "animate",
@@ -92,8 +92,6 @@ ANIMATION_FORMATS = (".gif", ".html", ".htm", ".mp4")
 # drawings
 _FILE_BYTES_PER_PIXEL = {".gif": 0.05, ".html": 0.25, ".htm": 0.25, ".mp4": 0.03}
 
-_GREEK = {"theta": "θ", "phi": "φ", "psi": "ψ", "alpha": "α", "beta": "β", "gamma": "γ",
-          "omega": "ω"}
 _Z_TRACE, _Z_GROUND, _Z_LINK, _Z_SLIDER, _Z_JOINT, _Z_LABEL = 1, 2, 3, 4, 5, 6
 
 
@@ -101,139 +99,6 @@ def _pyplot():
     import matplotlib.pyplot as plt
 
     return plt
-
-
-def _shown(text: str) -> str:
-    """Return text from a script as a figure shows it: escaped, at most 200 characters."""
-    return escape(shorten(str(text), 200))
-
-
-# -- what to draw (no matplotlib) -------------------------------------------
-
-
-class _Layout:
-    """The drawable parts of a sweep's construction, and their sizes."""
-
-    def __init__(self, sweep, traces=None):
-        compiled = sweep.construction
-        self.sweep = sweep
-        self.nodes = {step.node.name: step.node for step in compiled.steps}
-        self.fixed = [name for name, node in self.nodes.items() if node.kind == "fixed"]
-        if compiled.links:
-            self.links = [tuple(link.points) for link in compiled.links]
-        else:
-            self.links = _bars_from_construction(compiled)
-        self.sliders = list(compiled.sliders)
-        linked = {p for points in self.links for p in points}
-        linked |= {s.point for s in self.sliders}
-        if compiled.links:
-            self.pivots = [p for p in self.fixed if p in linked]
-        else:
-            self.pivots = list(self.fixed)
-        # a fixed point only giving a slider's guide its direction is shown by the guide
-        guides = {p for s in self.sliders for p in s.along}
-        self.references = [p for p in self.fixed if p not in self.pivots
-                           and (p in linked or p not in guides)]
-        self.shown = [p for p in self.nodes if p in self.pivots or p in self.references
-                      or p not in self.fixed]
-        self.moving = [p for p in self.nodes if p not in self.fixed]
-        self.traces = self._traces(traces)
-        if compiled.links:
-            # a moving point on no link, no slider and no trace only helps the
-            # construction: mark it like a reference, not like a joint
-            self.references += [p for p in self.moving
-                                if p not in linked and p not in self.traces]
-        self.crank = self._crank()
-        self.neighbours = {p: set() for p in self.nodes}
-        for points in self.links:
-            for p in points:
-                self.neighbours[p].update(q for q in points if q != p)
-        valid = np.flatnonzero(sweep.valid)
-        self.valid_indices = valid
-        xy = np.concatenate([sweep.points[p] for p in self.shown]) if self.shown else None
-        if xy is not None and valid.size:
-            lo, hi = np.nanmin(xy, axis=0), np.nanmax(xy, axis=0)
-        else:
-            lo, hi = np.zeros(2), np.ones(2)
-        self.lower, self.upper = lo, hi
-        extent = float(np.max(hi - lo))
-        self.size = 0.035 * extent if extent > 0 else 1.0
-        """The size of a symbol (pivot, block) in data units."""
-
-    def bar_ends(self, points):
-        """Return a link's points, or just its two ends if they all lie on one line.
-
-        A rigid link keeps its shape, so one assembled sample decides.
-        """
-        if len(points) <= 2 or not self.valid_indices.size:
-            return tuple(points)
-        xy = np.array([self.sweep.points[p][self.valid_indices[0]] for p in points])
-        direction = xy[np.argmax(np.hypot(*(xy - xy[0]).T))] - xy[0]
-        length = float(np.hypot(*direction))
-        if length == 0:
-            return tuple(points)
-        offsets = (xy - xy[0]) @ (np.array([-direction[1], direction[0]]) / length)
-        if np.max(np.abs(offsets)) > 1e-6 * length:
-            return tuple(points)
-        along = (xy - xy[0]) @ (direction / length)
-        return points[int(np.argmin(along))], points[int(np.argmax(along))]
-
-    def _traces(self, traces):
-        if traces is None:
-            traces = self.sweep.construction.traced or self.moving
-        traces = list(traces)
-        for name in traces:
-            if name not in self.nodes:
-                raise GeokinError(f"cannot trace unknown point {name!r}"
-                                  f"{did_you_mean(name, self.nodes)}")
-        return traces
-
-    def _crank(self):
-        """Return (origin, tip, input name) of the driven crank, or None."""
-        compiled = self.sweep.construction
-        inputs = compiled.inputs
-        links = [set(link.points) for link in compiled.links]
-        best, best_rank = None, None
-        for name, node in self.nodes.items():
-            if node.kind != "polar" or node.reference is not None:
-                continue
-            driven = [i for i in node.angle.names() if i in inputs and inputs[i].kind == "angle"]
-            if not driven:
-                continue
-            # a declared link turned by the input comes first (not a helper point of the
-            # construction), then a crank on a fixed pivot
-            on_link = not links or any({node.origin, name} <= link for link in links)
-            rank = (not on_link, node.origin not in self.fixed)
-            if best_rank is None or rank < best_rank:
-                best, best_rank = (node.origin, name, driven[0]), rank
-        return best
-
-    def pose_index(self, index):
-        """Return the sample whose pose is drawn for ``index``: itself or the nearest valid."""
-        if self.sweep.valid[index]:
-            return index
-        valid = self.valid_indices
-        if valid.size == 0:
-            return None
-        before = valid[valid < index]
-        return int(before[-1]) if before.size else int(valid[0])
-
-    def bounds(self):
-        """Return the lower-left and upper-right corners of the whole motion with symbols."""
-        s = self.size
-        return self.lower - 3.0 * s, self.upper + np.array([3.0 * s, 3.0 * s])
-
-
-def _bars_from_construction(compiled):
-    """Bars from each point to the points it is built on, without repeats."""
-    bars, seen = [], set()
-    for step in compiled.steps:
-        for dep in step.node.depends_on():
-            key = frozenset((step.node.name, dep))
-            if dep != step.node.name and key not in seen:
-                seen.add(key)
-                bars.append((dep, step.node.name))
-    return bars
 
 
 def _frame_indices(n, frames):
@@ -254,18 +119,6 @@ def _frame_indices(n, frames):
     return np.unique(np.linspace(0, n - 1, count).round().astype(int))
 
 
-def _input_text(sweep, index):
-    parts = []
-    for name, values in sweep.inputs.items():
-        label = _GREEK.get(name, name)
-        value = values[index]
-        if sweep.construction.inputs[name].kind == "angle":
-            parts.append(f"{label} = {math.degrees(value):.1f}°")
-        else:
-            parts.append(f"{label} = {value:.4g}")
-    return ", ".join(parts) if parts else f"sample {index}"
-
-
 # -- drawing -------------------------------------------------------------------
 
 
@@ -278,7 +131,7 @@ class _Scene:
         from matplotlib.patches import FancyArrowPatch, Polygon
 
         self.sweep, self.ax = sweep, ax
-        self.layout = layout = _Layout(sweep, traces)
+        self.layout = layout = Layout(sweep, traces)
         self.linewidth = 5.0
         self.mechanism = []  # artists faded at samples that cannot be assembled
 
@@ -380,7 +233,7 @@ class _Scene:
             xy = sweep.points[name]
             xy = xy[: index + 1] if grow else xy
             artist.set_data(xy[:, 0], xy[:, 1])
-        text = _input_text(sweep, index)
+        text = input_text(sweep, index)
         pose = layout.pose_index(index)
         if not sweep.valid[index]:
             text += (f"\ncannot be assembled at {sweep.failed_node[index]!r}:\n"
@@ -531,7 +384,7 @@ def _setup_axes(ax, layout, title):
         title = layout.sweep.construction.name
     if title:
         # a name is text, not mathtext: "$" in it must not stop the drawing
-        ax.set_title(_shown(title), parse_math=False)
+        ax.set_title(shown_text(title), parse_math=False)
 
 
 def _check_index(sweep, index):
@@ -859,7 +712,7 @@ class _PageWriter:
         self.stream = stream
         self.fps = fps
         width, height = size
-        self.stream.write(_PAGE_HEAD.format(title=html.escape(_shown(title)), width=width,
+        self.stream.write(_PAGE_HEAD.format(title=html.escape(shown_text(title)), width=width,
                                             height=height, last=frames - 1).encode("utf-8"))
 
     def add(self, rgb):
@@ -1263,7 +1116,7 @@ def figure_kinematics(motion, *, links=None, title=None):
     axes[0].legend(fontsize=9, ncols=min(len(names), 4))
     axes[-1].set_xlabel("time (s)")
     heading = motion.sweep.construction.name if title is None else title
-    heading = _shown(heading)
+    heading = shown_text(heading)
     if motion.flagged.any():
         heading += f" ({int(motion.flagged.sum())} samples near a singular position left out)"
     fig.suptitle(heading, parse_math=False)

@@ -1,0 +1,234 @@
+"""What a drawing of a mechanism shows, decided before anything is drawn.
+
+:class:`Layout` reads a sweep's construction and says which points are
+ground pivots, which are joints and which only help the construction, which
+bars and sliders to draw, which crank the input turns, how large a symbol is
+and what the view must hold. :func:`input_text` and :func:`shown_text` give
+the texts a figure shows. Nothing here imports matplotlib: the drawing
+modules (:mod:`~geokin.plotting.mechanism`, :mod:`~geokin.plotting.animation`,
+:mod:`~geokin.plotting.charts`) turn this into artists.
+
+Examples
+--------
+>>> import numpy as np
+>>> from geokin import Construction, sweep
+>>> c = Construction("crank and rocker")
+>>> c.input("theta")
+>>> c.fixed("O2", 0, 0)
+>>> c.fixed("O4", 40, 0)
+>>> c.polar("A", "O2", 10, "theta")
+>>> c.circle_circle("B", ("A", "O4"), (35, 30), branch="left")
+>>> layout = Layout(sweep(c, np.linspace(0, 2 * np.pi, 73)))
+>>> layout.pivots, layout.traces
+(['O2', 'O4'], ['A', 'B'])
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import GeokinError, did_you_mean
+from ..terminal import escape, shorten
+
+__all__ = ["Layout", "input_text", "shown_text"]
+
+_GREEK = {"theta": "θ", "phi": "φ", "psi": "ψ", "alpha": "α", "beta": "β", "gamma": "γ",
+          "omega": "ω"}
+
+
+class Layout:
+    """The drawable parts of a sweep's construction, and their sizes.
+
+    Parameters
+    ----------
+    sweep : Sweep
+    traces : list of str, optional
+        The points whose paths are drawn; by default the construction's
+        traced points, or else every point that is not fixed.
+
+    Attributes
+    ----------
+    nodes : dict of str to Node
+        Every point, in evaluation order.
+    fixed : list of str
+        The points that never move.
+    pivots : list of str
+        The fixed points drawn as ground pivots.
+    references : list of str
+        The points marked as construction aids, not joints.
+    shown : list of str
+        The points drawn and labelled.
+    moving : list of str
+        The points that are not fixed.
+    links : list of tuple of str
+        The bars and plates: the declared links, or else a bar from each
+        point to each point it is built on.
+    sliders : list of Slider
+    traces : list of str
+    crank : tuple of str or None
+        ``(origin, tip, input name)`` of the crank the input turns.
+    size : float
+        The size of a symbol (pivot, block) in data units.
+    """
+
+    def __init__(self, sweep, traces=None):
+        compiled = sweep.construction
+        self.sweep = sweep
+        self.nodes = {step.node.name: step.node for step in compiled.steps}
+        self.fixed = [name for name, node in self.nodes.items() if node.kind == "fixed"]
+        if compiled.links:
+            self.links = [tuple(link.points) for link in compiled.links]
+        else:
+            self.links = _bars_from_construction(compiled)
+        self.sliders = list(compiled.sliders)
+        linked = {p for points in self.links for p in points}
+        linked |= {s.point for s in self.sliders}
+        if compiled.links:
+            self.pivots = [p for p in self.fixed if p in linked]
+        else:
+            self.pivots = list(self.fixed)
+        # a fixed point only giving a slider's guide its direction is shown by the guide
+        guides = {p for s in self.sliders for p in s.along}
+        self.references = [p for p in self.fixed if p not in self.pivots
+                           and (p in linked or p not in guides)]
+        self.shown = [p for p in self.nodes if p in self.pivots or p in self.references
+                      or p not in self.fixed]
+        self.moving = [p for p in self.nodes if p not in self.fixed]
+        self.traces = self._traces(traces)
+        if compiled.links:
+            # a moving point on no link, no slider and no trace only helps the
+            # construction: mark it like a reference, not like a joint
+            self.references += [p for p in self.moving
+                                if p not in linked and p not in self.traces]
+        self.crank = self._crank()
+        self.neighbours: dict[str, set[str]] = {p: set() for p in self.nodes}
+        for points in self.links:
+            for p in points:
+                self.neighbours[p].update(q for q in points if q != p)
+        valid = np.flatnonzero(sweep.valid)
+        self.valid_indices = valid
+        xy = np.concatenate([sweep.points[p] for p in self.shown]) if self.shown else None
+        if xy is not None and valid.size:
+            lo, hi = np.nanmin(xy, axis=0), np.nanmax(xy, axis=0)
+        else:
+            lo, hi = np.zeros(2), np.ones(2)
+        self.lower, self.upper = lo, hi
+        extent = float(np.max(hi - lo))
+        self.size = 0.035 * extent if extent > 0 else 1.0
+
+    def bar_ends(self, points):
+        """Return a link's points, or just its two ends if they all lie on one line.
+
+        A rigid link keeps its shape, so one assembled sample decides.
+        """
+        if len(points) <= 2 or not self.valid_indices.size:
+            return tuple(points)
+        xy = np.array([self.sweep.points[p][self.valid_indices[0]] for p in points])
+        direction = xy[np.argmax(np.hypot(*(xy - xy[0]).T))] - xy[0]
+        length = float(np.hypot(*direction))
+        if length == 0:
+            return tuple(points)
+        offsets = (xy - xy[0]) @ (np.array([-direction[1], direction[0]]) / length)
+        if np.max(np.abs(offsets)) > 1e-6 * length:
+            return tuple(points)
+        along = (xy - xy[0]) @ (direction / length)
+        return points[int(np.argmin(along))], points[int(np.argmax(along))]
+
+    def _traces(self, traces):
+        if traces is None:
+            traces = self.sweep.construction.traced or self.moving
+        traces = list(traces)
+        for name in traces:
+            if name not in self.nodes:
+                raise GeokinError(f"cannot trace unknown point {name!r}"
+                                  f"{did_you_mean(name, self.nodes)}")
+        return traces
+
+    def _crank(self):
+        """Return (origin, tip, input name) of the driven crank, or None."""
+        compiled = self.sweep.construction
+        inputs = compiled.inputs
+        links = [set(link.points) for link in compiled.links]
+        best, best_rank = None, None
+        for name, node in self.nodes.items():
+            if node.kind != "polar" or node.reference is not None:
+                continue
+            driven = [i for i in node.angle.names() if i in inputs and inputs[i].kind == "angle"]
+            if not driven:
+                continue
+            # a declared link turned by the input comes first (not a helper point of the
+            # construction), then a crank on a fixed pivot
+            on_link = not links or any({node.origin, name} <= link for link in links)
+            rank = (not on_link, node.origin not in self.fixed)
+            if best_rank is None or rank < best_rank:
+                best, best_rank = (node.origin, name, driven[0]), rank
+        return best
+
+    def pose_index(self, index):
+        """Return the sample whose pose is drawn for ``index``: itself or the nearest valid."""
+        if self.sweep.valid[index]:
+            return index
+        valid = self.valid_indices
+        if valid.size == 0:
+            return None
+        before = valid[valid < index]
+        return int(before[-1]) if before.size else int(valid[0])
+
+    def bounds(self):
+        """Return the lower-left and upper-right corners of the whole motion with symbols."""
+        s = self.size
+        return self.lower - 3.0 * s, self.upper + np.array([3.0 * s, 3.0 * s])
+
+
+def _bars_from_construction(compiled):
+    """Bars from each point to the points it is built on, without repeats."""
+    bars, seen = [], set()
+    for step in compiled.steps:
+        for dep in step.node.depends_on():
+            key = frozenset((step.node.name, dep))
+            if dep != step.node.name and key not in seen:
+                seen.add(key)
+                bars.append((dep, step.node.name))
+    return bars
+
+
+def input_text(sweep, index: int) -> str:
+    """Return the input values at sample ``index`` as a figure shows them.
+
+    An angle is in degrees, and an input named like a Greek letter is
+    written as that letter.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from geokin import Construction, sweep
+    >>> c = Construction()
+    >>> c.input("theta")
+    >>> c.input("s", kind="length", range=(0, 5))
+    >>> c.fixed("O", 0, 0)
+    >>> c.polar("A", "O", "10 + s", "theta")
+    >>> input_text(sweep(c, {"theta": np.radians([0, 45]), "s": [0, 2.5]}), 1)
+    'θ = 45.0°, s = 2.5'
+    """
+    parts = []
+    for name, values in sweep.inputs.items():
+        label = _GREEK.get(name, name)
+        value = values[index]
+        if sweep.construction.inputs[name].kind == "angle":
+            parts.append(f"{label} = {math.degrees(value):.1f}°")
+        else:
+            parts.append(f"{label} = {value:.4g}")
+    return ", ".join(parts) if parts else f"sample {index}"
+
+
+def shown_text(text) -> str:
+    r"""Return text from a script as a figure shows it: escaped, at most 200 characters.
+
+    Examples
+    --------
+    >>> shown_text("four-bar\x1b[2J")
+    'four-bar\\x1b[2J'
+    """
+    return escape(shorten(str(text), 200))
