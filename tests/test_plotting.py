@@ -14,8 +14,9 @@ from PIL import Image
 
 from geokin import Construction, GeokinError, sweep
 from geokin import plotting as gp
-from geokin.plotting import mechanism as gm
+from geokin.plotting import animation as ga
 from geokin.plotting.layout import Layout
+from geokin.plotting.mechanism import Scene
 
 BAR_WIDTH = 5.0  # the line width of a two-point link
 
@@ -243,31 +244,31 @@ def test_progress_bar_only_on_a_terminal_and_a_slow_job():
             return True
 
     log = io.StringIO()  # not a terminal: never, however slow
-    bar = gm._Progress("writing a.gif", True, stream=log, delay=0.0)
+    bar = ga.Progress("writing a.gif", True, stream=log, delay=0.0)
     for i in range(3):
         bar(i, 3)
     bar.close()
     assert log.getvalue() == ""
 
     quick = Terminal()  # a terminal, but the job is not slow yet
-    bar = gm._Progress("writing a.gif", True, stream=quick, delay=60.0)
+    bar = ga.Progress("writing a.gif", True, stream=quick, delay=60.0)
     bar(0, 3)
     assert quick.getvalue() == ""
 
     slow = Terminal()
-    bar = gm._Progress("writing a.gif", True, stream=slow, delay=0.0)
+    bar = ga.Progress("writing a.gif", True, stream=slow, delay=0.0)
     bar(0, 2)
     bar(1, 2)
     bar.close()
     assert slow.getvalue().endswith("[" + "#" * 30 + "] 2/2\n")
 
     unknown = Terminal()
-    bar = gm._Progress("writing a.gif", True, stream=unknown, delay=0.0)
+    bar = ga.Progress("writing a.gif", True, stream=unknown, delay=0.0)
     bar(6, None)
     assert unknown.getvalue().endswith("frame 7")
 
     off = Terminal()
-    bar = gm._Progress("writing a.gif", False, stream=off, delay=0.0)
+    bar = ga.Progress("writing a.gif", False, stream=off, delay=0.0)
     bar(0, 4)
     assert off.getvalue() == ""
 
@@ -322,9 +323,9 @@ def test_import_geokin_does_not_import_matplotlib():
 
 
 def test_frame_choice_is_even_and_capped():
-    assert gm._frame_indices(5, 10).tolist() == [0, 1, 2, 3, 4]
-    assert gm._frame_indices(361, None).size == 300
-    assert gm._frame_indices(361, 400).size == 361
+    assert ga.frame_indices(5, 10).tolist() == [0, 1, 2, 3, 4]
+    assert ga.frame_indices(361, None).size == 300
+    assert ga.frame_indices(361, 400).size == 361
 
 
 def test_kinematics_figure_has_angle_velocity_and_acceleration_against_time():
@@ -355,8 +356,8 @@ def test_kinematics_figure_has_angle_velocity_and_acceleration_against_time():
 
 def test_gif_frames_are_what_was_drawn(tmp_path, small_frames, monkeypatch):
     drawn = []
-    add = gm._GifWriter.add
-    monkeypatch.setattr(gm._GifWriter, "add", lambda self, rgb: (drawn.append(rgb.copy()),
+    add = ga.GifWriter.add
+    monkeypatch.setattr(ga.GifWriter, "add", lambda self, rgb: (drawn.append(rgb.copy()),
                                                                  add(self, rgb)))
     path = gp.animate(sweep(four_bar(), samples(37)), tmp_path / "f.gif", frames=8, fps=20,
                       progress=False)
@@ -373,7 +374,7 @@ def test_gif_frames_are_what_was_drawn(tmp_path, small_frames, monkeypatch):
 
 def test_gif_writer_writes_each_frame_as_it_comes():
     stream = io.BytesIO()
-    writer = gm._GifWriter(stream, fps=10)
+    writer = ga.GifWriter(stream, fps=10)
     sizes = []
     rng = np.random.default_rng(0)
     frame = rng.integers(0, 256, size=(60, 80, 3), dtype=np.uint8) // 64 * 64  # 64 colours
@@ -392,7 +393,7 @@ def test_gif_writer_writes_each_frame_as_it_comes():
 
 def test_html_writer_writes_each_frame_as_it_comes():
     stream = io.BytesIO()
-    writer = gm._PageWriter(stream, 25, "<b>crank</b> \x1b[2J", (80, 60), 3)
+    writer = ga.PageWriter(stream, 25, "<b>crank</b> \x1b[2J", (80, 60), 3)
     sizes = [stream.tell()]
     for level in (0, 128, 255):
         writer.add(np.full((60, 80, 3), level, np.uint8))
@@ -411,9 +412,9 @@ def test_an_animation_that_would_not_fit_on_the_disk_is_refused_up_front(
     class Usage:
         free = 1_000_000
 
-    monkeypatch.setattr(gm.shutil, "disk_usage", lambda folder: Usage)
+    monkeypatch.setattr(ga.shutil, "disk_usage", lambda folder: Usage)
     drawn = []
-    monkeypatch.setattr(gm._Scene, "update", lambda self, *a, **k: drawn.append(a))
+    monkeypatch.setattr(Scene, "update", lambda self, *a, **k: drawn.append(a))
     with pytest.raises(GeokinError) as error:
         gp.animate(sweep(four_bar(), samples(3000)), tmp_path / f"big{suffix}", frames=3000)
     message = str(error.value)
@@ -423,7 +424,7 @@ def test_an_animation_that_would_not_fit_on_the_disk_is_refused_up_front(
 
 
 def test_an_animation_that_would_not_fit_in_memory_is_refused_up_front(tmp_path, monkeypatch):
-    monkeypatch.setattr(gm, "_available_memory", lambda: 5_000_000)
+    monkeypatch.setattr(ga, "_available_memory", lambda: 5_000_000)
     with pytest.raises(GeokinError, match=r"of memory are available; ask for fewer samples"):
         gp.animate(sweep(four_bar(), samples(30)), tmp_path / "a.gif", frames=3)
     assert list(tmp_path.iterdir()) == []
@@ -444,7 +445,7 @@ def test_an_interrupted_animation_leaves_the_old_file(tmp_path, small_frames, mo
         if len(count) == 3:
             raise KeyboardInterrupt
 
-    monkeypatch.setattr(gm._Scene, "update", update)
+    monkeypatch.setattr(Scene, "update", update)
     with pytest.raises(KeyboardInterrupt):
         gp.animate(sweep(four_bar(), samples(37)), path, frames=10, progress=False)
     assert path.read_bytes() == b"the old animation"

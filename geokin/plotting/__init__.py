@@ -1,18 +1,20 @@
 """Figures and animations of a sweep, drawn with matplotlib."""
 
-from .mechanism import (
+from .animation import (
     ANIMATION_FORMATS,
+    MAX_FPS,
+    MAX_FRAMES,
+    MIN_FPS,
+    animate,
+    animation_estimate,
+)
+from .mechanism import (
     FIGSIZE,
     GROUND_COLOR,
     INPUT_COLOR,
     LINK_COLORS,
-    MAX_FPS,
-    MAX_FRAMES,
-    MIN_FPS,
     SAVE_FORMATS,
     TRACE_COLORS,
-    animate,
-    animation_estimate,
     figure_kinematics,
     figure_mechanism,
     plot_input_output,

@@ -26,10 +26,12 @@ Examples
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable
 
 import numpy as np
 
 from ..errors import GeokinError, did_you_mean
+from ..results import Sweep
 from ..terminal import escape, shorten
 
 __all__ = ["Layout", "input_text", "shown_text"]
@@ -73,7 +75,7 @@ class Layout:
         The size of a symbol (pivot, block) in data units.
     """
 
-    def __init__(self, sweep, traces=None):
+    def __init__(self, sweep: Sweep, traces: Iterable[str] | None = None) -> None:
         compiled = sweep.construction
         self.sweep = sweep
         self.nodes = {step.node.name: step.node for step in compiled.steps}
@@ -194,7 +196,7 @@ def _bars_from_construction(compiled):
     return bars
 
 
-def input_text(sweep, index: int) -> str:
+def input_text(sweep: Sweep, index: int) -> str:
     """Return the input values at sample ``index`` as a figure shows them.
 
     An angle is in degrees, and an input named like a Greek letter is
