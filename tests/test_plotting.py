@@ -316,7 +316,7 @@ def test_plot_input_output():
 
 
 def test_import_geokin_does_not_import_matplotlib():
-    code = "import sys, geokin; print('matplotlib' in sys.modules)"
+    code = "import sys, geokin, geokin.plotting; print('matplotlib' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True)
     assert out.stdout.strip() == "False"
