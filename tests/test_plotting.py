@@ -118,6 +118,38 @@ def test_slider_block_sits_on_its_point():
     assert [t.get_text() for t in ax.get_legend().get_texts()] == ["path of A", "path of B"]
 
 
+def driven_pin():
+    """A pin S pushed along the x axis by a length input; an arm O-B and a rod B-S."""
+    c = Construction("driven pin")
+    c.input("s", kind="length", range=(0, 5), samples=11)
+    c.fixed("O", -10, 0)
+    c.fixed("G", 0, 0)
+    c.fixed("S", "s", 0)  # fixed kind, but it moves with s
+    c.circle_circle("B", ("O", "S"), (12, 8), branch="left")
+    c.link("arm", "O", "B")
+    c.link("rod", "B", "S")
+    c.slider("block", "S", ("O", "G"))
+    return c
+
+
+def pivot_triangles(ax):
+    grey = matplotlib.colors.to_rgba("#d9d9d9")
+    return [p for p in ax.patches if p.get_facecolor() == grey]
+
+
+def test_a_fixed_point_driven_by_an_input_is_no_ground_pivot():
+    c = driven_pin()
+    assert c.compile().ground == {"O", "G"}
+    s = sweep(c)
+    ax = gp.plot_mechanism(s, 4)
+    (triangle,) = pivot_triangles(ax)  # O only, not S
+    np.testing.assert_allclose(triangle.get_xy()[0], s["O"][4])
+    # hatched: O's ground and the guide O-G under the block, nothing under S
+    assert len([p for p in ax.patches if p.get_hatch()]) == 2
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["path of S", "path of B"]
+    assert "S" in texts(ax)
+
+
 def test_without_links_bars_join_each_point_to_what_it_is_built_on():
     s = sweep(four_bar(links=False), samples(37))
     ax = gp.plot_mechanism(s)

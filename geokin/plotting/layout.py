@@ -48,22 +48,24 @@ class Layout:
     sweep : Sweep
     traces : list of str, optional
         The points whose paths are drawn; by default the construction's
-        traced points, or else every point that is not fixed.
+        traced points, or else every point that moves.
 
     Attributes
     ----------
     nodes : dict of str to Node
         Every point, in evaluation order.
-    fixed : list of str
-        The points that never move.
+    ground : list of str
+        The points that never move, in evaluation order: the construction's
+        :attr:`~geokin.construction.Compiled.ground`. A fixed point whose
+        coordinates use an input moves, and is drawn as a joint.
     pivots : list of str
-        The fixed points drawn as ground pivots.
+        The ground points drawn as ground pivots.
     references : list of str
         The points marked as construction aids, not joints.
     shown : list of str
         The points drawn and labelled.
     moving : list of str
-        The points that are not fixed.
+        The points that are not ground.
     links : list of tuple of str
         The bars and plates: the declared links, or else a bar from each
         point to each point it is built on.
@@ -79,7 +81,7 @@ class Layout:
         compiled = sweep.construction
         self.sweep = sweep
         self.nodes = {step.node.name: step.node for step in compiled.steps}
-        self.fixed = [name for name, node in self.nodes.items() if node.kind == "fixed"]
+        self.ground = [name for name in self.nodes if name in compiled.ground]
         if compiled.links:
             self.links = [tuple(link.points) for link in compiled.links]
         else:
@@ -88,16 +90,16 @@ class Layout:
         linked = {p for points in self.links for p in points}
         linked |= {s.point for s in self.sliders}
         if compiled.links:
-            self.pivots = [p for p in self.fixed if p in linked]
+            self.pivots = [p for p in self.ground if p in linked]
         else:
-            self.pivots = list(self.fixed)
-        # a fixed point only giving a slider's guide its direction is shown by the guide
+            self.pivots = list(self.ground)
+        # a ground point only giving a slider's guide its direction is shown by the guide
         guides = {p for s in self.sliders for p in s.along}
-        self.references = [p for p in self.fixed if p not in self.pivots
+        self.references = [p for p in self.ground if p not in self.pivots
                            and (p in linked or p not in guides)]
         self.shown = [p for p in self.nodes if p in self.pivots or p in self.references
-                      or p not in self.fixed]
-        self.moving = [p for p in self.nodes if p not in self.fixed]
+                      or p not in self.ground]
+        self.moving = [p for p in self.nodes if p not in self.ground]
         self.traces = self._traces(traces)
         if compiled.links:
             # a moving point on no link, no slider and no trace only helps the
@@ -161,9 +163,9 @@ class Layout:
             if not driven:
                 continue
             # a declared link turned by the input comes first (not a helper point of the
-            # construction), then a crank on a fixed pivot
+            # construction), then a crank on a ground pivot
             on_link = not links or any({node.origin, name} <= link for link in links)
-            rank = (not on_link, node.origin not in self.fixed)
+            rank = (not on_link, node.origin not in self.ground)
             if best_rank is None or rank < best_rank:
                 best, best_rank = (node.origin, name, driven[0]), rank
         return best

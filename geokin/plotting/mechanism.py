@@ -9,11 +9,12 @@ an animation. matplotlib is imported inside the functions.
 
 What a mechanism drawing shows:
 
-- ground pivots (fixed points joined to a link) as triangles on hatched ground;
+- ground pivots (points that never move, joined to a link) as triangles on
+  hatched ground;
 - links as bars, a link of three or more points as a translucent plate;
   a construction without links gets a bar from each point to the points
   it is built on;
-- sliders as blocks on their guide line, on hatched ground when the guide is fixed;
+- sliders as blocks on their guide line, on hatched ground when the guide is ground;
 - the driving input: an arc arrow at the driven crank's pivot and the input
   value (degrees for an angle) in the corner;
 - point labels, and the paths of the traced points over the whole sweep,
@@ -141,7 +142,7 @@ class Scene:
         self.bars = []
         moving = 0
         for points in layout.links:
-            if all(p in layout.fixed for p in points):
+            if all(p in layout.ground for p in points):
                 # the ground: its pivots are drawn hatched; a thin line shows the frame
                 closed = (*points, points[0]) if len(points) > 2 else points
                 artist = line(color=GROUND_COLOR, lw=1.2, ls=(0, (4, 3)), zorder=_Z_GROUND)
@@ -159,7 +160,7 @@ class Scene:
             self.bars.append((points, artist))
         self.blocks = []
         for slider in layout.sliders:
-            grounded = all(p in layout.fixed for p in slider.along)
+            grounded = all(p in layout.ground for p in slider.along)
             guide = line(color=GROUND_COLOR, lw=1.0, ls=(0, (8, 3, 2, 3)), zorder=_Z_GROUND)
             surface = line(color=GROUND_COLOR, lw=1.5, zorder=_Z_GROUND) if grounded else None
             hatch = (polygon(facecolor="none", edgecolor=GROUND_COLOR, lw=0, hatch="////",
@@ -402,7 +403,7 @@ def plot_mechanism(sweep, index=None, *, ax=None, title=None, traces=None):
         The title; the construction's name by default, none if ``""``.
     traces : list of str, optional
         The points whose paths are drawn; by default the construction's
-        traced points, or else every point that is not fixed.
+        traced points, or else every point that moves.
 
     Returns
     -------
