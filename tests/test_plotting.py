@@ -14,6 +14,7 @@ from PIL import Image
 
 from geokin import Construction, GeokinError, sweep
 from geokin import plotting as gp
+from geokin.analysis import cranks
 from geokin.plotting import animation as ga
 from geokin.plotting.layout import Layout
 from geokin.plotting.mechanism import Scene
@@ -332,6 +333,21 @@ def test_input_arrow_turns_with_the_crank(values, sense):
     ax = gp.plot_mechanism(s, 3)
     (arrow,) = [p for p in ax.patches if isinstance(p, matplotlib.patches.FancyArrowPatch)]
     assert np.sign(arrow.get_connectionstyle().rad) == sense  # bulging outwards
+
+
+def test_input_arrow_sits_on_the_crank_not_on_a_helper_point():
+    c = four_bar()
+    c.polar("H", "O4", 5, "theta")  # turned by the input too, but on no link
+    s = sweep(c, samples(9))
+    assert cranks(c)[0].tip == "A" and Layout(s).crank == cranks(c)[0]
+    ax = gp.plot_mechanism(s, 2)
+    (arrow,) = [p for p in ax.patches if isinstance(p, matplotlib.patches.FancyArrowPatch)]
+    path = arrow.get_path()
+    assert path.codes[2] == path.CURVE3
+    ends = path.vertices[[0, 2]]  # where the arc starts and ends (the head shortens it a little)
+    radius = np.hypot(*(ends - s["O2"][2]).T)
+    np.testing.assert_allclose(radius, radius[0], rtol=0.02)  # an arc about O2
+    assert radius[0] <= np.hypot(*(s["A"][2] - s["O2"][2]))
 
 
 def test_plot_input_output():

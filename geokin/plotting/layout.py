@@ -30,6 +30,7 @@ from collections.abc import Iterable
 
 import numpy as np
 
+from ..analysis import Crank, cranks
 from ..errors import GeokinError, did_you_mean
 from ..results import Sweep
 from ..terminal import escape, shorten
@@ -71,8 +72,9 @@ class Layout:
         point to each point it is built on.
     sliders : list of Slider
     traces : list of str
-    crank : tuple of str or None
-        ``(origin, tip, input name)`` of the crank the input turns.
+    crank : Crank or None
+        The crank the input turns, where the arc arrow is drawn: the first
+        of :func:`geokin.analysis.cranks`.
     size : float
         The size of a symbol (pivot, block) in data units.
     """
@@ -106,7 +108,8 @@ class Layout:
             # construction: mark it like a reference, not like a joint
             self.references += [p for p in self.moving
                                 if p not in linked and p not in self.traces]
-        self.crank = self._crank()
+        found = cranks(compiled)
+        self.crank: Crank | None = found[0] if found else None
         self.neighbours: dict[str, set[str]] = {p: set() for p in self.nodes}
         for points in self.links:
             for p in points:
@@ -149,26 +152,6 @@ class Layout:
                 raise GeokinError(f"cannot trace unknown point {name!r}"
                                   f"{did_you_mean(name, self.nodes)}")
         return traces
-
-    def _crank(self):
-        """Return (origin, tip, input name) of the driven crank, or None."""
-        compiled = self.sweep.construction
-        inputs = compiled.inputs
-        links = [set(link.points) for link in compiled.links]
-        best, best_rank = None, None
-        for name, node in self.nodes.items():
-            if node.kind != "polar" or node.reference is not None:
-                continue
-            driven = [i for i in node.angle.names() if i in inputs and inputs[i].kind == "angle"]
-            if not driven:
-                continue
-            # a declared link turned by the input comes first (not a helper point of the
-            # construction), then a crank on a ground pivot
-            on_link = not links or any({node.origin, name} <= link for link in links)
-            rank = (not on_link, node.origin not in self.ground)
-            if best_rank is None or rank < best_rank:
-                best, best_rank = (node.origin, name, driven[0]), rank
-        return best
 
     def pose_index(self, index):
         """Return the sample whose pose is drawn for ``index``: itself or the nearest valid."""

@@ -322,8 +322,8 @@ class Scene:
             hatch.set_xy([a, b, b - depth, a - depth])
 
     def _draw_crank(self, at, pose):
-        origin, tip, _ = self.layout.crank
-        o, a = at[origin], at[tip]
+        crank = self.layout.crank
+        o, a = at[crank.origin], at[crank.tip]
         size = self.layout.size
         radius = min(max(0.5 * np.hypot(*(a - o)), 1.2 * size), 4.0 * size)
         phi = math.atan2(a[1] - o[1], a[0] - o[0])
@@ -337,8 +337,8 @@ class Scene:
 
     def _crank_sense(self, pose):
         """+1 if the crank turns counter-clockwise at ``pose``, -1 if clockwise."""
-        origin, tip, _ = self.layout.crank
-        d = self.sweep.points[tip] - self.sweep.points[origin]
+        crank = self.layout.crank
+        d = self.sweep.points[crank.tip] - self.sweep.points[crank.origin]
         angle = np.arctan2(d[:, 1], d[:, 0])
         n = len(angle)
         for i, j in ((pose, pose + 1), (pose - 1, pose)):
