@@ -12,7 +12,7 @@ import pytest
 from matplotlib import animation
 from PIL import Image
 
-from geokin import Construction, GeokinError, sweep
+from geokin import BudgetError, Construction, GeokinError, budgets, sweep
 from geokin import plotting as gp
 from geokin.analysis import cranks
 from geokin.plotting import animation as ga
@@ -472,9 +472,12 @@ def test_an_animation_that_would_not_fit_on_the_disk_is_refused_up_front(
 
 
 def test_an_animation_that_would_not_fit_in_memory_is_refused_up_front(tmp_path, monkeypatch):
-    monkeypatch.setattr(ga, "_available_memory", lambda: 5_000_000)
-    with pytest.raises(GeokinError, match=r"of memory are available; ask for fewer samples"):
+    monkeypatch.setattr(budgets, "memory_budget", lambda: 5_000_000)
+    with pytest.raises(BudgetError, match=r"cannot write '.*a\.gif': drawing an animation of 3 "
+                       r"frames of 800 x 600 pixels needs about \d+ MB, more than the 5 MB "
+                       r"budget \(.* memory\); ask for fewer samples") as error:
         gp.animate(sweep(four_bar(), samples(30)), tmp_path / "a.gif", frames=3)
+    assert error.value.budget == 5_000_000 < error.value.needed
     assert list(tmp_path.iterdir()) == []
     file_bytes, memory_bytes = gp.animation_estimate(10, 800, 600, ".gif", samples=10**6,
                                                      traces=2)

@@ -16,7 +16,6 @@ import base64
 import contextlib
 import html
 import io
-import os
 import pathlib
 import shutil
 import sys
@@ -25,6 +24,7 @@ import time
 import numpy as np
 
 from ..atomic import replacing, replacing_path
+from ..budgets import check_memory
 from ..errors import GeokinError
 from .layout import shown_text
 from .mechanism import FIGSIZE, Scene, setup_axes
@@ -311,18 +311,6 @@ class PageWriter:
         self.stream.write(_PAGE_TAIL.format(interval=interval).encode("utf-8"))
 
 
-def _available_memory() -> int | None:
-    """Return the bytes of memory available to a new allocation, or None if unknown."""
-    with contextlib.suppress(OSError, ValueError):
-        with open("/proc/meminfo") as f:
-            for line in f:
-                if line.startswith("MemAvailable:"):
-                    return int(line.split()[1]) * 1024
-    with contextlib.suppress(AttributeError, ValueError, OSError):
-        return os.sysconf("SC_AVPHYS_PAGES") * os.sysconf("SC_PAGE_SIZE")
-    return None
-
-
 def animation_estimate(frames, width, height, suffix, *, samples=0, traces=0):
     """Estimate the file size and the memory of an animation, before drawing it.
 
@@ -361,24 +349,26 @@ def animation_estimate(frames, width, height, suffix, *, samples=0, traces=0):
 
 
 def _check_room(path, frames, width, height, suffix, samples, traces):
-    """Refuse, up front, an animation whose file or memory would not fit."""
+    """Refuse, up front, an animation whose file or drawing would not fit.
+
+    The file must fit on the disk, the drawing in the memory budget of
+    :func:`geokin.budgets.check_memory`.
+    """
     file_bytes, memory_bytes = animation_estimate(frames, width, height, suffix,
                                                   samples=samples, traces=traces)
-    what = (f"an animation of {frames:,} frames of {width} x {height} pixels needs about "
-            f"{_megabytes(file_bytes)} on disk and {_megabytes(memory_bytes)} of memory")
+    animation = f"an animation of {frames:,} frames of {width} x {height} pixels"
     try:
         free = shutil.disk_usage(path.parent).free
     except OSError:
         free = None
     if free is not None and file_bytes > free:
-        raise GeokinError(f"cannot write {str(path)!r}: {what}, but only {_megabytes(free)} "
-                          f"are free there; ask for fewer frames, fewer pixels (a lower dpi) "
-                          f"or an .mp4")
-    available = _available_memory()
-    if available is not None and memory_bytes > available:
-        raise GeokinError(f"cannot write {str(path)!r}: {what}, but only "
-                          f"{_megabytes(available)} of memory are available; ask for fewer "
-                          "samples or fewer traced points")
+        raise GeokinError(f"cannot write {str(path)!r}: {animation} needs about "
+                          f"{_megabytes(file_bytes)} on disk and {_megabytes(memory_bytes)} "
+                          f"of memory, but only {_megabytes(free)} are free there; ask for "
+                          "fewer frames, fewer pixels (a lower dpi) or an .mp4")
+    check_memory(memory_bytes, what=f"cannot write {str(path)!r}: drawing {animation}",
+                 advice="ask for fewer samples, fewer traced points or fewer pixels "
+                        "(a lower dpi)")
 
 
 def _megabytes(count: int) -> str:
@@ -395,8 +385,9 @@ def animate(sweep, path, *, fps=25, frames=None, progress=True):
 
     Each frame goes to the file as soon as it is drawn, so memory does not
     grow with the number of frames; an animation whose file would not fit
-    on the disk, or whose drawing would not fit in memory, is refused
-    before anything is drawn (see :func:`animation_estimate`). The file is
+    on the disk, or whose drawing would not fit in the memory budget
+    (:func:`geokin.budgets.memory_budget`), is refused before anything is
+    drawn (see :func:`animation_estimate`). The file is
     written whole or not at all (see :mod:`geokin.atomic`).
 
     Parameters
@@ -422,7 +413,9 @@ def animate(sweep, path, *, fps=25, frames=None, progress=True):
     ------
     GeokinError
         For an unknown extension, an ``.mp4`` without ffmpeg, bad ``fps``
-        or ``frames``, or an animation that would not fit.
+        or ``frames``, or a file that would not fit on the disk.
+    BudgetError
+        For a drawing that would need more than the memory budget.
 
     Examples
     --------
