@@ -12,7 +12,7 @@ import pytest
 from matplotlib import animation
 from PIL import Image
 
-from geokin import BudgetError, Construction, GeokinError, budgets, sweep
+from geokin import BudgetError, Construction, ConstructionError, GeokinError, budgets, sweep
 from geokin import plotting as gp
 from geokin.analysis import cranks
 from geokin.plotting import animation as ga
@@ -165,8 +165,14 @@ def test_traces_chosen_and_checked():
     s = sweep(four_bar(), samples(19))
     ax = gp.plot_mechanism(s, traces=["A", "B"])
     assert [t.get_text() for t in ax.get_legend().get_texts()] == ["path of A", "path of B"]
-    with pytest.raises(GeokinError, match="did you mean 'P'"):
+    with pytest.raises(ConstructionError,
+                       match=r"^cannot trace: no point 'p'; did you mean 'P'\?$"):
         gp.plot_mechanism(s, traces=["p"])
+    with pytest.raises(ConstructionError, match=r"^cannot trace 7: name a point with a string$"):
+        gp.plot_mechanism(s, traces=[7])
+    # a name is found as the construction declares it (in NFKC), and drawn so
+    ax = gp.plot_mechanism(s, traces=["\uff30"])  # a fullwidth P
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["path of P"]
 
 
 def test_index_checked():

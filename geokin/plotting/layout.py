@@ -31,7 +31,7 @@ from collections.abc import Iterable
 import numpy as np
 
 from ..analysis import Crank, cranks
-from ..errors import GeokinError, did_you_mean
+from ..errors import ConstructionError, show
 from ..results import Sweep
 from ..terminal import escape, shorten
 
@@ -50,6 +50,12 @@ class Layout:
     traces : list of str, optional
         The points whose paths are drawn; by default the construction's
         traced points, or else every point that moves.
+
+    Raises
+    ------
+    ConstructionError
+        For a traced point the construction does not have, with the
+        closest name.
 
     Attributes
     ----------
@@ -144,14 +150,18 @@ class Layout:
         return points[int(np.argmin(along))], points[int(np.argmax(along))]
 
     def _traces(self, traces):
+        compiled = self.sweep.construction
         if traces is None:
-            traces = self.sweep.construction.traced or self.moving
-        traces = list(traces)
+            return list(compiled.traced or self.moving)
+        names = []
         for name in traces:
-            if name not in self.nodes:
-                raise GeokinError(f"cannot trace unknown point {name!r}"
-                                  f"{did_you_mean(name, self.nodes)}")
-        return traces
+            if not isinstance(name, str):
+                raise ConstructionError(f"cannot trace {show(name)}: name a point with a string")
+            try:
+                names.append(compiled.step_named(name).node.name)
+            except KeyError as err:
+                raise ConstructionError(f"cannot trace: {err.args[0]}") from None
+        return names
 
     def pose_index(self, index):
         """Return the sample whose pose is drawn for ``index``: itself or the nearest valid."""

@@ -412,7 +412,9 @@ def plot_mechanism(sweep, index=None, *, ax=None, title=None, traces=None):
     Raises
     ------
     GeokinError
-        For an index out of range or an unknown traced point.
+        For an index out of range.
+    ConstructionError
+        For an unknown traced point (a :class:`GeokinError` too).
 
     See Also
     --------
