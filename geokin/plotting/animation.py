@@ -16,6 +16,7 @@ import base64
 import contextlib
 import html
 import io
+import os
 import pathlib
 import shutil
 import sys
@@ -26,6 +27,7 @@ import numpy as np
 from ..atomic import replacing, replacing_path
 from ..budgets import check_memory
 from ..errors import GeokinError
+from ..results import Sweep
 from .layout import shown_text
 from .mechanism import FIGSIZE, Scene, setup_axes
 
@@ -311,7 +313,8 @@ class PageWriter:
         self.stream.write(_PAGE_TAIL.format(interval=interval).encode("utf-8"))
 
 
-def animation_estimate(frames, width, height, suffix, *, samples=0, traces=0):
+def animation_estimate(frames: int, width: int, height: int, suffix: str, *, samples: int = 0,
+                       traces: int = 0) -> tuple[int, int]:
     """Estimate the file size and the memory of an animation, before drawing it.
 
     Frames are streamed to the file, so the memory does not grow with their
@@ -375,7 +378,8 @@ def _megabytes(count: int) -> str:
     return f"{count / 1e6:,.0f} MB" if count >= 1e6 else f"{count / 1e6:.2f} MB"
 
 
-def animate(sweep, path, *, fps=25, frames=None, progress=True):
+def animate(sweep: Sweep, path: str | os.PathLike[str], *, fps: float = 25,
+            frames: int | None = None, progress: bool = True) -> pathlib.Path:
     """Write an animation of the motion, the traced paths growing with it.
 
     The writer is chosen by the extension: ``.gif``, ``.html`` (one
@@ -482,6 +486,7 @@ def animate(sweep, path, *, fps=25, frames=None, progress=True):
             _write_movie(fig, path, fps, frames_drawn(), len(indices), bar)
         else:
             with replacing(path, "wb") as f:
+                writer: GifWriter | PageWriter
                 if suffix == ".gif":
                     writer = GifWriter(f, fps)
                 else:

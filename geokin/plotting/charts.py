@@ -7,15 +7,26 @@ of each link against time. matplotlib is imported inside the functions.
 
 from __future__ import annotations
 
+from collections.abc import Iterable, Mapping
+from typing import TYPE_CHECKING
+
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..errors import GeokinError, did_you_mean
+from ..kinematics import Motion
+from ..results import Sweep
 from .layout import shown_text
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 __all__ = ["figure_kinematics", "plot_input_output"]
 
 
-def plot_input_output(sweep, outputs, *, ax=None):
+def plot_input_output(sweep: Sweep, outputs: Mapping[str, ArrayLike] | ArrayLike, *,
+                      ax: Axes | None = None) -> Axes:
     """Plot quantities of a sweep against its input, in degrees for an angle.
 
     Parameters
@@ -62,9 +73,10 @@ def plot_input_output(sweep, outputs, *, ax=None):
             xlabel = name
     else:
         x, xlabel = np.arange(n), "sample"
-    if not hasattr(outputs, "items"):
-        outputs = {None: outputs}
-    for label, values in outputs.items():
+    # anything with items() (a dict, a pandas DataFrame) holds labelled curves
+    curves: dict[str | None, ArrayLike] = (dict(outputs.items()) if hasattr(outputs, "items")
+                                           else {None: outputs})
+    for label, values in curves.items():
         y = np.asarray(values, dtype=float)
         if y.shape != (n,):
             raise GeokinError(f"output {label or ''!r} has shape {y.shape}; expected ({n},), "
@@ -73,7 +85,7 @@ def plot_input_output(sweep, outputs, *, ax=None):
         ax.plot(x, y, label=label)
     ax.set_xlabel(xlabel)
     ax.grid(True, color="#dddddd", lw=0.8)
-    if any(label is not None for label in outputs):
+    if any(label is not None for label in curves):
         ax.legend(fontsize=9)
     return ax
 
@@ -103,7 +115,8 @@ def _robust_limits(values, reference):
     return low - pad, high + pad
 
 
-def figure_kinematics(motion, *, links=None, title=None):
+def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
+                      title: str | None = None) -> tuple[Figure, np.ndarray]:
     """Plot link angles, angular velocities and accelerations against time.
 
     Three stacked axes, as seed 000 draws them: angle (degrees), angular

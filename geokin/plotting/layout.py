@@ -26,7 +26,7 @@ Examples
 from __future__ import annotations
 
 import math
-from collections.abc import Iterable
+from collections.abc import Iterable, Sequence
 
 import numpy as np
 
@@ -59,6 +59,8 @@ class Layout:
 
     Attributes
     ----------
+    sweep : Sweep
+        The motion drawn.
     nodes : dict of str to Node
         Every point, in evaluation order.
     ground : list of str
@@ -76,6 +78,8 @@ class Layout:
     links : list of tuple of str
         The bars and plates: the declared links, or else a bar from each
         point to each point it is built on.
+    neighbours : dict of str to set of str
+        For every point, the points sharing a bar or plate with it.
     sliders : list of Slider
     traces : list of str
     crank : Crank or None
@@ -131,7 +135,7 @@ class Layout:
         extent = float(np.max(hi - lo))
         self.size = 0.035 * extent if extent > 0 else 1.0
 
-    def bar_ends(self, points):
+    def bar_ends(self, points: Sequence[str]) -> tuple[str, ...]:
         """Return a link's points, or just its two ends if they all lie on one line.
 
         A rigid link keeps its shape, so one assembled sample decides.
@@ -163,7 +167,7 @@ class Layout:
                 raise ConstructionError(f"cannot trace: {err.args[0]}") from None
         return names
 
-    def pose_index(self, index):
+    def pose_index(self, index: int) -> int | None:
         """Return the sample whose pose is drawn for ``index``: itself or the nearest valid."""
         if self.sweep.valid[index]:
             return index
@@ -173,7 +177,7 @@ class Layout:
         before = valid[valid < index]
         return int(before[-1]) if before.size else int(valid[0])
 
-    def bounds(self):
+    def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """Return the lower-left and upper-right corners of the whole motion with symbols."""
         s = self.size
         return self.lower - 3.0 * s, self.upper + np.array([3.0 * s, 3.0 * s])
@@ -220,7 +224,7 @@ def input_text(sweep: Sweep, index: int) -> str:
     return ", ".join(parts) if parts else f"sample {index}"
 
 
-def shown_text(text) -> str:
+def shown_text(text: object) -> str:
     r"""Return text from a script as a figure shows it: escaped, at most 200 characters.
 
     Examples

@@ -45,13 +45,22 @@ Examples
 from __future__ import annotations
 
 import math
+import os
 import pathlib
+from collections.abc import Iterable
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from ..atomic import replacing
 from ..errors import GeokinError
+from ..results import Sweep
 from .layout import Layout, input_text, shown_text
+
+if TYPE_CHECKING:
+    from matplotlib.artist import Artist
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
 
 __all__ = [
     "FIGSIZE",
@@ -103,7 +112,7 @@ class Scene:
         One path per traced point, in the order of ``layout.traces``.
     """
 
-    def __init__(self, sweep, ax, traces=None):
+    def __init__(self, sweep: Sweep, ax: Axes, traces: Iterable[str] | None = None) -> None:
         from matplotlib.colors import to_rgba
         from matplotlib.lines import Line2D
         from matplotlib.patches import FancyArrowPatch, Polygon
@@ -111,7 +120,7 @@ class Scene:
         self.sweep, self.ax = sweep, ax
         self.layout = layout = Layout(sweep, traces)
         self.linewidth = 5.0
-        self.mechanism = []  # artists faded at samples that cannot be assembled
+        self.mechanism: list[Artist] = []  # artists faded at samples that cannot be assembled
 
         def polygon(**kwargs):
             patch = Polygon(np.zeros((3, 2)), closed=True, **kwargs)
@@ -199,12 +208,12 @@ class Scene:
         self._alpha = {id(a): a.get_alpha() for a in self.mechanism}
 
     @property
-    def artists(self):
+    def artists(self) -> list[Artist]:
         """Every artist of the drawing."""
         return [*self.trace_lines, *self.mechanism, self.joints, self.loose,
                 self.reference_marks, self.status]
 
-    def update(self, index, *, grow=False):
+    def update(self, index: int, *, grow: bool = False) -> None:
         """Draw sample ``index``; with ``grow`` the paths end at that sample."""
         sweep, layout = self.sweep, self.layout
         for name, artist in zip(layout.traces, self.trace_lines, strict=True):
@@ -217,8 +226,9 @@ class Scene:
             text += (f"\ncannot be assembled at {sweep.failed_node[index]!r}:\n"
                      f"{sweep.failure_reason[index]}")
         self.status.set_text(text)
-        self.status.get_bbox_patch().set_edgecolor(
-            "#bbbbbb" if sweep.valid[index] else INPUT_COLOR)
+        box = self.status.get_bbox_patch()
+        if box is not None:
+            box.set_edgecolor("#bbbbbb" if sweep.valid[index] else INPUT_COLOR)
         for artist in [*self.mechanism, self.joints, self.loose, self.reference_marks]:
             artist.set_visible(pose is not None)
         if pose is None:
@@ -349,7 +359,7 @@ class Scene:
         return 1.0
 
 
-def setup_axes(ax, layout, title) -> None:
+def setup_axes(ax: Axes, layout: Layout, title: str | None) -> None:
     """Fit the view to the whole motion, equal in x and y, with a grid and a title.
 
     Parameters
@@ -386,7 +396,8 @@ def _check_index(sweep, index):
     return int(index) % n
 
 
-def plot_mechanism(sweep, index=None, *, ax=None, title=None, traces=None):
+def plot_mechanism(sweep: Sweep, index: int | None = None, *, ax: Axes | None = None,
+                   title: str | None = None, traces: Iterable[str] | None = None) -> Axes:
     """Draw the mechanism at one sample, with the paths of its traced points.
 
     Parameters
@@ -450,7 +461,8 @@ def plot_mechanism(sweep, index=None, *, ax=None, title=None, traces=None):
     return ax
 
 
-def figure_mechanism(sweep, index=None, *, title=None, traces=None):
+def figure_mechanism(sweep: Sweep, index: int | None = None, *, title: str | None = None,
+                     traces: Iterable[str] | None = None) -> tuple[Figure, Axes]:
     """Make a new figure of the mechanism at one sample.
 
     Parameters
@@ -491,7 +503,7 @@ def figure_mechanism(sweep, index=None, *, title=None, traces=None):
     return fig, ax
 
 
-def save(fig, path):
+def save(fig: Figure, path: str | os.PathLike[str]) -> pathlib.Path:
     """Write a figure to a PNG or SVG file, chosen by the extension.
 
     The image has the figure's size and resolution: a PNG is
