@@ -188,7 +188,11 @@ def test_save_png_has_the_figure_size_in_pixels(tmp_path):
     path = gp.save(fig, tmp_path / "four-bar.png")
     width, height = (fig.get_size_inches() * fig.dpi).round().astype(int)
     assert (width, height) == (320, 240)
-    assert plt.imread(path).shape[:2] == (height, width)
+    rgb = plt.imread(path)[..., :3]
+    assert rgb.shape[:2] == (height, width)
+    assert (rgb < 0.9).any(axis=2).mean() > 0.02  # not a blank picture
+    for color in gp.LINK_COLORS[:3]:  # the crank, the coupler's edge and the rocker are drawn
+        assert (np.abs(rgb - matplotlib.colors.to_rgb(color)).max(axis=2) < 0.02).sum() >= 10
 
 
 def test_save_svg(tmp_path):
