@@ -87,6 +87,8 @@ class Layout:
         of :func:`geokin.analysis.cranks`.
     size : float
         The size of a symbol (pivot, block) in data units.
+    valid_indices : ndarray of int
+        The samples that can be assembled.
     """
 
     def __init__(self, sweep: Sweep, traces: Iterable[str] | None = None) -> None:
