@@ -12,8 +12,12 @@ import pytest
 from matplotlib import animation
 from PIL import Image
 
-from geokin import Construction, GeokinError, sweep
+from geokin import BudgetError, Construction, ConstructionError, GeokinError, budgets, sweep
 from geokin import plotting as gp
+from geokin.analysis import cranks
+from geokin.plotting import animation as ga
+from geokin.plotting.layout import Layout
+from geokin.plotting.mechanism import Scene
 
 BAR_WIDTH = 5.0  # the line width of a two-point link
 
@@ -105,7 +109,7 @@ def test_slider_block_sits_on_its_point():
     assert len(block) == 1
     corners = block[0].get_xy()[:4]
     np.testing.assert_allclose(corners.mean(axis=0), s["B"][4], atol=1e-9)
-    size = gp._Layout(s).size
+    size = Layout(s).size
     np.testing.assert_allclose(np.ptp(corners, axis=0), [3.2 * size, 2 * size])
     # the guide's direction point G is shown by the guide line, not labelled
     assert "G" not in texts(ax) and {"O", "A", "B"} <= texts(ax)
@@ -113,6 +117,38 @@ def test_slider_block_sits_on_its_point():
     assert ax.get_title() == ""
     # paths of every point that is not fixed
     assert [t.get_text() for t in ax.get_legend().get_texts()] == ["path of A", "path of B"]
+
+
+def driven_pin():
+    """A pin S pushed along the x axis by a length input; an arm O-B and a rod B-S."""
+    c = Construction("driven pin")
+    c.input("s", kind="length", range=(0, 5), samples=11)
+    c.fixed("O", -10, 0)
+    c.fixed("G", 0, 0)
+    c.fixed("S", "s", 0)  # fixed kind, but it moves with s
+    c.circle_circle("B", ("O", "S"), (12, 8), branch="left")
+    c.link("arm", "O", "B")
+    c.link("rod", "B", "S")
+    c.slider("block", "S", ("O", "G"))
+    return c
+
+
+def pivot_triangles(ax):
+    grey = matplotlib.colors.to_rgba("#d9d9d9")
+    return [p for p in ax.patches if p.get_facecolor() == grey]
+
+
+def test_a_fixed_point_driven_by_an_input_is_no_ground_pivot():
+    c = driven_pin()
+    assert c.compile().ground == {"O", "G"}
+    s = sweep(c)
+    ax = gp.plot_mechanism(s, 4)
+    (triangle,) = pivot_triangles(ax)  # O only, not S
+    np.testing.assert_allclose(triangle.get_xy()[0], s["O"][4])
+    # hatched: O's ground and the guide O-G under the block, nothing under S
+    assert len([p for p in ax.patches if p.get_hatch()]) == 2
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["path of S", "path of B"]
+    assert "S" in texts(ax)
 
 
 def test_without_links_bars_join_each_point_to_what_it_is_built_on():
@@ -129,8 +165,14 @@ def test_traces_chosen_and_checked():
     s = sweep(four_bar(), samples(19))
     ax = gp.plot_mechanism(s, traces=["A", "B"])
     assert [t.get_text() for t in ax.get_legend().get_texts()] == ["path of A", "path of B"]
-    with pytest.raises(GeokinError, match="did you mean 'P'"):
+    with pytest.raises(ConstructionError,
+                       match=r"^cannot trace: no point 'p'; did you mean 'P'\?$"):
         gp.plot_mechanism(s, traces=["p"])
+    with pytest.raises(ConstructionError, match=r"^cannot trace 7: name a point with a string$"):
+        gp.plot_mechanism(s, traces=[7])
+    # a name is found as the construction declares it (in NFKC), and drawn so
+    ax = gp.plot_mechanism(s, traces=["\uff30"])  # a fullwidth P
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["path of P"]
 
 
 def test_index_checked():
@@ -146,7 +188,11 @@ def test_save_png_has_the_figure_size_in_pixels(tmp_path):
     path = gp.save(fig, tmp_path / "four-bar.png")
     width, height = (fig.get_size_inches() * fig.dpi).round().astype(int)
     assert (width, height) == (320, 240)
-    assert plt.imread(path).shape[:2] == (height, width)
+    rgb = plt.imread(path)[..., :3]
+    assert rgb.shape[:2] == (height, width)
+    assert (rgb < 0.9).any(axis=2).mean() > 0.02  # not a blank picture
+    for color in gp.LINK_COLORS[:3]:  # the crank, the coupler's edge and the rocker are drawn
+        assert (np.abs(rgb - matplotlib.colors.to_rgb(color)).max(axis=2) < 0.02).sum() >= 10
 
 
 def test_save_svg(tmp_path):
@@ -241,31 +287,31 @@ def test_progress_bar_only_on_a_terminal_and_a_slow_job():
             return True
 
     log = io.StringIO()  # not a terminal: never, however slow
-    bar = gp._Progress("writing a.gif", True, stream=log, delay=0.0)
+    bar = ga.Progress("writing a.gif", True, stream=log, delay=0.0)
     for i in range(3):
         bar(i, 3)
     bar.close()
     assert log.getvalue() == ""
 
     quick = Terminal()  # a terminal, but the job is not slow yet
-    bar = gp._Progress("writing a.gif", True, stream=quick, delay=60.0)
+    bar = ga.Progress("writing a.gif", True, stream=quick, delay=60.0)
     bar(0, 3)
     assert quick.getvalue() == ""
 
     slow = Terminal()
-    bar = gp._Progress("writing a.gif", True, stream=slow, delay=0.0)
+    bar = ga.Progress("writing a.gif", True, stream=slow, delay=0.0)
     bar(0, 2)
     bar(1, 2)
     bar.close()
     assert slow.getvalue().endswith("[" + "#" * 30 + "] 2/2\n")
 
     unknown = Terminal()
-    bar = gp._Progress("writing a.gif", True, stream=unknown, delay=0.0)
+    bar = ga.Progress("writing a.gif", True, stream=unknown, delay=0.0)
     bar(6, None)
     assert unknown.getvalue().endswith("frame 7")
 
     off = Terminal()
-    bar = gp._Progress("writing a.gif", False, stream=off, delay=0.0)
+    bar = ga.Progress("writing a.gif", False, stream=off, delay=0.0)
     bar(0, 4)
     assert off.getvalue() == ""
 
@@ -299,6 +345,21 @@ def test_input_arrow_turns_with_the_crank(values, sense):
     assert np.sign(arrow.get_connectionstyle().rad) == sense  # bulging outwards
 
 
+def test_input_arrow_sits_on_the_crank_not_on_a_helper_point():
+    c = four_bar()
+    c.polar("H", "O4", 5, "theta")  # turned by the input too, but on no link
+    s = sweep(c, samples(9))
+    assert cranks(c)[0].tip == "A" and Layout(s).crank == cranks(c)[0]
+    ax = gp.plot_mechanism(s, 2)
+    (arrow,) = [p for p in ax.patches if isinstance(p, matplotlib.patches.FancyArrowPatch)]
+    path = arrow.get_path()
+    assert path.codes[2] == path.CURVE3
+    ends = path.vertices[[0, 2]]  # where the arc starts and ends (the head shortens it a little)
+    radius = np.hypot(*(ends - s["O2"][2]).T)
+    np.testing.assert_allclose(radius, radius[0], rtol=0.02)  # an arc about O2
+    assert radius[0] <= np.hypot(*(s["A"][2] - s["O2"][2]))
+
+
 def test_plot_input_output():
     s = sweep(four_bar(crank=30.0), samples(37))
     angle = np.degrees(np.arctan2(*(s["B"] - s["O4"])[:, ::-1].T))
@@ -313,16 +374,16 @@ def test_plot_input_output():
 
 
 def test_import_geokin_does_not_import_matplotlib():
-    code = "import sys, geokin; print('matplotlib' in sys.modules)"
+    code = "import sys, geokin, geokin.plotting; print('matplotlib' in sys.modules)"
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True)
     assert out.stdout.strip() == "False"
 
 
 def test_frame_choice_is_even_and_capped():
-    assert gp._frame_indices(5, 10).tolist() == [0, 1, 2, 3, 4]
-    assert gp._frame_indices(361, None).size == 300
-    assert gp._frame_indices(361, 400).size == 361
+    assert ga.frame_indices(5, 10).tolist() == [0, 1, 2, 3, 4]
+    assert ga.frame_indices(361, None).size == 300
+    assert ga.frame_indices(361, 400).size == 361
 
 
 def test_kinematics_figure_has_angle_velocity_and_acceleration_against_time():
@@ -353,8 +414,8 @@ def test_kinematics_figure_has_angle_velocity_and_acceleration_against_time():
 
 def test_gif_frames_are_what_was_drawn(tmp_path, small_frames, monkeypatch):
     drawn = []
-    add = gp._GifWriter.add
-    monkeypatch.setattr(gp._GifWriter, "add", lambda self, rgb: (drawn.append(rgb.copy()),
+    add = ga.GifWriter.add
+    monkeypatch.setattr(ga.GifWriter, "add", lambda self, rgb: (drawn.append(rgb.copy()),
                                                                  add(self, rgb)))
     path = gp.animate(sweep(four_bar(), samples(37)), tmp_path / "f.gif", frames=8, fps=20,
                       progress=False)
@@ -371,7 +432,7 @@ def test_gif_frames_are_what_was_drawn(tmp_path, small_frames, monkeypatch):
 
 def test_gif_writer_writes_each_frame_as_it_comes():
     stream = io.BytesIO()
-    writer = gp._GifWriter(stream, fps=10)
+    writer = ga.GifWriter(stream, fps=10)
     sizes = []
     rng = np.random.default_rng(0)
     frame = rng.integers(0, 256, size=(60, 80, 3), dtype=np.uint8) // 64 * 64  # 64 colours
@@ -390,7 +451,7 @@ def test_gif_writer_writes_each_frame_as_it_comes():
 
 def test_html_writer_writes_each_frame_as_it_comes():
     stream = io.BytesIO()
-    writer = gp._PageWriter(stream, 25, "<b>crank</b> \x1b[2J", (80, 60), 3)
+    writer = ga.PageWriter(stream, 25, "<b>crank</b> \x1b[2J", (80, 60), 3)
     sizes = [stream.tell()]
     for level in (0, 128, 255):
         writer.add(np.full((60, 80, 3), level, np.uint8))
@@ -409,9 +470,9 @@ def test_an_animation_that_would_not_fit_on_the_disk_is_refused_up_front(
     class Usage:
         free = 1_000_000
 
-    monkeypatch.setattr(gp.shutil, "disk_usage", lambda folder: Usage)
+    monkeypatch.setattr(ga.shutil, "disk_usage", lambda folder: Usage)
     drawn = []
-    monkeypatch.setattr(gp._Scene, "update", lambda self, *a, **k: drawn.append(a))
+    monkeypatch.setattr(Scene, "update", lambda self, *a, **k: drawn.append(a))
     with pytest.raises(GeokinError) as error:
         gp.animate(sweep(four_bar(), samples(3000)), tmp_path / f"big{suffix}", frames=3000)
     message = str(error.value)
@@ -421,9 +482,12 @@ def test_an_animation_that_would_not_fit_on_the_disk_is_refused_up_front(
 
 
 def test_an_animation_that_would_not_fit_in_memory_is_refused_up_front(tmp_path, monkeypatch):
-    monkeypatch.setattr(gp, "_available_memory", lambda: 5_000_000)
-    with pytest.raises(GeokinError, match=r"of memory are available; ask for fewer samples"):
+    monkeypatch.setattr(budgets, "memory_budget", lambda: 5_000_000)
+    with pytest.raises(BudgetError, match=r"cannot write '.*a\.gif': drawing an animation of 3 "
+                       r"frames of 800 x 600 pixels needs about \d+ MB, more than the 5 MB "
+                       r"budget \(.* memory\); ask for fewer samples") as error:
         gp.animate(sweep(four_bar(), samples(30)), tmp_path / "a.gif", frames=3)
+    assert error.value.budget == 5_000_000 < error.value.needed
     assert list(tmp_path.iterdir()) == []
     file_bytes, memory_bytes = gp.animation_estimate(10, 800, 600, ".gif", samples=10**6,
                                                      traces=2)
@@ -442,7 +506,7 @@ def test_an_interrupted_animation_leaves_the_old_file(tmp_path, small_frames, mo
         if len(count) == 3:
             raise KeyboardInterrupt
 
-    monkeypatch.setattr(gp._Scene, "update", update)
+    monkeypatch.setattr(Scene, "update", update)
     with pytest.raises(KeyboardInterrupt):
         gp.animate(sweep(four_bar(), samples(37)), path, frames=10, progress=False)
     assert path.read_bytes() == b"the old animation"

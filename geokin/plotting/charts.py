@@ -1,0 +1,203 @@
+"""Charts of a motion: quantities against the input, link kinematics against time.
+
+:func:`plot_input_output` plots any quantity of a sweep against its input;
+:func:`figure_kinematics` the angle, angular velocity and angular acceleration
+of each link against time. matplotlib is imported inside the functions.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterable, Mapping
+from typing import TYPE_CHECKING
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from ..errors import GeokinError, did_you_mean
+from ..kinematics import Motion
+from ..results import Sweep
+from .layout import shown_text
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+__all__ = ["figure_kinematics", "plot_input_output"]
+
+
+def plot_input_output(sweep: Sweep, outputs: Mapping[str, ArrayLike] | ArrayLike, *,
+                      ax: Axes | None = None) -> Axes:
+    """Plot quantities of a sweep against its input, in degrees for an angle.
+
+    Parameters
+    ----------
+    sweep : Sweep
+    outputs : mapping of str to array_like, or array_like
+        Arrays of shape (N,), one per curve, by label; a single array is
+        drawn unlabelled. Samples that cannot be assembled are left out.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; the current axes by default.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt
+    >>> import numpy as np
+    >>> from geokin import Construction, sweep
+    >>> c = Construction("crank")
+    >>> c.input("theta", samples=37)
+    >>> c.fixed("O", 0, 0)
+    >>> c.polar("A", "O", 10, "theta")
+    >>> s = sweep(c)
+    >>> fig, ax = plt.subplots()
+    >>> ax = plot_input_output(s, {"x of A": s["A"][:, 0]}, ax=ax)
+    >>> ax.get_xlabel(), len(ax.get_lines())
+    ('theta (°)', 1)
+    >>> plt.close(fig)
+    """
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        ax = plt.gca()
+    n = len(sweep)
+    if sweep.inputs:
+        name, x = next(iter(sweep.inputs.items()))
+        if sweep.construction.inputs[name].kind == "angle":
+            x, xlabel = np.degrees(x), f"{name} (°)"
+        else:
+            xlabel = name
+    else:
+        x, xlabel = np.arange(n), "sample"
+    # anything with items() (a dict, a pandas DataFrame) holds labelled curves
+    curves: dict[str | None, ArrayLike] = (dict(outputs.items()) if hasattr(outputs, "items")
+                                           else {None: outputs})
+    for label, values in curves.items():
+        y = np.asarray(values, dtype=float)
+        if y.shape != (n,):
+            raise GeokinError(f"output {label or ''!r} has shape {y.shape}; expected ({n},), "
+                              "one value per sample")
+        y = np.where(sweep.valid, y, np.nan)
+        ax.plot(x, y, label=label)
+    ax.set_xlabel(xlabel)
+    ax.grid(True, color="#dddddd", lw=0.8)
+    if any(label is not None for label in curves):
+        ax.legend(fontsize=9)
+    return ax
+
+
+def _robust_limits(values, reference):
+    """Return y-limits that show the bulk of the values.
+
+    The rates near a toggle grow without bound and would flatten the rest,
+    so the limits hold the 1st to 99th percentile (all of it when that is
+    most of the range). A quantity that only wobbles, by less than 1e-5 of
+    ``reference`` (the size such a quantity has in this motion), is shown
+    flat: that wobble is finite-difference noise about a constant.
+    """
+    if values.size == 0:
+        return -1.0, 1.0
+    low, high = np.percentile(values, [1, 99])
+    full_low, full_high = values.min(), values.max()
+    if (full_high - full_low) <= 3 * (high - low):
+        low, high = full_low, full_high
+    if high - low <= 1e-5 * reference:
+        # a constant, with finite-difference noise around it
+        middle = 0.5 * (low + high)
+        middle = 0.0 if abs(middle) <= 1e-5 * reference else middle
+        pad = 0.1 * max(abs(middle), reference)
+        return middle - pad, middle + pad
+    pad = 0.06 * (high - low)
+    return low - pad, high + pad
+
+
+def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
+                      title: str | None = None) -> tuple[Figure, np.ndarray]:
+    """Plot link angles, angular velocities and accelerations against time.
+
+    Three stacked axes, as seed 000 draws them: angle (degrees), angular
+    velocity (rad/s) and angular acceleration (rad/s²) of each declared link
+    against time (s). Samples flagged near a singular position are left out,
+    and each axis shows the 1st to 99th percentile of its values where a few
+    samples near a toggle would otherwise flatten the rest.
+
+    Parameters
+    ----------
+    motion : Motion
+        From :func:`geokin.kinematics.motion`.
+    links : list of str, optional
+        The links to draw; every declared link that moves by default.
+    title : str, optional
+        The figure's title; the construction's name by default.
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+    axes : array of 3 matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt
+    >>> from geokin import Construction, sweep
+    >>> from geokin.kinematics import motion
+    >>> c = Construction("crank")
+    >>> c.input("theta", samples=9)
+    >>> c.fixed("O", 0, 0)
+    >>> c.polar("A", "O", 10, "theta")
+    >>> c.link("crank", "O", "A")
+    >>> fig, axes = figure_kinematics(motion(sweep(c)))
+    >>> [ax.get_ylabel() for ax in axes]
+    ['angle (°)', 'ω (rad/s)', 'α (rad/s²)']
+    >>> plt.close(fig)
+    """
+    if links is None:
+        # the ground does not move: leave it out
+        names = [n for n, a in motion.angle.items()
+                 if np.isfinite(a).any() and np.nanmax(a) - np.nanmin(a) > 0]
+    else:
+        names = list(links)
+    unknown = [n for n in names if n not in motion.angle]
+    if unknown:
+        raise GeokinError(f"no declared link {unknown[0]!r}"
+                          f"{did_you_mean(unknown[0], motion.angle)}")
+    if not names and not motion.angle:
+        raise GeokinError("the construction declares no links: nothing to plot "
+                          "(declare links to see their angles, velocities and accelerations)")
+    if not names:
+        raise GeokinError("no declared link moves at an assembled sample: nothing to plot")
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(3, 1, sharex=True, figsize=(8.0, 8.0), layout="constrained")
+    keep = motion.sweep.valid & ~motion.flagged
+    quantities = [(motion.angle, np.degrees, "angle (°)"),
+                  (motion.angular_velocity, None, "ω (rad/s)"),
+                  (motion.angular_acceleration, None, "α (rad/s²)")]
+    # the size a rate of each kind has in this motion, for telling noise from motion
+    rates = np.concatenate([np.abs(motion.angular_velocity[n][keep]) for n in names]
+                           + [np.abs(motion.speed[keep])])
+    omega = float(np.nanmax(rates, initial=0.0)) or 1.0
+    for ax, (values, convert, label), reference in zip(axes, quantities,
+                                                       (360.0, omega, omega**2), strict=True):
+        shown = []
+        for name in names:
+            y = values[name] if convert is None else convert(values[name])
+            y = np.where(keep, y, np.nan)
+            ax.plot(motion.time, y, label=name)
+            shown.append(y[np.isfinite(y)])
+        ax.set_ylim(*_robust_limits(np.concatenate(shown), reference))
+        ax.set_ylabel(label)
+        ax.grid(True, color="#dddddd", lw=0.8)
+    axes[0].legend(fontsize=9, ncols=min(len(names), 4))
+    axes[-1].set_xlabel("time (s)")
+    heading = motion.sweep.construction.name if title is None else title
+    heading = shown_text(heading)
+    if motion.flagged.any():
+        heading += f" ({int(motion.flagged.sum())} samples near a singular position left out)"
+    fig.suptitle(heading, parse_math=False)
+    return fig, axes

@@ -1,0 +1,549 @@
+"""Drawings of a mechanism at one sample, and pictures of them written to files.
+
+:func:`plot_mechanism` draws on a given ``ax`` or the current one and
+returns it; :func:`figure_mechanism` makes a new figure; :func:`save` writes
+a figure as PNG or SVG. What is drawn is decided by
+:class:`~geokin.plotting.layout.Layout`; the :class:`Scene` here makes the
+artists and moves them to any sample, for one picture or for every frame of
+an animation. matplotlib is imported inside the functions.
+
+What a mechanism drawing shows:
+
+- ground pivots (points that never move, joined to a link) as triangles on
+  hatched ground;
+- links as bars, a link of three or more points as a translucent plate;
+  a construction without links gets a bar from each point to the points
+  it is built on;
+- sliders as blocks on their guide line, on hatched ground when the guide is ground;
+- the driving input: an arc arrow at the driven crank's pivot and the input
+  value (degrees for an angle) in the corner;
+- point labels, and the paths of the traced points over the whole sweep,
+  broken where the mechanism cannot be assembled.
+
+A sample that cannot be assembled is shown as the nearest assembled pose,
+faded, with the reason in the corner.
+
+Examples
+--------
+>>> import matplotlib
+>>> matplotlib.use("Agg")
+>>> import numpy as np
+>>> from geokin import Construction, sweep
+>>> c = Construction("crank and rocker")
+>>> c.input("theta")
+>>> c.fixed("O2", 0, 0)
+>>> c.fixed("O4", 40, 0)
+>>> c.polar("A", "O2", 10, "theta")
+>>> c.circle_circle("B", ("A", "O4"), (35, 30), branch="left")
+>>> fig, ax = figure_mechanism(sweep(c, np.linspace(0, 2 * np.pi, 73)))
+>>> [line.get_label() for line in ax.get_legend().get_lines()]
+['path of A', 'path of B']
+>>> import matplotlib.pyplot as plt
+>>> plt.close(fig)
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import pathlib
+from collections.abc import Iterable
+from typing import TYPE_CHECKING
+
+import numpy as np
+
+from ..atomic import replacing
+from ..errors import GeokinError
+from ..results import Sweep
+from .layout import Layout, input_text, shown_text
+
+if TYPE_CHECKING:
+    from matplotlib.artist import Artist
+    from matplotlib.axes import Axes
+    from matplotlib.figure import Figure
+
+__all__ = [
+    "FIGSIZE",
+    "GROUND_COLOR",
+    "INPUT_COLOR",
+    "LINK_COLORS",
+    "SAVE_FORMATS",
+    "TRACE_COLORS",
+    "Scene",
+    "figure_mechanism",
+    "plot_mechanism",
+    "save",
+    "setup_axes",
+]
+
+LINK_COLORS = ("#2f6db5", "#e07b00", "#3a9a4b", "#8a55b5", "#b8433e", "#2a9d9d", "#8c6d46")
+"""Colours of the links, in declaration order."""
+
+TRACE_COLORS = ("#d62976", "#1f9bd1", "#6a9a1f", "#f0a202", "#7b4fc9", "#333333")
+"""Colours of the traced paths."""
+
+GROUND_COLOR = "#3b3b3b"
+INPUT_COLOR = "#c0392b"
+FIGSIZE = (8.0, 6.0)
+SAVE_FORMATS = (".png", ".svg")
+_Z_TRACE, _Z_GROUND, _Z_LINK, _Z_SLIDER, _Z_JOINT, _Z_LABEL = 1, 2, 3, 4, 5, 6
+
+
+class Scene:
+    """The artists of one mechanism drawing, updatable to any sample.
+
+    :func:`plot_mechanism` draws one sample with it, and
+    :func:`~geokin.plotting.animation.animate` every frame, by moving the
+    same artists.
+
+    Parameters
+    ----------
+    sweep : Sweep
+    ax : matplotlib.axes.Axes
+        Where the artists are added.
+    traces : list of str, optional
+        The points whose paths are drawn (see :class:`~geokin.plotting.layout.Layout`).
+
+    Attributes
+    ----------
+    layout : Layout
+        What is drawn.
+    trace_lines : list of matplotlib.lines.Line2D
+        One path per traced point, in the order of ``layout.traces``.
+    """
+
+    def __init__(self, sweep: Sweep, ax: Axes, traces: Iterable[str] | None = None) -> None:
+        from matplotlib.colors import to_rgba
+        from matplotlib.lines import Line2D
+        from matplotlib.patches import FancyArrowPatch, Polygon
+
+        self.sweep, self.ax = sweep, ax
+        self.layout = layout = Layout(sweep, traces)
+        self.linewidth = 5.0
+        self.mechanism: list[Artist] = []  # artists faded at samples that cannot be assembled
+
+        def polygon(**kwargs):
+            patch = Polygon(np.zeros((3, 2)), closed=True, **kwargs)
+            ax.add_patch(patch)
+            self.mechanism.append(patch)
+            return patch
+
+        def line(*, mechanism=True, **kwargs):
+            artist = Line2D([], [], **kwargs)
+            ax.add_line(artist)
+            if mechanism:
+                self.mechanism.append(artist)
+            return artist
+
+        self.trace_lines = []
+        for k, name in enumerate(layout.traces):
+            color = TRACE_COLORS[k % len(TRACE_COLORS)]
+            self.trace_lines.append(line(mechanism=False, color=color, lw=1.6, alpha=0.9,
+                                         zorder=_Z_TRACE, label=f"path of {name}"))
+        self.ground = []
+        for _ in layout.pivots:
+            hatch = polygon(facecolor="none", edgecolor=GROUND_COLOR, lw=0, hatch="////",
+                            zorder=_Z_GROUND)
+            base = line(color=GROUND_COLOR, lw=1.5, zorder=_Z_GROUND, solid_capstyle="butt")
+            triangle = polygon(facecolor="#d9d9d9", edgecolor=GROUND_COLOR, lw=1.5,
+                               zorder=_Z_GROUND + 0.1)
+            self.ground.append((triangle, hatch, base))
+        self.bars = []
+        moving = 0
+        for points in layout.links:
+            if all(p in layout.ground for p in points):
+                # the ground: its pivots are drawn hatched; a thin line shows the frame
+                closed = (*points, points[0]) if len(points) > 2 else points
+                artist = line(color=GROUND_COLOR, lw=1.2, ls=(0, (4, 3)), zorder=_Z_GROUND)
+                self.bars.append((closed, artist))
+                continue
+            color = LINK_COLORS[moving % len(LINK_COLORS)]
+            moving += 1
+            points = layout.bar_ends(points)
+            if len(points) == 2:
+                artist = line(color=color, lw=self.linewidth, solid_capstyle="round",
+                              zorder=_Z_LINK)
+            else:
+                artist = polygon(facecolor=to_rgba(color, 0.28), edgecolor=color, lw=2.5,
+                                 joinstyle="round", zorder=_Z_LINK)
+            self.bars.append((points, artist))
+        self.blocks = []
+        for slider in layout.sliders:
+            grounded = all(p in layout.ground for p in slider.along)
+            guide = line(color=GROUND_COLOR, lw=1.0, ls=(0, (8, 3, 2, 3)), zorder=_Z_GROUND)
+            surface = line(color=GROUND_COLOR, lw=1.5, zorder=_Z_GROUND) if grounded else None
+            hatch = (polygon(facecolor="none", edgecolor=GROUND_COLOR, lw=0, hatch="////",
+                             zorder=_Z_GROUND) if grounded else None)
+            block = polygon(facecolor="#f4d58d", edgecolor="#8a6d1f", lw=1.8, zorder=_Z_SLIDER)
+            self.blocks.append((slider, block, guide, surface, hatch))
+        traced = set(layout.traces)
+        joints = [p for p in layout.shown if p not in layout.references]
+        self.joint_names = [p for p in joints if p not in traced or p in layout.pivots
+                            or any(p in pts for pts in layout.links)]
+        self.joints = line(ls="none", marker="o", ms=7, mfc="white", mec="#222222", mew=1.5,
+                           zorder=_Z_JOINT)
+        self.loose_names = [p for p in joints if p not in self.joint_names]
+        self.loose = line(ls="none", marker="o", ms=6, mfc="#222222", mec="white", mew=1.0,
+                          zorder=_Z_JOINT)
+        self.reference_marks = line(ls="none", marker="+", ms=9, mew=1.5, color="#777777",
+                                    zorder=_Z_JOINT)
+        self.crank_arrow = None
+        if layout.crank is not None:
+            self.crank_arrow = FancyArrowPatch((0, 0), (1, 1), arrowstyle="-|>",
+                                               mutation_scale=14, lw=1.8, color=INPUT_COLOR,
+                                               shrinkA=0, shrinkB=0, zorder=_Z_LABEL)
+            ax.add_patch(self.crank_arrow)
+            self.mechanism.append(self.crank_arrow)
+        self.labels = {}
+        for name in layout.shown:
+            self.labels[name] = ax.annotate(
+                name, (0, 0), xytext=(0, 0), textcoords="offset points", ha="center",
+                va="center", fontsize=10, fontweight="bold", color="#222222", zorder=_Z_LABEL,
+                bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.75))
+            self.mechanism.append(self.labels[name])
+        self.status = ax.text(0.015, 0.985, "", transform=ax.transAxes, ha="left", va="top",
+                              fontsize=10, zorder=_Z_LABEL + 1,
+                              bbox=dict(boxstyle="round,pad=0.3", fc="white", ec="#bbbbbb",
+                                        alpha=0.9))
+        self._alpha = {id(a): a.get_alpha() for a in self.mechanism}
+
+    @property
+    def artists(self) -> list[Artist]:
+        """Every artist of the drawing."""
+        return [*self.trace_lines, *self.mechanism, self.joints, self.loose,
+                self.reference_marks, self.status]
+
+    def update(self, index: int, *, grow: bool = False) -> None:
+        """Draw sample ``index``; with ``grow`` the paths end at that sample."""
+        sweep, layout = self.sweep, self.layout
+        for name, artist in zip(layout.traces, self.trace_lines, strict=True):
+            xy = sweep.points[name]
+            xy = xy[: index + 1] if grow else xy
+            artist.set_data(xy[:, 0], xy[:, 1])
+        text = input_text(sweep, index)
+        pose = layout.pose_index(index)
+        if not sweep.valid[index]:
+            text += (f"\ncannot be assembled at {sweep.failed_node[index]!r}:\n"
+                     f"{sweep.failure_reason[index]}")
+        self.status.set_text(text)
+        box = self.status.get_bbox_patch()
+        if box is not None:
+            box.set_edgecolor("#bbbbbb" if sweep.valid[index] else INPUT_COLOR)
+        for artist in [*self.mechanism, self.joints, self.loose, self.reference_marks]:
+            artist.set_visible(pose is not None)
+        if pose is None:
+            return
+        at = {name: sweep.points[name][pose] for name in layout.nodes}
+        self._draw_pose(at, pose)
+        faded = not sweep.valid[index]
+        for artist in self.mechanism:
+            alpha = self._alpha[id(artist)]
+            artist.set_alpha(0.2 * (alpha or 1.0) if faded else alpha)
+        for artist in (self.joints, self.loose, self.reference_marks):
+            artist.set_alpha(0.2 if faded else None)
+
+    def _draw_pose(self, at, pose):
+        layout, s = self.layout, self.layout.size
+        for name, (triangle, hatch, base) in zip(layout.pivots, self.ground, strict=True):
+            x, y = at[name]
+            half, height = 1.0 * s, 1.5 * s
+            triangle.set_xy([(x, y), (x - half, y - height), (x + half, y - height)])
+            width, depth = 1.6 * s, 0.7 * s
+            hatch.set_xy([(x - width, y - height), (x + width, y - height),
+                          (x + width, y - height - depth), (x - width, y - height - depth)])
+            base.set_data([x - width, x + width], [y - height, y - height])
+        for points, artist in self.bars:
+            xy = np.array([at[p] for p in points])
+            if hasattr(artist, "set_data"):
+                artist.set_data(xy[:, 0], xy[:, 1])
+            else:
+                artist.set_xy(xy)
+        self._on_blocks = {}
+        for slider, block, guide, surface, hatch in self.blocks:
+            self._draw_slider(at, slider, block, guide, surface, hatch)
+        self.joints.set_data(*np.array([at[p] for p in self.joint_names] or
+                                       np.empty((0, 2))).reshape(-1, 2).T)
+        self.loose.set_data(*np.array([at[p] for p in self.loose_names] or
+                                      np.empty((0, 2))).reshape(-1, 2).T)
+        self.reference_marks.set_data(*np.array([at[p] for p in layout.references] or
+                                                np.empty((0, 2))).reshape(-1, 2).T)
+        if self.crank_arrow is not None:
+            self._draw_crank(at, pose)
+        centre = np.mean([at[p] for p in layout.shown], axis=0)
+        for name, label in self.labels.items():
+            if name in self._on_blocks:
+                # above the block, clear of it
+                anchor, direction = self._on_blocks[name]
+            else:
+                anchor, direction = at[name], self._label_direction(name, at, centre)
+            label.xy = tuple(anchor)
+            label.set_position(tuple(8 * direction))
+            # align the text's near side to the point, so long names do not cover it
+            dx, dy = direction
+            label.set_horizontalalignment("left" if dx > 0.3 else "right" if dx < -0.3
+                                          else "center")
+            label.set_verticalalignment("bottom" if dy > 0.3 else "top" if dy < -0.3
+                                        else "center")
+
+    def _label_direction(self, name, at, centre):
+        """Return a unit vector from a point into the widest gap between its bars."""
+        here = at[name]
+        pulls = []
+        for other in self.layout.neighbours[name]:
+            d = at[other] - here
+            if np.hypot(*d) > 0:
+                pulls.append(math.atan2(d[1], d[0]))
+        if name in self.layout.pivots:  # the ground symbol below
+            pulls += [math.radians(235), math.radians(270), math.radians(305)]
+        if not pulls:
+            away = here - centre
+            norm = np.hypot(*away)
+            return away / norm if norm > 1e-9 else np.array([0.7071, 0.7071])
+        candidates = np.radians(np.arange(45, 405, 22.5))
+        gaps = [min(abs((c - p + np.pi) % (2 * np.pi) - np.pi) for p in pulls)
+                for c in candidates]
+        best = candidates[int(np.argmax(gaps))]
+        return np.array([math.cos(best), math.sin(best)])
+
+    def _draw_slider(self, at, slider, block, guide, surface, hatch):
+        """Draw a block centred on its point, along the guide's current direction."""
+        s = self.layout.size
+        p, q = at[slider.along[0]], at[slider.along[1]]
+        u = q - p
+        length = np.hypot(*u)
+        u = u / length if length > 0 else np.array([1.0, 0.0])
+        n = np.array([-u[1], u[0]])
+        centre = at[slider.point]
+        half_l, half_h = 1.6 * s, 1.0 * s
+        self._on_blocks[slider.point] = (centre + half_h * n, n)
+        block.set_xy([centre - half_l * u - half_h * n, centre + half_l * u - half_h * n,
+                      centre + half_l * u + half_h * n, centre - half_l * u + half_h * n])
+        with np.errstate(invalid="ignore"):
+            t = (self.sweep.points[slider.point] - p) @ u
+        t_lo = min(np.nanmin(t, initial=np.inf), 0.0 if surface is not None else np.inf)
+        t_hi = np.nanmax(t, initial=-np.inf)
+        t_lo, t_hi = t_lo - 2.5 * s, t_hi + 2.5 * s
+        a, b = p + t_lo * u, p + t_hi * u
+        guide.set_data([a[0], b[0]], [a[1], b[1]])
+        if surface is not None:
+            a, b = a - half_h * n, b - half_h * n
+            surface.set_data([a[0], b[0]], [a[1], b[1]])
+            depth = 0.7 * s * n
+            hatch.set_xy([a, b, b - depth, a - depth])
+
+    def _draw_crank(self, at, pose):
+        crank = self.layout.crank
+        o, a = at[crank.origin], at[crank.tip]
+        size = self.layout.size
+        radius = min(max(0.5 * np.hypot(*(a - o)), 1.2 * size), 4.0 * size)
+        phi = math.atan2(a[1] - o[1], a[0] - o[0])
+        sense = self._crank_sense(pose)
+        span = math.radians(70)
+        start, end = phi - sense * (span + math.radians(25)), phi - sense * math.radians(25)
+        self.crank_arrow.set_positions(
+            (o[0] + radius * math.cos(start), o[1] + radius * math.sin(start)),
+            (o[0] + radius * math.cos(end), o[1] + radius * math.sin(end)))
+        self.crank_arrow.set_connectionstyle(f"arc3,rad={sense * math.tan(span / 4):.4f}")
+
+    def _crank_sense(self, pose):
+        """+1 if the crank turns counter-clockwise at ``pose``, -1 if clockwise."""
+        crank = self.layout.crank
+        d = self.sweep.points[crank.tip] - self.sweep.points[crank.origin]
+        angle = np.arctan2(d[:, 1], d[:, 0])
+        n = len(angle)
+        for i, j in ((pose, pose + 1), (pose - 1, pose)):
+            if 0 <= i and j < n:
+                step = (angle[j] - angle[i] + np.pi) % (2 * np.pi) - np.pi
+                if np.isfinite(step) and step != 0:
+                    return 1.0 if step > 0 else -1.0
+        return 1.0
+
+
+def setup_axes(ax: Axes, layout: Layout, title: str | None) -> None:
+    """Fit the view to the whole motion, equal in x and y, with a grid and a title.
+
+    Parameters
+    ----------
+    ax : matplotlib.axes.Axes
+    layout : Layout
+    title : str or None
+        None for the construction's name, ``""`` for none.
+    """
+    lower, upper = layout.bounds()
+    ax.update_datalim([tuple(lower), tuple(upper)])
+    ax.set_aspect("equal", adjustable="datalim")
+    ax.autoscale_view()
+    ax.grid(True, color="#dddddd", lw=0.8)
+    ax.set_axisbelow(True)
+    ax.set_xlabel("x")
+    ax.set_ylabel("y")
+    if title is None:
+        title = layout.sweep.construction.name
+    if title:
+        # a name is text, not mathtext: "$" in it must not stop the drawing
+        ax.set_title(shown_text(title), parse_math=False)
+
+
+def _check_index(sweep, index):
+    n = len(sweep)
+    if index is None:
+        valid = np.flatnonzero(sweep.valid)
+        return int(valid[0]) if valid.size else 0
+    if isinstance(index, bool) or not isinstance(index, int | np.integer):
+        raise GeokinError(f"index must be an integer, got {index!r}")
+    if not -n <= index < n:
+        raise GeokinError(f"index {index} is out of range for a sweep of {n} samples")
+    return int(index) % n
+
+
+def plot_mechanism(sweep: Sweep, index: int | None = None, *, ax: Axes | None = None,
+                   title: str | None = None, traces: Iterable[str] | None = None) -> Axes:
+    """Draw the mechanism at one sample, with the paths of its traced points.
+
+    Parameters
+    ----------
+    sweep : Sweep
+        The motion, from :func:`geokin.sweep`.
+    index : int, optional
+        The sample to draw (negative counts from the end); by default the
+        first sample that can be assembled. A sample that cannot be
+        assembled shows the nearest assembled pose, faded, and the reason.
+    ax : matplotlib.axes.Axes, optional
+        Where to draw; the current axes by default.
+    title : str, optional
+        The title; the construction's name by default, none if ``""``.
+    traces : list of str, optional
+        The points whose paths are drawn; by default the construction's
+        traced points, or else every point that moves.
+
+    Returns
+    -------
+    matplotlib.axes.Axes
+
+    Raises
+    ------
+    GeokinError
+        For an index out of range.
+    ConstructionError
+        For an unknown traced point (a :class:`GeokinError` too).
+
+    See Also
+    --------
+    figure_mechanism, animate
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt
+    >>> import numpy as np
+    >>> from geokin import Construction, sweep
+    >>> c = Construction("crank")
+    >>> c.input("theta")
+    >>> c.fixed("O", 0, 0)
+    >>> c.polar("A", "O", 10, "theta")
+    >>> fig, ax = plt.subplots()
+    >>> ax = plot_mechanism(sweep(c, np.linspace(0, np.pi, 19)), 9, ax=ax)
+    >>> ax.texts[-1].get_text()
+    'θ = 90.0°'
+    >>> plt.close(fig)
+    """
+    index = _check_index(sweep, index)
+    if ax is None:
+        import matplotlib.pyplot as plt
+
+        ax = plt.gca()
+    scene = Scene(sweep, ax, traces)
+    scene.update(index)
+    setup_axes(ax, scene.layout, title)
+    if scene.trace_lines:
+        ax.legend(handles=scene.trace_lines, loc="best", fontsize=9, framealpha=0.9)
+    return ax
+
+
+def figure_mechanism(sweep: Sweep, index: int | None = None, *, title: str | None = None,
+                     traces: Iterable[str] | None = None) -> tuple[Figure, Axes]:
+    """Make a new figure of the mechanism at one sample.
+
+    Parameters
+    ----------
+    sweep : Sweep
+    index : int, optional
+        The sample to draw; the first that can be assembled by default.
+    title : str, optional
+        The title; the construction's name by default.
+    traces : list of str, optional
+        The points whose paths are drawn (see :func:`plot_mechanism`).
+
+    Returns
+    -------
+    fig : matplotlib.figure.Figure
+        An 8 by 6 inch pyplot figure (close it with ``plt.close(fig)``).
+    ax : matplotlib.axes.Axes
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> import matplotlib.pyplot as plt
+    >>> from geokin import Construction, sweep
+    >>> c = Construction("crank")
+    >>> c.input("theta", samples=9)
+    >>> c.fixed("O", 0, 0)
+    >>> c.polar("A", "O", 10, "theta")
+    >>> fig, ax = figure_mechanism(sweep(c))
+    >>> ax.get_title()
+    'crank'
+    >>> plt.close(fig)
+    """
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=FIGSIZE, layout="constrained")
+    plot_mechanism(sweep, index, ax=ax, title=title, traces=traces)
+    return fig, ax
+
+
+def save(fig: Figure, path: str | os.PathLike[str]) -> pathlib.Path:
+    """Write a figure to a PNG or SVG file, chosen by the extension.
+
+    The image has the figure's size and resolution: a PNG is
+    ``fig.get_size_inches() * fig.dpi`` pixels.
+
+    Parameters
+    ----------
+    fig : matplotlib.figure.Figure
+    path : str or os.PathLike
+        Ending in ``.png`` or ``.svg``.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written. The file is replaced whole once the picture is
+        complete (see :mod:`geokin.atomic`): an error or Ctrl-C leaves the
+        old file.
+
+    Raises
+    ------
+    GeokinError
+        For another extension, or a folder that does not exist.
+
+    Examples
+    --------
+    >>> import matplotlib
+    >>> matplotlib.use("Agg")
+    >>> from matplotlib.figure import Figure
+    >>> save(Figure(), "picture.jpg")
+    Traceback (most recent call last):
+    ...
+    geokin.errors.GeokinError: cannot save a figure as 'picture.jpg': use a .png or .svg file
+    """
+    path = pathlib.Path(path)
+    suffix = path.suffix.lower()
+    if suffix not in SAVE_FORMATS:
+        raise GeokinError(f"cannot save a figure as {str(path)!r}: use a .png or .svg file")
+    if not path.parent.is_dir():
+        raise GeokinError(f"cannot save {str(path)!r}: the folder {str(path.parent)!r} "
+                          "does not exist")
+    with replacing(path, "wb") as f:
+        fig.savefig(f, format=suffix[1:], dpi="figure")
+    return path
