@@ -68,7 +68,7 @@ from .circuits import circuit
 from .construction import MAX_SAMPLES, Construction, whole_steps
 from .engine import evaluate
 from .engine import sweep as run_sweep
-from .errors import GeokinError, did_you_mean
+from .errors import GeokinError
 from .io import EXPORT_FORMATS, columns, export_sweep, load, script_steps, write_csv
 from .kinematics import motion
 from .results import Sweep
@@ -83,11 +83,6 @@ Subparsers: TypeAlias = "argparse._SubParsersAction[_Parser]"
 
 class UsageError(GeokinError):
     """A command-line argument that cannot be used."""
-
-
-def _free_text(text: str) -> str:
-    """Return a script's free text (name, description, units) as printed: escaped, not huge."""
-    return escape(shorten(text, 1000))
 
 
 def _print_lines(text: str, stream=None):
@@ -287,15 +282,15 @@ def _check_one(path):
     c = load(path)
     print(escape(f"{path}: {shorten(c.name, 1000)}"))
     if c.description:
-        print(f"  {_free_text(c.description)}")
+        print(f"  {one_line(c.description, 1000)}")
     if c.units:
-        print(f"  lengths in {_free_text(c.units)}, angles in degrees")
+        print(f"  lengths in {one_line(c.units, 1000)}, angles in degrees")
     if c.parameters:
         _print_lines("parameters: " + ", ".join(f"{p.name} = {p.value:g}"
                                                 for p in c.parameters.values()))
     print("inputs:" if c.inputs else "inputs: none")
     for inp in c.inputs.values():
-        unit = " deg" if inp.kind == "angle" else f" {_free_text(c.units)}" if c.units else ""
+        unit = " deg" if inp.kind == "angle" else f" {one_line(c.units, 1000)}" if c.units else ""
         lo, hi = (to_script(inp, v) for v in inp.range)
         if inp.step is not None:
             count = len(inp.values())
@@ -419,10 +414,12 @@ def _selected_points(construction, text):
         raise UsageError("--points names no point")
     if not all(chosen):
         raise UsageError(f"--points {text!r} has an empty name between commas")
+    compiled = construction.compile()
     for p in chosen:
-        if p not in construction.nodes:
-            raise UsageError(f"--points: no point {p!r}{did_you_mean(p, names)} "
-                             f"(points: {', '.join(names)})")
+        try:
+            compiled.step_named(p)
+        except KeyError as err:
+            raise UsageError(f"--points: {err.args[0]} (points: {', '.join(names)})") from None
     return chosen
 
 
@@ -485,8 +482,8 @@ def add_plot(subparsers: Subparsers) -> None:
 
 def run_plot(args: argparse.Namespace) -> int:
     output = args.output or pathlib.Path(args.script).with_suffix(".png").name
-    _output_kind(output, (".png", ".svg"), "a picture")
     plotting = _plotting()
+    _output_kind(output, plotting.SAVE_FORMATS, "a picture")
     if args.kinematics:
         if args.at is not None:
             raise UsageError("--at draws one pose; --kinematics plots against time: "
@@ -507,7 +504,7 @@ def run_plot(args: argparse.Namespace) -> int:
               file=sys.stderr)
     from matplotlib.figure import Figure
 
-    fig = Figure(figsize=(8, 6), layout="constrained")
+    fig = Figure(figsize=plotting.FIGSIZE, layout="constrained")
     ax = fig.add_subplot()
     plotting.plot_mechanism(m.sweep, index, ax=ax, title=args.title)
     path = plotting.save(fig, output)
@@ -534,8 +531,8 @@ def add_animate(subparsers: Subparsers) -> None:
 
 
 def run_animate(args: argparse.Namespace) -> int:
-    _output_kind(args.output, (".gif", ".html", ".mp4"), "an animation")
     plotting = _plotting()
+    _output_kind(args.output, plotting.ANIMATION_FORMATS, "an animation")
     if not plotting.MIN_FPS <= args.fps <= plotting.MAX_FPS:
         raise UsageError(f"--fps must be from {plotting.MIN_FPS:g} to {plotting.MAX_FPS:g} "
                          f"frames per second, got {args.fps:g}")

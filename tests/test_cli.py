@@ -12,6 +12,7 @@ import time
 
 import numpy as np
 import pytest
+from PIL import Image
 
 import geokin
 from geokin.cli import COMMANDS, build_parser, main
@@ -238,7 +239,11 @@ def test_plot_writes_a_png_of_the_figure_size(capsys, tmp_path):
 def test_plot_defaults_to_a_png_named_after_the_script(capsys, tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     status, _, _ = run(capsys, "plot", SIXBAR)
-    assert status == 0 and (tmp_path / "sixbar.png").stat().st_size > 1000
+    assert status == 0
+    with Image.open(tmp_path / "sixbar.png") as image:
+        assert image.size == (800, 600)
+        # a drawing, not a blank page: the links' colours are there
+        assert len(image.convert("RGB").getcolors(maxcolors=1 << 16) or ()) > 20
 
 
 def test_plot_svg_and_a_value_between_samples(capsys, tmp_path):
@@ -350,7 +355,20 @@ def test_plot_kinematics_draws_three_axes(capsys, tmp_path):
     out = tmp_path / "k.png"
     status, _, _ = run(capsys, "plot", "--kinematics", str(CONSTRUCTIONS / "crank_rocker.toml"),
                        "-o", str(out))
-    assert status == 0 and out.stat().st_size > 10_000
+    assert status == 0
+    # the same figure as figure_kinematics draws: three axes, its size
+    from geokin import plotting
+    from geokin.kinematics import motion
+
+    fig, axes = plotting.figure_kinematics(motion(geokin.sweep(geokin.load(
+        CONSTRUCTIONS / "crank_rocker.toml"))))
+    assert len(axes) == 3
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)
+    with Image.open(out) as image:
+        assert image.size == tuple(int(round(v)) for v in fig.get_size_inches() * fig.dpi)
+        assert len(image.convert("RGB").getcolors(maxcolors=1 << 16) or ()) > 20
     status, _, err = run(capsys, "plot", "--kinematics", "--at", "10",
                          str(CONSTRUCTIONS / "crank_rocker.toml"), "-o", str(out))
     assert status == 2 and "one or the other" in err

@@ -165,7 +165,7 @@ def grashof(ground: float, input_link: float, coupler: float, output_link: float
 
     Examples
     --------
-    Seed 000's triple rocker, and the four-bar of seed 004:
+    A triple rocker (ground 7, crank 5, coupler 6, follower 5), and a crank-rocker:
 
     >>> g = grashof(ground=7, input_link=5, coupler=6, output_link=5)
     >>> g.kind, g.grashof, g.s_plus_l, g.p_plus_q
@@ -239,7 +239,7 @@ def fourth_link_range(ground: float, input_link: float, coupler: float, kind: st
 
     Examples
     --------
-    Seed 000 (ground 7, crank 5, coupler 6): the output lengths that give a
+    Ground 7, crank 5, coupler 6: the output lengths that give a
     triple rocker, and those that give a crank-rocker:
 
     >>> fourth_link_range(7, 5, 6, "non-grashof")
@@ -421,7 +421,7 @@ def fourbar_transmission_extremes(ground: float, input_link: float, coupler: flo
 
     Examples
     --------
-    Seed 000's transmission example (fixed 7, crank 4, coupler 5, rocker 5):
+    A four-bar with ground 7, crank 4, coupler 5 and rocker 5:
 
     >>> low, high = fourbar_transmission_extremes(7, 4, 5, 5)
     >>> round(float(np.degrees(low)), 2), round(float(np.degrees(high)), 2)

@@ -24,7 +24,7 @@ An annotated script
 
     [construction]
     name = "six-bar"              # for messages and pictures (default: file name)
-    description = "seed 003"      # optional free text
+    description = "a six-bar"     # optional free text
     units = "mm"                  # label of the length unit (optional)
     trace = ["M"]                 # points whose paths are traced (coupler points)
 

@@ -119,7 +119,7 @@ def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
                       title: str | None = None) -> tuple[Figure, np.ndarray]:
     """Plot link angles, angular velocities and accelerations against time.
 
-    Three stacked axes, as seed 000 draws them: angle (degrees), angular
+    Three stacked axes, as a course report draws them: angle (degrees), angular
     velocity (rad/s) and angular acceleration (rad/s²) of each declared link
     against time (s). Samples flagged near a singular position are left out,
     and each axis shows the 1st to 99th percentile of its values where a few
