@@ -24,12 +24,13 @@ h^2`` for the central stencil): their difference is the lower order's
 error, and the higher order's is smaller by about the same factor again
 (``_Estimate`` gives the model), plus the rounding of positions over the
 step. A sample is flagged (:attr:`Motion.flagged`) where the estimated
-velocity error exceeds :data:`VELOCITY_RTOL` of the largest speed of the
-sweep or the estimated acceleration error :data:`ACCELERATION_RTOL` of the
-largest acceleration (and likewise for link angular rates); where no
-stencil can be assembled; and near a singular position
-(:data:`SINGULAR_MARGIN`), where the rates grow without bound and no
-estimate is to be trusted.
+error of some point's velocity exceeds :data:`VELOCITY_RTOL` of the speed of
+the fastest point at that sample, or of its acceleration
+:data:`ACCELERATION_RTOL` of the largest acceleration there (or of that speed
+squared over the mechanism's size, if larger), and likewise for the angular
+rates of links against the fastest-turning link; where no stencil can be
+assembled; and near a singular position (:data:`SINGULAR_MARGIN`), where the
+rates grow without bound and no estimate is to be trusted.
 
 The step
 --------
@@ -56,7 +57,7 @@ from numpy.typing import ArrayLike
 from .budgets import check_sweep_memory
 from .engine import BLOCK_SAMPLES, evaluate
 from .errors import ConstructionError
-from .results import Sweep
+from .results import Sweep, read_only
 
 __all__ = ["Derivatives", "Motion", "input_derivatives", "link_angles", "motion",
            "unwrap_valid"]
@@ -88,6 +89,10 @@ FORWARD, BACKWARD = (1, 2, 3, 4), (-1, -2, -3, -4)
 """The perturbations of the one-sided stencils, in steps."""
 
 _EPS = np.finfo(float).eps
+
+POSITION_ROUNDING = 4.0
+"""How many units in the last place of the mechanism's size a computed position
+is taken to be off by, for the rounding part of the error estimate."""
 
 ERROR_FACTOR = 20.0
 """How much larger than the model of :class:`_Estimate` the error of a
@@ -219,43 +224,61 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str) -> Derivatives:
         first_valid = int(np.argmax(sweep.valid))
         middle = np.mean([sweep.points[p][first_valid] for p in names], axis=0)
     origin = (float(middle[0]), float(middle[1])) if np.hypot(*middle) > 4 * size else None
-    # the rounding of positions: of their size in the frame they are evaluated in
-    noise = _EPS * (size + (0.0 if origin is not None else float(np.hypot(*middle))))
-    first = {p: np.full((n, 2), np.nan) for p in names}
-    second = {p: np.full((n, 2), np.nan) for p in names}
+    # the rounding of positions: a few units in the last place of their size in the
+    # frame they are evaluated in
+    noise = POSITION_ROUNDING * _EPS * (size + (0.0 if origin is not None
+                                                else float(np.hypot(*middle))))
+    # a ground point does not move: its derivatives are zero wherever it is assembled
+    moving = [p for p in names if p not in compiled.ground]
+    still = read_only(np.where(sweep.valid, 0.0, np.nan)[:, None] * np.ones(2))
+    first = {p: (np.empty((n, 2)) if p in moving else still) for p in names}
+    second = {p: (np.empty((n, 2)) if p in moving else still) for p in names}
     stencil = np.full(n, 2, dtype=np.int8)
-    first_error, second_error = np.full(n, np.nan), np.full(n, np.nan)
+    first_error, second_error = np.empty(n), np.empty(n)
     rates = {k: np.broadcast_to(np.asarray(r, dtype=float), (n,)) for k, r in direction.items()}
+    # in another frame the sample itself is evaluated again: the sweep's own
+    # positions carry the rounding of the far frame
+    extra = () if origin is None else (0,)
     for lo in range(0, n, SAMPLES_PER_BLOCK):
-        at = np.arange(lo, min(lo + SAMPLES_PER_BLOCK, n))
-        # in another frame the sample itself is evaluated again: the sweep's own
-        # positions carry the rounding of the far frame
-        extra = () if origin is None else (0,)
-        block = _Block(sweep, at, rates, h, origin, noise, CENTRAL + extra)
-        ok = block.valid(CENTRAL + extra) & sweep.valid[at]
-        block.central(ok, first, second, first_error, second_error)
-        stencil[at[ok]] = 0
+        hi = min(lo + SAMPLES_PER_BLOCK, n)
+        block = _Block(sweep, slice(lo, hi), rates, h, origin, noise, CENTRAL + extra)
+        ok = block.valid(CENTRAL + extra) & sweep.valid[lo:hi]
+        estimate = _Estimate(lo + np.flatnonzero(ok) if not ok.all() else slice(lo, hi), h)
+        block.central(ok, moving, first, second, estimate)
+        estimate.finish(first_error, second_error, noise, ROUNDING_CENTRAL)
+        stencil[lo:hi][ok] = 0
         # one-sided stencils where the central one cannot be assembled: few samples
-        rest = at[~ok & sweep.valid[at]]
+        rest = lo + np.flatnonzero(~ok)
+        for p in moving:
+            first[p][rest] = second[p][rest] = np.nan
+        first_error[rest] = second_error[rest] = np.nan
+        rest = rest[sweep.valid[rest]]
         if rest.size:
             side = _Block(sweep, rest, rates, h, origin, noise, FORWARD + BACKWARD + extra)
             forward = side.valid(FORWARD + extra)
             backward = side.valid(BACKWARD + extra) & ~forward
-            side.one_sided(forward, 1, first, second, first_error, second_error)
-            side.one_sided(backward, -1, first, second, first_error, second_error)
+            for sign, mask in ((1, forward), (-1, backward)):
+                if mask.any():
+                    estimate = _Estimate(rest[mask], sign * h)
+                    side.one_sided(mask, sign, moving, first, second, estimate)
+                    estimate.finish(first_error, second_error, noise, ROUNDING_ONE_SIDED)
             stencil[rest[forward]], stencil[rest[backward]] = 1, -1
     return Derivatives(label, h, first, second, stencil, first_error, second_error)
 
 
 class _Block:
-    """The perturbed evaluations of some samples, and the stencils on them."""
+    """The perturbed evaluations of some samples, and the stencils on them.
 
-    def __init__(self, sweep: Sweep, at: np.ndarray, rates: dict, h: float,
+    ``at`` is a slice of the sweep's samples, or an array of their indices.
+    """
+
+    def __init__(self, sweep: Sweep, at: slice | np.ndarray, rates: dict, h: float,
                  origin: tuple[float, float] | None, noise: float,
                  offsets: tuple[int, ...] = CENTRAL):
         self.sweep, self.at, self.h, self.noise = sweep, at, h, noise
         self.offsets = offsets
-        m, k = len(at), len(offsets)
+        m, k = len(sweep.valid[at]), len(offsets)
+        self.m = m
         # offset-major layout: sample i at the j-th offset sits at j * m + i
         steps = h * np.repeat(np.asarray(offsets, dtype=float), m)
         inputs = {}
@@ -275,54 +298,55 @@ class _Block:
         rows = [self.offsets.index(k) for k in offsets]
         return np.asarray(self.okay[rows].all(axis=0))
 
-    def values(self, name: str, offsets: tuple[int, ...], mask: np.ndarray):
-        """Return a point's x and y at the sample itself and at ``offsets``, f_0 first."""
-        m = len(self.at)
-        every = bool(mask.all())
-        xs: list[np.ndarray] = []
-        ys: list[np.ndarray] = []
-        for axis, evaluated in enumerate(self.evaluated.points.xy(name)):
-            rows = evaluated.reshape(len(self.offsets), m)
-            if 0 in self.offsets:
-                base = rows[self.offsets.index(0)]
-            else:
-                base = self.sweep.points.xy(name)[axis][self.at]
-            picked = [base, *(rows[self.offsets.index(k)] for k in offsets)]
-            (xs if axis == 0 else ys).extend(p if every else p[mask] for p in picked)
-        return xs, ys
+    def values(self, name: str, offsets: tuple[int, ...], mask: np.ndarray) -> list:
+        """Return a point's (M, 2) positions at the sample itself and at ``offsets``, f_0 first."""
+        rows = self.evaluated.points[name].reshape(len(self.offsets), self.m, 2)
+        if 0 in self.offsets:
+            base = rows[self.offsets.index(0)]
+        else:
+            base = self.sweep.points[name][self.at]
+        picked = [base, *(rows[self.offsets.index(k)] for k in offsets)]
+        return picked if mask.all() else [p[mask] for p in picked]
 
-    def central(self, ok, first, second, first_error, second_error):
+    def central(self, ok, moving, first, second, estimate):
         if not ok.any():
             return
         h = self.h
-        estimate = _Estimate(self.at[ok], h, first, second)
-        for name in first:
-            parts = []
-            for f0, fm2, fm1, f1, f2 in self.values(name, CENTRAL, ok):
-                odd1 = f1 - fm1
-                even1 = f1 + fm1 - 2 * f0
-                d1 = (8 * odd1 - (f2 - fm2)) / (12 * h)
-                d2 = (16 * even1 - (f2 + fm2 - 2 * f0)) / (12 * h * h)
-                parts.append((d1, d2, d1 - odd1 / (2 * h), d2 - even1 / (h * h)))
-            estimate.add(name, *zip(*parts, strict=True))
-        estimate.finish(first_error, second_error, self.noise, ROUNDING_CENTRAL)
+        a, b, c, e = 1 / (12 * h), 1 / (12 * h * h), 1 / (2 * h), 1 / (h * h)
+        for name in moving:
+            f0, fm2, fm1, f1, f2 = self.values(name, CENTRAL, ok)
+            odd1 = f1 - fm1
+            twice = f0 + f0
+            even1 = f1 + fm1
+            even1 -= twice
+            d1 = 8 * odd1
+            d1 -= f2
+            d1 += fm2
+            d1 *= a
+            d2 = 16 * even1
+            d2 -= f2
+            d2 -= fm2
+            d2 += twice
+            d2 *= b
+            odd1 *= c
+            even1 *= e
+            estimate.add(first[name], second[name], d1, d2, d1 - odd1, d2 - even1)
 
-    def one_sided(self, mask, sign, first, second, first_error, second_error):
-        if not mask.any():
-            return
+    def one_sided(self, mask, sign, moving, first, second, estimate):
         h = sign * self.h
-        estimate = _Estimate(self.at[mask], h, first, second)
         offsets = tuple(sign * k for k in (1, 2, 3, 4))
-        for name in first:
-            parts = []
-            for f0, f1, f2, f3, f4 in self.values(name, offsets, mask):
-                d1 = (-25 * f0 + 48 * f1 - 36 * f2 + 16 * f3 - 3 * f4) / (12 * h)
-                d2 = (35 * f0 - 104 * f1 + 114 * f2 - 56 * f3 + 11 * f4) / (12 * h * h)
-                low1 = (-3 * f0 + 4 * f1 - f2) / (2 * h)
-                low2 = (2 * f0 - 5 * f1 + 4 * f2 - f3) / (h * h)
-                parts.append((d1, d2, d1 - low1, d2 - low2))
-            estimate.add(name, *zip(*parts, strict=True))
-        estimate.finish(first_error, second_error, self.noise, ROUNDING_ONE_SIDED)
+        for name in moving:
+            f0, f1, f2, f3, f4 = self.values(name, offsets, mask)
+            d1 = (-25 * f0 + 48 * f1 - 36 * f2 + 16 * f3 - 3 * f4) / (12 * h)
+            d2 = (35 * f0 - 104 * f1 + 114 * f2 - 56 * f3 + 11 * f4) / (12 * h * h)
+            low1 = (-3 * f0 + 4 * f1 - f2) / (2 * h)
+            low2 = (2 * f0 - 5 * f1 + 4 * f2 - f3) / (h * h)
+            estimate.add(first[name], second[name], d1, d2, d1 - low1, d2 - low2)
+
+
+def _squared(vectors: np.ndarray) -> np.ndarray:
+    """Return the squared length of each row of an (M, 2) array."""
+    return np.einsum("ij,ij->i", vectors, vectors)
 
 
 class _Estimate:
@@ -340,31 +364,35 @@ class _Estimate:
     over the step comes on top.
     """
 
-    def __init__(self, at, h, first, second):
-        self.at, self.h, self.first, self.second = at, abs(h), first, second
-        m = len(at)
-        # squared lengths, their largest over the points
-        self.rate, self.curvature = np.zeros(m), np.zeros(m)
-        self.gap1, self.gap2 = np.zeros(m), np.zeros(m)
+    def __init__(self, at: slice | np.ndarray, h: float):
+        self.at, self.h = at, abs(h)
+        # squared lengths, the largest over the points
+        self.rate = self.curvature = self.gap1 = self.gap2 = None
 
-    def add(self, name, d1, d2, gap1, gap2):
-        """Take one point's derivatives and gaps, each as (x, y)."""
-        self.first[name][self.at, 0], self.first[name][self.at, 1] = d1
-        self.second[name][self.at, 0], self.second[name][self.at, 1] = d2
-        for total, (x, y) in ((self.rate, d1), (self.curvature, d2), (self.gap1, gap1),
-                              (self.gap2, gap2)):
-            np.fmax(total, x * x + y * y, out=total)
+    def add(self, first, second, d1, d2, gap1, gap2):
+        """Take one point's derivatives and gaps, each (M, 2)."""
+        first[self.at], second[self.at] = d1, d2
+        squares = (_squared(d1), _squared(d2), _squared(gap1), _squared(gap2))
+        if self.rate is None:
+            self.rate, self.curvature, self.gap1, self.gap2 = squares
+        else:
+            for total, square in zip((self.rate, self.curvature, self.gap1, self.gap2),
+                                     squares, strict=True):
+                np.fmax(total, square, out=total)
 
     def finish(self, first_error, second_error, noise, rounding):
+        if self.rate is None:  # nothing moves: only rounding
+            first_error[self.at] = rounding[0] * noise / self.h
+            second_error[self.at] = rounding[1] * noise / (self.h * self.h)
+            return
         rate, curvature = np.sqrt(self.rate), np.sqrt(self.curvature)
         gap1, gap2 = np.sqrt(self.gap1), np.sqrt(self.gap2)
         with np.errstate(divide="ignore", invalid="ignore"):
             ratio = np.fmax(gap1 / rate, gap2 / curvature)
-        ratio = np.where(np.isfinite(ratio), ratio, 1.0)
+        ratio[~np.isfinite(ratio)] = 1.0
         first_error[self.at] = ERROR_FACTOR * ratio * gap1 + rounding[0] * noise / self.h
         second_error[self.at] = (ERROR_FACTOR * ratio * gap2
                                  + rounding[1] * noise / (self.h * self.h))
-
 
 
 @dataclass(frozen=True)
@@ -389,10 +417,13 @@ class Motion:
         to its second (unwrapped, radians) and its time derivatives.
     flagged : ndarray of bool, shape (N,)
         Assembled samples whose velocities or accelerations may be less
-        accurate than stated (:data:`VELOCITY_RTOL`, :data:`ACCELERATION_RTOL`
-        of the sweep's largest, for points and for link angular rates): the
-        error estimate says so, no stencil could be assembled, or the sample
-        is near a singular position.
+        accurate than stated: the estimated error of some point's velocity
+        exceeds :data:`VELOCITY_RTOL` of the fastest point's speed at that
+        sample, or of its acceleration :data:`ACCELERATION_RTOL` of the
+        largest acceleration there (or of that speed squared over the
+        mechanism's size, if larger); likewise for link angular rates against
+        the fastest-turning link; or no stencil could be assembled; or the
+        sample is near a singular position.
     velocity_error, acceleration_error : ndarray, shape (N,)
         The estimated error of the velocities and accelerations at each
         sample, the largest over the points (NaN where unassembled).
@@ -528,37 +559,37 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
     angle, angular_velocity, angular_acceleration = {}, {}, {}
     flagged = sweep.valid & (d.stencil == 2)
     with np.errstate(divide="ignore", invalid="ignore"):
-        # the scales errors are measured against; a uniform motion has no acceleration
-        # of its own, and is measured against the speed it turns at over its size
+        # errors are measured against each sample's own scales: its fastest point's
+        # speed, and its largest acceleration or that speed turned over the size
         extent = _size(sweep)
-        largest_v = _largest(velocity.values())
-        largest_a = max(_largest(accel.values()), largest_v**2 / extent)
-        flagged |= velocity_error > VELOCITY_RTOL * largest_v
-        flagged |= acceleration_error > ACCELERATION_RTOL * largest_a
+        speed_scale = _largest_at_each(velocity.values(), n)
+        accel_scale = np.fmax(_largest_at_each(accel.values(), n), speed_scale**2 / extent)
+        flagged |= velocity_error > VELOCITY_RTOL * speed_scale
+        flagged |= acceleration_error > ACCELERATION_RTOL * accel_scale
+        turn_scale, turn_accel_scale = speed_scale / extent, np.zeros(n)
         link_errors = []
         for link in sweep.construction.links:
             start, end = link.points[0], link.points[1]
-            x, y = (sweep.points[end] - sweep.points[start]).T
-            vx, vy = (velocity[end] - velocity[start]).T
-            ax, ay = (accel[end] - accel[start]).T
+            (x0, y0), (x1, y1) = sweep.points.xy(start), sweep.points.xy(end)
+            x, y = x1 - x0, y1 - y0
+            vx, vy = velocity[end][:, 0] - velocity[start][:, 0], \
+                velocity[end][:, 1] - velocity[start][:, 1]
+            ax, ay = accel[end][:, 0] - accel[start][:, 0], accel[end][:, 1] - accel[start][:, 1]
             r2 = x * x + y * y
             omega = (x * vy - y * vx) / r2
             alpha = (x * ay - y * ax) / r2 - 2 * omega * (x * vx + y * vy) / r2
-            angle[link.name], angular_velocity[link.name] = unwrap_valid(np.arctan2(y, x)), omega
-            angular_acceleration[link.name] = alpha
+            angle[link.name] = unwrap_valid(np.where(sweep.valid, np.arctan2(y, x), np.nan))
+            angular_velocity[link.name], angular_acceleration[link.name] = omega, alpha
+            turn_scale = np.fmax(turn_scale, np.abs(omega))
+            turn_accel_scale = np.fmax(turn_accel_scale, np.abs(alpha))
             # both ends' errors over the link's length, and through omega into alpha
             r = np.sqrt(r2)
-            link_errors.append((omega, alpha, 2 * velocity_error / r, 2 * acceleration_error / r
+            link_errors.append((2 * velocity_error / r, 2 * acceleration_error / r
                                 + 6 * np.abs(omega) * velocity_error / r))
-        if link_errors:
-            assembled = sweep.valid
-            largest_w = max(max(float(np.fmax.reduce(np.abs(w[assembled]), initial=0.0))
-                                for w, *_ in link_errors), largest_v / extent)
-            largest_al = max(max(float(np.fmax.reduce(np.abs(a[assembled]), initial=0.0))
-                                 for _, a, *_ in link_errors), largest_w**2)
-            for _, _, error_w, error_al in link_errors:
-                flagged |= error_w > VELOCITY_RTOL * largest_w
-                flagged |= error_al > ACCELERATION_RTOL * largest_al
+        turn_accel_scale = np.fmax(turn_accel_scale, turn_scale**2)
+        for error_w, error_al in link_errors:
+            flagged |= error_w > VELOCITY_RTOL * turn_scale
+            flagged |= error_al > ACCELERATION_RTOL * turn_accel_scale
         for margin in sweep.margins.values():
             flagged |= sweep.valid & (margin < SINGULAR_MARGIN)
     return Motion(sweep, driver, time, rate, rate_change, velocity, accel, angle,
@@ -566,14 +597,12 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
                   velocity_error, acceleration_error, d)
 
 
-def _largest(vectors) -> float:
-    """Return the largest length in any of the (N, 2) arrays, NaN left out."""
-    largest = 0.0
+def _largest_at_each(vectors, n: int) -> np.ndarray:
+    """Return, at each sample, the largest length of the (N, 2) arrays (NaN left out)."""
+    largest = np.zeros(n)
     for v in vectors:
-        if len(v):
-            squared = v[:, 0] * v[:, 0] + v[:, 1] * v[:, 1]
-            largest = max(largest, float(np.fmax.reduce(squared)))
-    return float(np.sqrt(largest)) if np.isfinite(largest) else 0.0
+        np.fmax(largest, np.einsum("ij,ij->i", v, v), out=largest)
+    return np.sqrt(largest)
 
 
 def unwrap_valid(angle: np.ndarray) -> np.ndarray:

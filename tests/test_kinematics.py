@@ -224,3 +224,133 @@ def test_rates_do_not_depend_on_where_the_mechanism_stands(shift):
     for kind in ("velocity", "acceleration"):
         ours, theirs = getattr(here, kind)["C"], getattr(there, kind)["C"]
         np.testing.assert_allclose(theirs, ours, rtol=0, atol=1e-7 * np.abs(ours).max())
+
+
+def fourbar_rates(s, omega, crank_pin="A", joint="B", pivot="O4", crank_pivot="O2", point=None):
+    """Velocities and accelerations of a four-bar's joints by the vector loop, in closed form.
+
+    With a = A - O2, b = B - A, c = B - O4 and w x r = w (-ry, rx) for a crank
+    at constant rate ``omega``: vA + w3 x b = w4 x c, dotted with c and with b
+    to eliminate one unknown each; twice for the accelerations. ``point``
+    (a coupler point) moves with the coupler.
+    """
+    A, B, O2, O4 = (s[name] for name in (crank_pin, joint, crank_pivot, pivot))
+    a, b, c = A - O2, B - A, B - O4
+    va = omega * np.c_[-a[:, 1], a[:, 0]]
+    cross = b[:, 0] * c[:, 1] - b[:, 1] * c[:, 0]
+    w3 = -(va * c).sum(axis=1) / cross
+    w4 = -(va * b).sum(axis=1) / cross
+    vb = w4[:, None] * np.c_[-c[:, 1], c[:, 0]]
+    aa = -omega**2 * a
+    k = aa - w3[:, None] ** 2 * b + w4[:, None] ** 2 * c
+    al3 = -(k * c).sum(axis=1) / cross
+    al4 = -(k * b).sum(axis=1) / cross
+    ab = al4[:, None] * np.c_[-c[:, 1], c[:, 0]] - w4[:, None] ** 2 * c
+    rates = {crank_pin: (va, aa), joint: (vb, ab)}
+    if point is not None:
+        q = s[point] - A
+        vp = va + w3[:, None] * np.c_[-q[:, 1], q[:, 0]]
+        ap = aa + al3[:, None] * np.c_[-q[:, 1], q[:, 0]] - w3[:, None] ** 2 * q
+        rates[point] = (vp, ap)
+    return rates
+
+
+def assert_unflagged_samples_as_accurate_as_stated(m, rates):
+    """Every unflagged sample: each velocity within 1e-7 of the sample's fastest speed,
+    each acceleration within 1e-5 of its largest acceleration (as Motion.flagged states)."""
+    ok = ~m.flagged & m.sweep.valid
+    fastest = np.max([np.hypot(*v.T) for v, _ in rates.values()], axis=0)
+    largest = np.max([np.hypot(*a.T) for _, a in rates.values()], axis=0)
+    for name, (v, a) in rates.items():
+        error_v = np.hypot(*(m.velocity[name] - v).T)[ok]
+        error_a = np.hypot(*(m.acceleration[name] - a).T)[ok]
+        assert (error_v <= 1e-7 * fastest[ok]).all(), (name, np.max(error_v / fastest[ok]))
+        assert (error_a <= 1e-5 * largest[ok]).all(), (name, np.max(error_a / largest[ok]))
+        # and the estimate is not below the error it estimates
+        assert (error_v <= m.velocity_error[ok] * 1.0001 + 1e-15 * fastest[ok]).all(), name
+
+
+def test_a_grashof_double_rocker_is_accurate_wherever_it_is_not_flagged():
+    """Ground 10, input 8, coupler 3, output 9: the input rocks between two toggles."""
+    from geokin.circuits import limits
+
+    c = Construction()
+    c.input("t")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 10, 0)
+    c.polar("A", "O2", 8, "t")
+    c.circle_circle("B", ("A", "O4"), (3, 9), branch="left")
+    (lo, hi), _ = limits(c).as_values()  # two assembly regions: the first
+    # dense near the toggles, where the rates grow without bound
+    t = np.concatenate([lo + np.geomspace(1e-9, 0.3, 400), np.linspace(lo + 0.3, hi - 0.3, 200),
+                        hi - np.geomspace(0.3, 1e-9, 400)])
+    s = sweep(c, t)
+    assert s.valid.all()
+    m = motion(s, speed=1.0)
+    assert_unflagged_samples_as_accurate_as_stated(m, fourbar_rates(s, 1.0))
+    # flags only near the toggles: the middle of the swing is clean
+    middle = np.abs(t - 0.5 * (lo + hi)) < 0.3 * (hi - lo)
+    assert not m.flagged[middle].any() and m.flagged.any()
+
+
+def test_the_benchmark_four_bar_and_its_coupler_point_match_the_closed_form():
+    c = Construction()
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 40, 0)
+    c.polar("A", "O2", 10, "theta")
+    c.circle_circle("B", ("A", "O4"), (35, 30), branch="left")
+    c.polar("P", "A", 20, np.radians(30), reference=("A", "B"))
+    s = sweep(c, np.linspace(0, 2 * np.pi, 3601))
+    m = motion(s, speed=2 * np.pi)
+    assert not m.flagged.any()
+    assert_unflagged_samples_as_accurate_as_stated(m, fourbar_rates(s, 2 * np.pi, point="P"))
+
+
+@pytest.mark.parametrize("driver", ["crank", "coupler", "follower"])
+def test_the_triple_rocker_is_accurate_wherever_it_is_not_flagged(driver):
+    """Against the loop equations, every unflagged sample, right up to the toggles."""
+    c = triple_rocker(driver, "left")
+    from geokin.circuits import limits
+
+    [(lo, hi)] = limits(c).as_values()
+    t = np.concatenate([lo + np.geomspace(1e-9, 0.3, 300), np.linspace(lo + 0.3, hi - 0.3, 101),
+                        hi - np.geomspace(0.3, 1e-9, 300)])
+    s = sweep(c, t)
+    m = motion(s, speed=1.0)
+    theta = [np.arctan2(*(s[b] - s[a]).T[::-1]) for a, b in [("A", "B"), ("B", "C"), ("D", "C")]]
+    omega, alpha = loop_rates(theta, 1.0, 0.0, driver)
+    ok = ~m.flagged
+    fastest = np.max([np.abs(w) for w in omega.values()], axis=0)[ok]
+    largest = np.fmax(np.max([np.abs(a) for a in alpha.values()], axis=0)[ok], fastest**2)
+    for link in ("crank", "coupler", "follower"):
+        assert (np.abs(m.angular_velocity[link][ok] - omega[link][ok]) <= 1e-7 * fastest).all()
+        assert (np.abs(m.angular_acceleration[link][ok] - alpha[link][ok])
+                <= 1e-5 * largest).all()
+    assert ok.sum() > 150
+
+
+def test_blocks_of_samples_give_the_same_derivatives_as_one_pass(monkeypatch):
+    """Block boundaries fall on the change point of a parallelogram and next to a toggle."""
+    import geokin.engine
+    import geokin.kinematics
+
+    c = Construction()
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 10, 0)
+    c.polar("A", "O2", 4, "theta")
+    c.circle_circle("B", ("A", "O4"), (10, 4), branch="left")
+    c.polar("P", "A", 3, 0.5, reference=("A", "B"))
+    theta = np.linspace(0, 2 * np.pi, 721)  # sample 360 is the change point at 180 degrees
+    s = sweep(c, theta)
+    assert s.events
+    whole = motion(s)
+    monkeypatch.setattr(geokin.kinematics, "SAMPLES_PER_BLOCK", 45)  # 360 = 8 * 45
+    monkeypatch.setattr(geokin.engine, "BLOCK_SAMPLES", 45)
+    blocked = motion(s)
+    for name in ("A", "B", "P"):
+        np.testing.assert_array_equal(blocked.velocity[name], whole.velocity[name])
+        np.testing.assert_array_equal(blocked.acceleration[name], whole.acceleration[name])
+    np.testing.assert_array_equal(blocked.flagged, whole.flagged)
+    np.testing.assert_array_equal(blocked.derivatives.stencil, whole.derivatives.stencil)
