@@ -18,7 +18,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from mechanisms import coupler_fourbar, sixbar  # noqa: E402
 from mechanisms import fourbar as four_bar  # noqa: E402
 
-from geokin import sweep  # noqa: E402
+from geokin import motion, sweep  # noqa: E402
 from geokin.engine import evaluate  # noqa: E402
 
 
@@ -37,6 +37,41 @@ def hand_written(theta):
     px = ax + k * (c * (bx - ax) - s * (by - ay))
     py = ay + k * (s * (bx - ax) + c * (by - ay))
     return np.stack([px, py], axis=-1)
+
+
+def hand_motion(theta, omega=2 * np.pi):
+    """Closed-form velocity and acceleration of A, B and P of the benchmark four-bar.
+
+    The vector loop vA + w3 x b = w4 x c (a = A - O2, b = B - A, c = B - O4,
+    w x r = w (-ry, rx)), dotted with c and with b, gives each unknown rate;
+    differentiated once more, each angular acceleration.
+    """
+    ax, ay = 10 * np.cos(theta), 10 * np.sin(theta)
+    dx, dy = 40 - ax, -ay
+    d2 = dx * dx + dy * dy
+    d = np.sqrt(d2)
+    m = (d2 + 35**2 - 30**2) / (2 * d)
+    h = np.sqrt(35**2 - m * m)
+    ux, uy = dx / d, dy / d
+    bx, by = ax + m * ux - h * uy, ay + m * uy + h * ux
+    c, s = np.cos(np.radians(30)), np.sin(np.radians(30))
+    k = 20 / 35
+    qx, qy = k * (c * (bx - ax) - s * (by - ay)), k * (s * (bx - ax) + c * (by - ay))
+    b1, b2, c1, c2 = bx - ax, by - ay, bx - 40, by
+    vax, vay = -omega * ay, omega * ax
+    cross = b1 * c2 - b2 * c1
+    w3 = -(vax * c1 + vay * c2) / cross
+    w4 = -(vax * b1 + vay * b2) / cross
+    aax, aay = -omega * omega * ax, -omega * omega * ay
+    kx = aax - w3 * w3 * b1 + w4 * w4 * c1
+    ky = aay - w3 * w3 * b2 + w4 * w4 * c2
+    al3 = -(kx * c1 + ky * c2) / cross
+    al4 = -(kx * b1 + ky * b2) / cross
+    velocity = {"A": (vax, vay), "B": (-w4 * c2, w4 * c1),
+                "P": (vax - w3 * qy, vay + w3 * qx)}
+    acceleration = {"A": (aax, aay), "B": (-al4 * c2 - w4 * w4 * c1, al4 * c1 - w4 * w4 * c2),
+                    "P": (aax - al3 * qy - w3 * w3 * qx, aay + al3 * qx - w3 * w3 * qy)}
+    return velocity, acceleration
 
 
 def interleaved_cpu(candidates, rounds=15, seconds=0.1):
@@ -113,6 +148,28 @@ def main():
     grazing = best_time(lambda: sweep(parallelogram, theta)["B"])
     print(f"parallelogram through 2 change points, 361 samples: {grazing * 1e3:.3f} ms "
           f"({grazing / plain:.1f}x the benchmark four-bar's {plain * 1e3:.3f} ms)")
+    # velocities and accelerations by finite differences, against the closed form
+    theta = np.linspace(0, 2 * np.pi, 1000)
+    m = motion(sweep(fourbar, theta), speed=2 * np.pi)
+    velocity, acceleration = hand_motion(theta)
+    for name in ("A", "B", "P"):
+        assert np.allclose(m.velocity[name], np.c_[velocity[name]], rtol=0, atol=1e-7 * 500)
+        assert np.allclose(m.acceleration[name], np.c_[acceleration[name]], rtol=0,
+                           atol=1e-5 * 5000)
+    print("velocity and acceleration: geokin.motion on a sweep vs the closed form (CPU)")
+    print(f"{'N':>9} {'closed form':>14} {'motion':>12} {'ratio':>7}")
+    for n in (360, 3600, 36_000, 360_000):
+        theta = np.linspace(0, 2 * np.pi, n, endpoint=False)
+        swept = sweep(fourbar, theta)
+        times = interleaved_cpu({
+            "hand": lambda theta=theta: hand_motion(theta),
+            "motion": lambda swept=swept: motion(swept, speed=2 * np.pi)}, rounds=7)
+        print(f"{n:>9} {times['hand'] * 1e3:>11.3f} ms {times['motion'] * 1e3:>9.3f} ms "
+              f"{times['motion'] / times['hand']:>7.2f}")
+    n = 360_000
+    theta = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    peak = peak_bytes(lambda: motion(sweep(fourbar, theta), speed=2 * np.pi))
+    print(f"peak memory of sweep + motion, {n:,} samples: {peak / n:.0f} bytes per sample")
     print("peak memory of a four-bar sweep (tracemalloc):")
     for n in (100_000, 200_000, 400_000):
         theta = np.linspace(0, 2 * np.pi, n)
