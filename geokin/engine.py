@@ -302,7 +302,8 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track) -> _E
         for position, step in enumerate(plan):
             node = step.node
             values = _step_values(step, env)
-            cand = _candidates(step, coords, values, origin)
+            cand = (_candidates(step, coords, values, origin) if n <= BLOCK_SAMPLES
+                    else _candidates_in_blocks(step, coords, values, origin, n))
             if node.roots == 1:
                 x, y = cand.x[0], cand.y[0]
                 label = None
@@ -334,6 +335,38 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track) -> _E
     events.sort(key=lambda e: (e.index, e.fraction))
     return _Evaluated(coords, labels, margins, parameters, events, valid, failed_step,
                       reason_code)
+
+
+def _candidates_in_blocks(step, coords, values, origin, n):
+    """Compute a step's candidates :data:`BLOCK_SAMPLES` samples at a time.
+
+    The same numbers as one pass (every operation is elementwise), with the
+    primitives' temporary arrays small enough to stay in the cache.
+    """
+    def part(value, lo, hi):
+        return value[lo:hi] if np.ndim(value) else value
+
+    whole = None
+    for lo in range(0, n, BLOCK_SAMPLES):
+        hi = min(lo + BLOCK_SAMPLES, n)
+        cand = _candidates(step, {k: (part(x, lo, hi), part(y, lo, hi))
+                                  for k, (x, y) in coords.items()},
+                           {k: part(v, lo, hi) for k, v in values.items()}, origin)
+        fields = [cand.x, cand.y, cand.margin, cand.on_line, cand.t]
+        if whole is None:
+            whole = [None if f is None else tuple(
+                a if np.ndim(a) == 0 else np.empty(n, dtype=np.asarray(a).dtype) for a in f)
+                if isinstance(f, tuple) else (f if np.ndim(f) == 0 else np.empty(n))
+                for f in fields]
+        for mine, theirs in zip(whole, fields, strict=True):
+            if isinstance(mine, tuple):
+                for out, block in zip(mine, theirs, strict=True):
+                    if np.ndim(out):
+                        out[lo:hi] = block
+            elif mine is not None and np.ndim(mine):
+                mine[lo:hi] = theirs
+    assert whole is not None
+    return type(cand)(*whole)
 
 
 def _evaluate_in_blocks(compiled, plan, inputs, n, held, start, origin) -> _Evaluated:
