@@ -23,9 +23,11 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
+from .compat import renamed_attribute, renamed_keywords
 from .construction import Compiled, Construction, as_compiled
 from .engine import evaluate
 from .errors import AssemblyError, ConstructionError
+from .frozen import Frozen
 from .nodes import NO_INTERSECTION
 from .results import BranchEvent, Sweep
 
@@ -65,7 +67,7 @@ class Limit:
 
 
 @dataclass(frozen=True)
-class Limits:
+class Limits(Frozen):
     """The assemblable intervals of one input.
 
     Attributes
@@ -85,6 +87,10 @@ class Limits:
     intervals: tuple[tuple[Limit, Limit], ...]
     full_turn: bool
     held_branches: Mapping[str, int]
+
+    input = renamed_attribute("input", "input_name")
+    branches = renamed_attribute("branches", "held_branches")
+    _read_only = ("held_branches",)
 
     def as_values(self) -> list[tuple[float, float]]:
         """Return the intervals as (low, high) pairs of input values."""
@@ -176,6 +182,7 @@ def _refine(compiled, name, held, branches, inside, outside):
     return inside, _evaluate_at(compiled, name, outside, held, branches)
 
 
+@renamed_keywords(input="input_name", range="search_range", branches="start_branches")
 def limits(construction: Construction | Compiled, input_name: str | None = None, *,
            search_range: tuple[float, float] | None = None,
            samples: int = SEARCH_SAMPLES,
@@ -282,6 +289,7 @@ def limits(construction: Construction | Compiled, input_name: str | None = None,
     return Limits(name, tuple(intervals), False, held_branches)
 
 
+@renamed_keywords(input="input_name", branches="start_branches")
 def circuit(construction: Construction | Compiled, input_name: str | None = None, *,
             start: float | None = None, samples_per_pass: int = 361,
             at: Mapping[str, float] | None = None,

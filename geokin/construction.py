@@ -39,8 +39,7 @@ import keyword
 import math
 import unicodedata
 from collections.abc import Iterable, Iterator, Mapping, Sequence
-from dataclasses import dataclass
-from types import MappingProxyType
+from dataclasses import dataclass, field
 from typing import ClassVar
 
 import numpy as np
@@ -58,6 +57,7 @@ from .expressions import (
     normal_name,
     skeleton,
 )
+from .frozen import Frozen
 from .nodes import NODE_KINDS, Key, Node
 
 __all__ = [
@@ -161,7 +161,7 @@ class Step:
 
 
 @dataclass(frozen=True)
-class Compiled:
+class Compiled(Frozen):
     """A validated construction in evaluation order.
 
     Attributes
@@ -177,9 +177,10 @@ class Compiled:
     traced : tuple of str
         The points whose paths are traced.
     ground : frozenset of str
-        The points that never move (see :meth:`~geokin.nodes.Node.is_ground`):
-        the one place that decides what is ground, for the analysis and the
-        drawing alike.
+        The frame's points, found from the steps: every fixed point whose
+        coordinates use no input (one driven along a line by an input is a
+        joint). The one place that decides what is ground, for the analysis
+        and the drawing alike.
 
     A compiled construction is not changed after it is made; the mappings it
     holds are its own copies.
@@ -192,19 +193,21 @@ class Compiled:
     links: tuple[Link, ...] = ()
     sliders: tuple[Slider, ...] = ()
     traced: tuple[str, ...] = ()
-    ground: frozenset[str] = frozenset()
+    ground: frozenset[str] = field(init=False, default=frozenset())
+
+    # read-only views of its own copies: a compiled construction is shared by every
+    # sweep of it, and must not change under them
+    _read_only = ("parameters", "inputs")
 
     def __post_init__(self) -> None:
-        # read-only views of its own copies: a compiled construction is shared by
-        # every sweep of it, and must not change under them
-        for name in ("parameters", "inputs"):
-            object.__setattr__(self, name, MappingProxyType(dict(getattr(self, name))))
-
-    def __reduce__(self):
-        # mapping proxies do not pickle: rebuild from plain copies
-        fields = [getattr(self, f.name) for f in dataclasses.fields(self)]
-        fields[2], fields[3] = dict(self.parameters), dict(self.inputs)
-        return (type(self), tuple(fields))
+        super().__post_init__()
+        # ground is the frame: the fixed points whose coordinates use no input. A
+        # point built on them with constant values (a crank held at one angle) stays a
+        # joint of its links, so that counting the links' freedom sees the linkage
+        inputs = self.inputs.keys()
+        object.__setattr__(self, "ground", frozenset(
+            step.node.name for step in self.steps if step.node.ground_kind
+            and not any(e.names() & inputs for e in step.node.value_fields().values())))
 
     def __len__(self) -> int:
         return len(self.steps)
@@ -843,11 +846,10 @@ class Construction:
         self._check_constant_values()
         order = self._ordered()
         steps = tuple(Step(i + 1, self.nodes[name]) for i, name in enumerate(order))
-        inputs = frozenset(self.inputs)
         self._compiled = Compiled(
             self.name, steps, {k: p.value for k, p in self.parameters.items()},
             dict(self.inputs), tuple(self.links.values()), tuple(self.sliders.values()),
-            self.traced, frozenset(n for n, node in self.nodes.items() if node.is_ground(inputs)))
+            self.traced)
         return self._compiled
 
     def _check_constant_values(self):

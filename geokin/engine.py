@@ -51,10 +51,12 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .budgets import check_sweep_memory
+from .compat import renamed_keywords
 from .construction import Compiled, Construction, as_compiled
 from .errors import ConstructionError, did_you_mean
+from .frozen import read_only
 from .nodes import Node, failure_reasons
-from .results import BranchEvent, PointTable, Sweep, read_only
+from .results import BranchEvent, PointTable, Sweep
 
 __all__ = ["evaluate", "input_arrays", "sweep"]
 
@@ -227,6 +229,7 @@ class _Evaluated:
     reason_code: np.ndarray
 
 
+@renamed_keywords(branches="held", initial="start")
 def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndarray], n: int,
              held: Mapping[str, np.ndarray | int] | None = None, *, track: bool = True,
              start: Mapping[str, int] | None = None,
@@ -445,6 +448,7 @@ def _record_failures(step, cand, values, label, failing, failed_step, reason_cod
     reason_code[at] = failure_reasons(local, {k: pick(v) for k, v in values.items()}, root)
 
 
+@renamed_keywords(branches="start_branches")
 def sweep(construction: Construction | Compiled,
           values: ArrayLike | Mapping[str, ArrayLike] | None = None, *, samples: int | None = None,
           start_branches: Mapping[str, object] | None = None) -> Sweep:

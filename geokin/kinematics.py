@@ -55,9 +55,11 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .budgets import check_sweep_memory
+from .compat import renamed_attribute, renamed_keywords
 from .engine import BLOCK_SAMPLES, evaluate
 from .errors import ConstructionError
-from .results import Sweep, read_only
+from .frozen import Frozen, read_only
+from .results import Sweep
 
 __all__ = ["Derivatives", "Motion", "input_derivatives", "link_angles", "motion",
            "unwrap_valid"]
@@ -109,7 +111,7 @@ ROUNDING_ONE_SIDED = (np.sqrt(25**2 + 48**2 + 36**2 + 16**2 + 3**2) / 12,
 
 
 @dataclass(frozen=True)
-class Derivatives:
+class Derivatives(Frozen):
     """First and second derivatives of every point with respect to one input.
 
     Attributes
@@ -136,6 +138,9 @@ class Derivatives:
     stencil: np.ndarray
     first_error: np.ndarray
     second_error: np.ndarray
+
+    input = renamed_attribute("input", "input_name")
+    _read_only = ("first", "second", "stencil", "first_error", "second_error")
 
 
 def _size(sweep: Sweep) -> float:
@@ -164,6 +169,7 @@ def _step_for(sweep: Sweep, name: str, step: float | None) -> float:
     return RELATIVE_STEP * _size(sweep)
 
 
+@renamed_keywords(input="input_name")
 def input_derivatives(sweep: Sweep, input_name: str | None = None, *,
                       step: float | None = None) -> Derivatives:
     """Differentiate every point of a sweep with respect to one input.
@@ -396,7 +402,7 @@ class _Estimate:
 
 
 @dataclass(frozen=True)
-class Motion:
+class Motion(Frozen):
     """Velocities and accelerations over a sweep, with respect to time.
 
     Attributes
@@ -447,6 +453,11 @@ class Motion:
     acceleration_error: np.ndarray
     derivatives: Derivatives
 
+    input = renamed_attribute("input", "input_name")
+    _read_only = ("time", "speed", "input_acceleration", "velocity", "acceleration", "angle",
+                  "angular_velocity", "angular_acceleration", "flagged", "velocity_error",
+                  "acceleration_error")
+
 
 def _time_step(sweep: Sweep, rates: dict, step: float | None) -> float:
     """Return a step in time that moves no input by more than its own step."""
@@ -472,6 +483,7 @@ def _direction_of_travel(values: np.ndarray) -> np.ndarray:
     return direction[last]
 
 
+@renamed_keywords(input="input_name")
 def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | None = None,
            acceleration: ArrayLike = 0.0, step: float | None = None) -> Motion:
     """Velocity and acceleration of every point and declared link over a sweep.

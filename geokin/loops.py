@@ -39,11 +39,13 @@ there with ``valid`` False, and continue from the last good solution.
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from .compat import renamed_keywords
 from .errors import AnalysisError, AssemblyError
 
 __all__ = [
@@ -186,8 +188,10 @@ def _newton(residual, jacobian, x, u, tol, maxiter):
 # -- four-bar -------------------------------------------------------------------------
 
 
+@renamed_keywords(input="input_link", output="output_link")
 def fourbar_closed_form(ground: float, input_link: float, coupler: float, output_link: float,
-                        theta2, crossed: bool = False, *, theta1: float = 0.0):
+                        theta2, open: bool | None = None, *,  # noqa: A002 - the old name
+                        crossed: bool = False, theta1: float = 0.0):
     """Solve the four-bar loop in closed form (the half-angle formula).
 
     The loop gives ``A cos(theta4) + B sin(theta4) + C = 0`` with
@@ -206,6 +210,9 @@ def fourbar_closed_form(ground: float, input_link: float, coupler: float, output
         ``r1``, ``r2``, ``r3``, ``r4``.
     theta2 : float or array_like
         Input angle, radians.
+    open : bool, optional
+        Deprecated, the old way to choose the circuit: ``open=False`` is
+        ``crossed=True``.
     crossed : bool
         The crossed circuit, or (by default) the open one (B left of ``A -> O4``).
     theta1 : float
@@ -229,6 +236,11 @@ def fourbar_closed_form(ground: float, input_link: float, coupler: float, output
     >>> round(float(np.degrees(t3)), 6), round(float(np.degrees(t4)), 6)
     (-24.917114, -48.792913)
     """
+    if open is not None:
+        warnings.warn("fourbar_closed_form(..., open) is now fourbar_closed_form(..., "
+                      "crossed=not open); the old argument will be removed",
+                      DeprecationWarning, stacklevel=2)
+        crossed = not open
     r1, r2, r3, r4 = (float(v) for v in (ground, input_link, coupler, output_link))
     t2 = np.asarray(theta2, dtype=float)
     a = 2 * r1 * r4 * np.cos(theta1) - 2 * r2 * r4 * np.cos(t2)
@@ -252,6 +264,7 @@ def fourbar_closed_form(ground: float, input_link: float, coupler: float, output
     return _wrap(t3), _wrap(t4)
 
 
+@renamed_keywords(input="input_link", output="output_link")
 def fourbar_loop(ground: float, input_link: float, coupler: float, output_link: float,
                  theta2, *,
                  guess, theta1: float = 0.0, tol: float = 1e-12, maxiter: int = 50,

@@ -9,7 +9,7 @@ needs to know about the kind, and nothing about it is repeated elsewhere:
 - which of its values are angles (``Key.angle``);
 - its roots and their branch names (:attr:`Node.branch_names`; none for a
   node with one root);
-- whether it can be ground (:attr:`Node.ground_kind`);
+- whether it stands on no other point (:attr:`Node.ground_kind`);
 - how its roots are computed (:meth:`Node.candidates`), and why a chosen
   root may not exist (:func:`failure_reasons`).
 
@@ -198,8 +198,10 @@ class Node:
         The names of its roots in the primitive's order; empty for a node
         with one root.
     ground_kind : bool
-        Whether a point of this kind is ground when none of its values
-        uses an input (see :meth:`is_ground`).
+        Whether this kind places its point at absolute coordinates given by
+        its values (a fixed point), built on no other point. Such a point is
+        ground when its values use no input; which points are ground is
+        decided in one place, :attr:`geokin.construction.Compiled.ground`.
     low, high : float
         Where along its line a root counts, as the line's parameter:
         ``low <= t <= high``.
@@ -249,20 +251,6 @@ class Node:
         for names in self.point_fields().values():
             seen.update(dict.fromkeys(names))
         return tuple(seen)
-
-    def is_ground(self, inputs: frozenset[str] | set[str]) -> bool:
-        """Whether the point never moves: a ground kind whose values use none of ``inputs``.
-
-        Examples
-        --------
-        >>> from geokin.expressions import as_expr
-        >>> Fixed("A", as_expr(0), as_expr("s")).is_ground({"s"})
-        False
-        >>> Fixed("A", as_expr(0), as_expr(1)).is_ground({"s"})
-        True
-        """
-        return self.ground_kind and not any(
-            expr.names() & inputs for expr in self.value_fields().values())
 
     def choice(self) -> str | None:
         """Return how the initial branch is chosen, as text (None for one root)."""

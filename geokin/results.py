@@ -8,31 +8,19 @@ a sweep; nothing in it changes once the engine has made it.
 from __future__ import annotations
 
 import unicodedata
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 
+from .compat import renamed_attribute
 from .construction import Compiled
 from .errors import did_you_mean
+from .frozen import Frozen, read_only
 from .nodes import REASONS
 
-__all__ = ["BranchEvent", "PointTable", "Sweep", "read_only"]
-
-
-def read_only(array: np.ndarray) -> np.ndarray:
-    """Return ``array`` marked read-only (a view where it is not already so).
-
-    Examples
-    --------
-    >>> a = read_only(np.zeros(2))
-    >>> a.flags.writeable
-    False
-    """
-    if array.flags.writeable:
-        array = array.view()
-        array.flags.writeable = False
-    return array
+__all__ = ["BranchEvent", "PointTable", "Sweep"]
 
 
 @dataclass(frozen=True)
@@ -57,7 +45,7 @@ class BranchEvent:
 
 
 @dataclass(frozen=True, eq=False)
-class Sweep:
+class Sweep(Frozen):
     """The motion of a construction over a sweep of its inputs.
 
     Made by :func:`geokin.sweep` (and by :func:`geokin.circuit`); every field
@@ -103,6 +91,10 @@ class Sweep:
     events: tuple[BranchEvent, ...]
     margins: Mapping[str, np.ndarray]
     line_parameters: Mapping[str, np.ndarray] = field(default_factory=dict)
+
+    input = renamed_attribute("input", "input_values")
+    _read_only = ("inputs", "branches", "margins", "line_parameters", "valid", "failed_step",
+                  "reason_code")
 
     def __len__(self) -> int:
         return len(self.valid)
@@ -158,6 +150,12 @@ class Sweep:
         before, after = event.index - 1, event.index
         return {name: float(values[before] + event.fraction * (values[after] - values[before]))
                 for name, values in self.inputs.items()}
+
+    def branch_names(self, node: str) -> np.ndarray:
+        """Return :meth:`named_branches` (the old name of it, deprecated)."""
+        warnings.warn("Sweep.branch_names(node) is now Sweep.named_branches(node); the old "
+                      "name will be removed", DeprecationWarning, stacklevel=2)
+        return self.named_branches(node)
 
     def named_branches(self, node: str) -> np.ndarray:
         """Return the branch of a two-root node at each sample, by name.

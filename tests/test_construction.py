@@ -541,3 +541,20 @@ def test_hostile_declarations_give_a_construction_or_a_geokin_error(declarations
     except GeokinError:
         return
     assert s.valid.shape == (5,)
+
+
+def test_ground_is_decided_by_the_compiled_steps_not_by_who_builds_them():
+    import dataclasses
+
+    c = Construction()
+    c.input("s", kind="length", range=(0, 5))
+    c.fixed("O", 0, 0)
+    c.fixed("S", "s", 0)  # driven along a line: a joint, not ground
+    c.polar("A", "O", 1, 0.5)
+    compiled = c.compile()
+    assert compiled.ground == {"O"}
+    # a compiled construction rebuilt from its own fields names the same ground
+    fields = {f.name: getattr(compiled, f.name) for f in dataclasses.fields(compiled) if f.init}
+    assert type(compiled)(**fields).ground == {"O"}
+    with pytest.raises(TypeError):
+        type(compiled)(**fields, ground=frozenset())

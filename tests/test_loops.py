@@ -94,7 +94,7 @@ def test_closed_form_matches_the_engine(g, i, c, o, theta1, crossed):
     theta = np.linspace(-np.pi, np.pi, 181)
     s = sweep(fourbar(g, i, c, o, crossed, theta1), theta)
     assume(not s.events)  # a change point: the engine may change circuit there
-    t3, t4 = fourbar_closed_form(g, i, c, o, theta, crossed, theta1=theta1)
+    t3, t4 = fourbar_closed_form(g, i, c, o, theta, crossed=crossed, theta1=theta1)
     _, b_out, b_cpl = positions(g, i, c, o, theta, t3, t4, theta1)
     margin = s.margins["B"]
     # away from tangency and from coincident centres (a kite's A on O4), where the

@@ -37,6 +37,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..compat import renamed_keywords
 from ..errors import AnalysisError, did_you_mean
 from ..nodes import CircleCircle
 from ..results import Sweep
@@ -146,6 +147,7 @@ def _joint_turns(x, y, u, v, tol) -> bool:
     return x + y <= u + v + tol and abs(x - y) + tol >= abs(u - v)
 
 
+@renamed_keywords(input="input_link", output="output_link")
 def grashof(ground: float, input_link: float, coupler: float, output_link: float, *,
             rtol: float = 1e-9) -> Grashof:
     """Classify a four-bar by Grashof's criterion.
@@ -207,6 +209,7 @@ def grashof(ground: float, input_link: float, coupler: float, output_link: float
     )
 
 
+@renamed_keywords(input="input_link")
 def fourth_link_range(ground: float, input_link: float, coupler: float, kind: str, *,
                       rtol: float = 1e-9) -> list[tuple[float, float]]:
     """Return the output-link lengths that make a four-bar of a given kind.
@@ -398,6 +401,7 @@ def transmission_angles(sweep: Sweep) -> dict[str, TransmissionAngle]:
     return result
 
 
+@renamed_keywords(input="input_link", output="output_link")
 def fourbar_transmission_extremes(ground: float, input_link: float, coupler: float,
                                   output_link: float) -> tuple[float, float]:
     """Return the minimum and maximum transmission angle of a four-bar, closed form.

@@ -14,6 +14,7 @@ import numpy as np
 import shapely
 from numpy.typing import ArrayLike
 
+from ..compat import renamed_keywords
 from ..errors import AnalysisError
 
 __all__ = ["Curve", "Stroke", "curve_measures", "refine_extreme", "stroke", "time_ratio"]
@@ -109,6 +110,7 @@ def refine_extreme(x: ArrayLike, y: ArrayLike) -> tuple[float, float]:
     return float(x0 + t * h), float(poly(t))
 
 
+@renamed_keywords(input="input_values")
 def stroke(output: ArrayLike, input_values: ArrayLike, *, period: float = 2 * np.pi) -> Stroke:
     """Return the extremes, stroke and time ratio of an output over one input turn.
 
@@ -169,6 +171,7 @@ def stroke(output: ArrayLike, input_values: ArrayLike, *, period: float = 2 * np
                   float(y_max - y_min), forward, float(back), forward / back)
 
 
+@renamed_keywords(input="input_values")
 def time_ratio(output: ArrayLike, input_values: ArrayLike, *, period: float = 2 * np.pi) -> float:
     """Return the forward over return time of an output over one input turn.
 
