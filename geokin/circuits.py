@@ -8,8 +8,8 @@ and not, and narrows each bracket by bisection on the failing node's margin
 whether it is a tangency (a toggle the mechanism can pass through by changing
 branch) or an end (of a ray, a segment, or the input's range).
 
-:func:`circuit` is the second sweep mode. In the default mode (:func:`~geokin.sweep`,
-"clip"), unreachable samples are invalid. In circuit mode the input runs from
+:func:`circuit` is the second sweep mode. In a plain sweep (:func:`~geokin.sweep`)
+unreachable samples are invalid. In circuit mode the input runs from
 a start to one limit of its interval, reverses, and the node that became
 tangent changes branch, as the physical mechanism does when it passes the
 toggle, and so on until the configuration returns to the start: the sweep
@@ -25,7 +25,7 @@ import numpy as np
 
 from .compat import renamed_attribute, renamed_keywords
 from .construction import Compiled, Construction, as_compiled
-from .engine import evaluate
+from .engine import evaluate, start_labels
 from .errors import AssemblyError, ConstructionError
 from .frozen import Frozen
 from .nodes import NO_INTERSECTION
@@ -203,9 +203,10 @@ def limits(construction: Construction | Compiled, input_name: str | None = None,
     samples : int
         Samples used to bracket the limits; a stretch shorter than the
         spacing can be missed.
-    start_branches : mapping of str to int, optional
-        The branches (0 or 1) to start from; by default the construction's
-        own choice. The search holds the branches of the first assemblable
+    start_branches : mapping of str to str or int, optional
+        The branches to start from, by name (``{"C": "right"}``) or root
+        index, as :func:`geokin.sweep` takes them; by default the
+        construction's own choice. The search holds the branches of the first assemblable
         sample in the searched range.
     at : mapping of str to float, optional
         Values of the other inputs.
@@ -252,7 +253,7 @@ def limits(construction: Construction | Compiled, input_name: str | None = None,
     inputs = {k: np.full(samples, v) for k, v in held.items()}
     inputs[name] = grid
     probe = evaluate(compiled, inputs, samples, track=False,
-                     start=None if start_branches is None else dict(start_branches))
+                     start=start_labels(compiled, start_branches))
     first_valid = np.flatnonzero(probe.valid)
     if first_valid.size == 0:
         where = "over a whole turn" if turn else "over the searched range"

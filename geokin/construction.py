@@ -549,8 +549,8 @@ class Construction:
         name, origin : str
         distance : value
         angle : value
-            Counter-clockwise, in the construction's angle unit (radians in
-            Python): from the x axis, or with ``reference`` from the
+            Counter-clockwise, in radians (a script's degrees are converted
+            when it is read): from the x axis, or with ``reference`` from the
             direction of the line ``reference[0] -> reference[1]``.
         reference : (str, str), optional
 
@@ -878,7 +878,7 @@ class Construction:
                         raise ConstructionError(f"{quote(str(expr), 60)} is {value}: a value "
                                                 "must be a finite number", node=node.name,
                                                 field=field_name)
-                    if value < 0 and ("radius" in field_name or "radii" in field_name):
+                    if value < 0 and field_name in node.nonnegative_fields():
                         raise ConstructionError(f"a radius cannot be negative; "
                                                 f"{quote(str(expr), 60)} is {value:g}",
                                                 node=node.name, field=field_name)

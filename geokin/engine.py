@@ -58,7 +58,7 @@ from .frozen import read_only
 from .nodes import Node, failure_reasons
 from .results import BranchEvent, PointTable, Sweep
 
-__all__ = ["evaluate", "input_arrays", "sweep"]
+__all__ = ["evaluate", "input_arrays", "start_labels", "sweep"]
 
 MEET_RTOL = 1e-7
 """Roots closer than this times the node's scale meet (a graze or a toggle).
@@ -267,7 +267,7 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
     plan = _plan(compiled)
     chosen = {**(start or {}), **(held or {})}
     if (not track and n > BLOCK_SAMPLES
-            and all(step.node.name in chosen or getattr(step.node, "near", None) is None
+            and all(step.node.name in chosen or not step.node.chosen_by_position
                     for step in plan if step.node.roots == 2)):
         parts = _evaluate_in_blocks(compiled, plan, inputs, n, held, start, origin)
     else:
@@ -445,7 +445,8 @@ def _record_failures(step, cand, values, label, failing, failed_step, reason_cod
                        None if cand.on_line is None else tuple(map(pick, cand.on_line)))
     root = 0 if label is None else pick(np.asarray(label))
     failed_step[at] = step.index
-    reason_code[at] = failure_reasons(local, {k: pick(v) for k, v in values.items()}, root)
+    reason_code[at] = failure_reasons(local, {k: pick(v) for k, v in values.items()}, root,
+                                      step.node.nonnegative_fields())
 
 
 @renamed_keywords(branches="start_branches")
@@ -497,47 +498,60 @@ def sweep(construction: Construction | Compiled,
     inputs, n = input_arrays(compiled, values, samples)
     # refused before allocating, with the estimate and a block that would fit
     check_sweep_memory(len(compiled.steps), n)
-    start = None
-    if start_branches:
-        start = {}
-        nodes = {step.node.name: step.node for step in compiled.steps}
-        for name, branch in start_branches.items():
-            node = nodes.get(name)
-            if node is None or node.roots != 2:
-                raise ConstructionError(
-                    f"no two-root node {name!r}{did_you_mean(name, nodes)}", node=name,
-                    field="branch")
-            options = node.branch_names
-            if branch in (0, 1):
-                start[name] = int(branch)
-            elif branch in options:
-                start[name] = options.index(branch)
-            else:
-                raise ConstructionError(f"unknown branch {branch!r}; use "
-                                        f"{' or '.join(map(repr, options))}", node=name,
-                                        field="branch")
+    start = start_labels(compiled, start_branches)
     return evaluate(compiled, inputs, n, start=start)
 
 
+def start_labels(compiled: Compiled,
+                 start_branches: Mapping[str, object] | None) -> dict[str, int] | None:
+    """Return the branches some nodes start on, as root indices (0 or 1).
+
+    Parameters
+    ----------
+    compiled : Compiled
+    start_branches : mapping of str to str or int, or None
+        By node name: a branch name (``"left"``) or a root index.
+
+    Raises
+    ------
+    ConstructionError
+        For a node that is not a two-root node, or an unknown branch.
+
+    Examples
+    --------
+    >>> from geokin import Construction
+    >>> c = Construction()
+    >>> c.fixed("O", 0, 0)
+    >>> c.fixed("Q", 3, 0)
+    >>> c.circle_circle("P", ("O", "Q"), (2, 2), branch="left")
+    >>> start_labels(c.compile(), {"P": "right"})
+    {'P': 1}
+    """
+    if not start_branches:
+        return None
+    start = {}
+    nodes = {step.node.name: step.node for step in compiled.steps}
+    for name, branch in start_branches.items():
+        node = nodes.get(name)
+        if node is None or node.roots != 2:
+            raise ConstructionError(f"no two-root node {name!r}{did_you_mean(name, nodes)}",
+                                    node=name, field="branch")
+        options = node.branch_names
+        if isinstance(branch, int | np.integer) and not isinstance(branch, bool) \
+                and branch in (0, 1):
+            start[name] = int(branch)
+        elif branch in options:
+            start[name] = options.index(str(branch))
+        else:
+            raise ConstructionError(f"unknown branch {branch!r}; use "
+                                    f"{' or '.join(map(repr, options))} or 0 or 1", node=name,
+                                    field="branch")
+    return start
+
+
 def _initial_label(node, cand, n, override) -> int:
-    """Return the branch a node starts on: given, declared, or the root nearer ``near``."""
-    if override is not None:
-        return override
-    if node.near is None:
-        return node.branch_names.index(node.branch)
-    x0, x1, y0, y1 = (np.broadcast_to(a, (n,)) for a in (*cand.x, *cand.y))
-    usable = [np.isfinite(x0) & np.isfinite(y0), np.isfinite(x1) & np.isfinite(y1)]
-    if cand.on_line is not None:  # a root off its ray or segment cannot be assembled
-        usable = [u & np.broadcast_to(on, (n,)) for u, on in zip(usable, cand.on_line,
-                                                                  strict=True)]
-    exists = np.flatnonzero(usable[0] | usable[1])
-    if exists.size == 0:
-        return 0
-    i = exists[0]
-    near_x, near_y = node.near
-    distance = [np.hypot(x0[i] - near_x, y0[i] - near_y) if usable[0][i] else np.inf,
-                np.hypot(x1[i] - near_x, y1[i] - near_y) if usable[1][i] else np.inf]
-    return int(distance[1] < distance[0])
+    """Return the branch a node starts on: the one given, else the node's own choice."""
+    return override if override is not None else node.initial_root(cand, n)
 
 
 class _Tracker:

@@ -540,6 +540,10 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
     values = sweep.inputs[driver]
     direction = _direction_of_travel(values)
     size = np.broadcast_to(np.asarray(declared.speed if speed is None else speed, float), (n,))
+    if not (np.isfinite(size) & (size > 0)).all():
+        raise ConstructionError("the input's speed must be a positive number (how fast it "
+                                "moves; the sweep's direction sets its sign), got "
+                                f"{speed!r}", node=driver, field="speed")
     rate = size * direction
     rate_change = np.broadcast_to(np.asarray(acceleration, dtype=float), (n,)) * direction
     with np.errstate(divide="ignore", invalid="ignore"):

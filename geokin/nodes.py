@@ -30,6 +30,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from types import MappingProxyType
 from typing import ClassVar, TypeAlias
 
 import numpy as np
@@ -91,6 +92,9 @@ class Key:
     required : bool
     angle : bool
         Whether its values are angles (radians inside, degrees in scripts).
+    nonnegative : bool
+        Whether its values cannot be negative (a radius): a negative one is
+        refused when it is constant, and makes its samples unassemblable.
     """
 
     name: str
@@ -98,6 +102,7 @@ class Key:
     attributes: tuple[str, ...] = ()
     required: bool = True
     angle: bool = False
+    nonnegative: bool = False
 
     def __post_init__(self) -> None:
         if self.holds not in HOLDS:
@@ -153,7 +158,8 @@ class Candidates:
 
 
 def failure_reasons(cand: Candidates, values: Mapping[str, ArrayLike],
-                    root: int | np.ndarray) -> np.ndarray:
+                    root: int | np.ndarray,
+                    nonnegative: frozenset[str] = frozenset()) -> np.ndarray:
     """Say why the chosen roots do not exist, as codes into ``REASONS``.
 
     Parameters
@@ -164,12 +170,14 @@ def failure_reasons(cand: Candidates, values: Mapping[str, ArrayLike],
         The node's values at those samples.
     root : int or ndarray
         The chosen root at each of those samples.
+    nonnegative : frozenset of str
+        The value fields that cannot be negative (:meth:`Node.nonnegative_fields`).
     """
     shape = np.shape(cand.x[0] if np.ndim(root) == 0 else root)
     finite = np.ones(shape, dtype=bool)
     for field_name, value in values.items():
         finite &= np.isfinite(value)
-        if "radius" in field_name or "radii" in field_name:
+        if field_name in nonnegative:
             with np.errstate(invalid="ignore"):
                 finite &= ~(np.asarray(value) < 0)
     reason = np.full(shape, DEGENERATE, dtype=np.int8)
@@ -244,6 +252,19 @@ class Node:
     def angle_fields(self) -> frozenset[str]:
         """Return the value fields that are angles."""
         return frozenset(f for key in self.keys if key.angle for f in key.fields())
+
+    def nonnegative_fields(self) -> frozenset[str]:
+        """Return the value fields that cannot be negative (radii)."""
+        return frozenset(f for key in self.keys if key.nonnegative for f in key.fields())
+
+    def initial_root(self, cand: Candidates, n: int) -> int:
+        """Return the root this node starts on: 0 for a node with one root."""
+        return 0
+
+    @property
+    def chosen_by_position(self) -> bool:
+        """Whether the initial root depends on where the roots are, over all samples."""
+        return False
 
     def depends_on(self) -> tuple[str, ...]:
         """Return every point this node is built on, in order, without repeats."""
@@ -379,6 +400,33 @@ class _TwoRoot(Node):
             return f"near ({self.near[0]:g}, {self.near[1]:g})"
         return self.branch
 
+    def initial_root(self, cand: Candidates, n: int) -> int:
+        """Return the root this node starts on.
+
+        That is its declared branch, or the root nearer its sketch position
+        ``near`` at the first sample where one can be assembled.
+        """
+        if self.near is None:
+            return self.branch_names.index(self.branch or self.branch_names[0])
+        x0, x1, y0, y1 = (np.broadcast_to(a, (n,)) for a in (*cand.x, *cand.y))
+        usable = [np.isfinite(x0) & np.isfinite(y0), np.isfinite(x1) & np.isfinite(y1)]
+        if cand.on_line is not None:  # a root off its ray or segment cannot be assembled
+            usable = [u & np.broadcast_to(on, (n,))
+                      for u, on in zip(usable, cand.on_line, strict=True)]
+        exists = np.flatnonzero(usable[0] | usable[1])
+        if exists.size == 0:
+            return 0
+        i = exists[0]
+        near_x, near_y = self.near
+        distance = [np.hypot(x0[i] - near_x, y0[i] - near_y) if usable[0][i] else np.inf,
+                    np.hypot(x1[i] - near_x, y1[i] - near_y) if usable[1][i] else np.inf]
+        return int(distance[1] < distance[0])
+
+    @property
+    def chosen_by_position(self) -> bool:
+        """Whether the initial root depends on where the roots are (``near``)."""
+        return self.near is not None
+
 
 @dataclass(frozen=True)
 class CircleCircle(_TwoRoot):
@@ -392,8 +440,8 @@ class CircleCircle(_TwoRoot):
     centers: tuple[str, str] = field(kw_only=True)
     radii: tuple[Expr, Expr] = field(kw_only=True)
     kind: ClassVar[str] = "circle_circle"
-    keys: ClassVar[tuple[Key, ...]] = (Key("centers", "point pair"), Key("radii", "value pair"),
-                                       *_CHOICE)
+    keys: ClassVar[tuple[Key, ...]] = (Key("centers", "point pair"),
+                                       Key("radii", "value pair", nonnegative=True), *_CHOICE)
     branch_names: ClassVar[tuple[str, ...]] = ("left", "right")
 
     def describe(self) -> str:
@@ -419,7 +467,7 @@ class _LineCircle(_TwoRoot):
     center: str = field(kw_only=True)
     radius: Expr = field(kw_only=True)
     keys: ClassVar[tuple[Key, ...]] = (Key("line", "point pair"), Key("center", "point"),
-                                       Key("radius", "value"), *_CHOICE)
+                                       Key("radius", "value", nonnegative=True), *_CHOICE)
     branch_names: ClassVar[tuple[str, ...]] = ("first", "second")
     joint: ClassVar[str] = "-"
     """How a step list joins the line's two points."""
@@ -468,12 +516,12 @@ class SegmentCircle(_LineCircle):
     high: ClassVar[float] = 1.0
 
 
-NODE_KINDS: dict[str, type[Node]] = {
+NODE_KINDS: Mapping[str, type[Node]] = MappingProxyType({
     cls.kind: cls
     for cls in (Fixed, Polar, Along, LineLine, LineCircle, SegmentCircle, RayCircle, CircleCircle)
-}
-"""Every point node kind by its name in scripts, in the order the docs list them."""
+})
+"""Every point node kind by its name in scripts (read-only)."""
 
-BRANCHES: dict[str, tuple[str, ...]] = {
-    kind: cls.branch_names for kind, cls in NODE_KINDS.items() if cls.branch_names}
+BRANCHES: Mapping[str, tuple[str, ...]] = MappingProxyType({
+    kind: cls.branch_names for kind, cls in NODE_KINDS.items() if cls.branch_names})
 """Branch names of each two-root node kind, in the primitives' root order."""

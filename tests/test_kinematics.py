@@ -354,3 +354,12 @@ def test_blocks_of_samples_give_the_same_derivatives_as_one_pass(monkeypatch):
         np.testing.assert_array_equal(blocked.acceleration[name], whole.acceleration[name])
     np.testing.assert_array_equal(blocked.flagged, whole.flagged)
     np.testing.assert_array_equal(blocked.derivatives.stencil, whole.derivatives.stencil)
+
+
+@pytest.mark.parametrize("speed", [0.0, -1.0, np.nan, np.inf])
+def test_a_speed_that_is_not_a_positive_number_is_refused(speed):
+    from geokin import ConstructionError
+
+    s = sweep(triple_rocker("crank"), [0.0, 0.1])
+    with pytest.raises(ConstructionError, match="positive number"):
+        motion(s, speed=speed)

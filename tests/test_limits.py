@@ -210,3 +210,18 @@ def test_a_circuit_starts_on_the_interval_the_declared_range_covers():
     assert s.valid.all() and (s.inputs["theta"] > 0).all()
     np.testing.assert_allclose(np.degrees([s.inputs["theta"].min(), s.inputs["theta"].max()]),
                                np.degrees(np.arccos([1875 / 2400, 475 / 2400])), atol=1e-6)
+
+
+def test_limits_and_circuit_take_start_branches_as_sweep_does():
+    from mechanisms import triple_rocker
+
+    from geokin import ConstructionError
+
+    c = triple_rocker("crank")
+    assert limits(c, start_branches={"C": "right"}).held_branches == {"C": 1}
+    assert limits(c, start_branches={"C": 1}).held_branches == {"C": 1}
+    assert circuit(c, start_branches={"C": "right"}).events[0].before == "right"
+    with pytest.raises(ConstructionError, match="no two-root node 'X'"):
+        limits(c, start_branches={"X": "right"})
+    with pytest.raises(ConstructionError, match="unknown branch 'up'"):
+        circuit(c, start_branches={"C": "up"})

@@ -6,7 +6,8 @@
 - :mod:`~geokin.analysis.report`: all of these for one construction (:func:`analyze`,
   which returns a :class:`Report`).
 
-Angles are radians throughout.
+Angles are radians throughout, except in a report asked for in degrees
+(``analyze(c, degrees=True)``), which says so in its ``angle_unit``.
 """
 
 from ..kinematics import link_angles, unwrap_valid

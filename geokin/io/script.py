@@ -67,7 +67,7 @@ The two-root kinds take ``branch`` or ``near = [x, y]``: ``"left"`` or
 ``circle_circle``; ``"first"`` or ``"second"`` along the direction P -> Q
 for the line kinds; ``near`` picks the root nearer to a sketched position
 at the first assemblable sample. The sweep then keeps the branch along the
-motion (see :mod:`geokin.sweep`).
+motion (see :mod:`geokin.engine`).
 
 Errors
 ------
@@ -931,13 +931,15 @@ class _AngleRewriter:
     def node(self, node: Node) -> Node:
         """Return ``node`` with every value field rewritten."""
         changes: dict[str, Expr | tuple[Expr, ...]] = {}
-        for field in dataclasses.fields(node):
-            value = getattr(node, field.name)
-            convert = self.angle if field.name in node.angle_fields() else self.plain
-            if isinstance(value, Expr):
-                changes[field.name] = convert(value)
-            elif isinstance(value, tuple) and value and all(isinstance(v, Expr) for v in value):
-                changes[field.name] = tuple(convert(v) for v in value)
+        # the node's value keys say which of its fields hold values and which are angles
+        for key in node.keys:
+            if key.holds not in ("value", "value pair"):
+                continue
+            convert = self.angle if key.angle else self.plain
+            for attribute in key.attributes:
+                value = getattr(node, attribute)
+                changes[attribute] = (convert(value) if isinstance(value, Expr)
+                                      else tuple(convert(v) for v in value))
         # mypy checks replace() against Node, whose only field is the name, not the
         # node's own class
         return dataclasses.replace(node, **changes)  # type: ignore[arg-type]
