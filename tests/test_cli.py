@@ -304,6 +304,17 @@ def test_the_installed_console_script(tmp_path):
     assert done.returncode == 0 and len(done.stdout.splitlines()) == 114
 
 
+def test_python_m_geokin_is_the_command(tmp_path):
+    done = subprocess.run([sys.executable, "-m", "geokin", "--version"], capture_output=True,
+                          text=True, timeout=120)
+    assert (done.returncode, done.stdout, done.stderr) == (0, f"geokin {geokin.__version__}\n",
+                                                           "")
+    # the exit status is the command's, not the interpreter's
+    done = subprocess.run([sys.executable, "-m", "geokin", "check", str(tmp_path / "no.toml")],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2 and done.stderr.startswith("geokin: error: cannot open")
+
+
 def test_analyze_prints_limits_class_and_transmission_angle(capsys):
     status, out, err = run(capsys, "analyze", str(CONSTRUCTIONS / "triple_rocker_crank.toml"))
     assert status == 0 and err == ""
