@@ -114,8 +114,11 @@ def _shortest(value: float) -> str:
 
 
 def _sample(lo, hi, samples=None, step=None, *, label="--range") -> np.ndarray:
+    if samples == 1:  # one configuration: the start of the range
+        return np.array([float(lo)])
     if lo == hi:
-        raise UsageError(f"{label} {lo:g} {hi:g}: the two ends are equal, nothing to sweep")
+        raise UsageError(f"{label} {lo:g} {hi:g}: the two ends are equal, nothing to sweep "
+                         "(--samples 1 gives that one value)")
     if not math.isfinite(hi - lo):
         raise UsageError(f"{label} {lo:g} {hi:g}: too wide to compute with; the span must be "
                          f"below {sys.float_info.max:.1e}")
@@ -188,6 +191,9 @@ def _circuit_of(construction, args, at):
     if args.range is not None or args.step is not None:
         raise UsageError("--circuit runs between the limits of the motion: it takes "
                          "--samples (per pass) but not --range or --step")
+    if args.samples == 1:
+        raise UsageError("--circuit --samples counts the samples of each pass between two "
+                         "limits: at least 2")
     first = next(iter(construction.inputs))
     result = circuit(construction, first, samples_per_pass=args.samples or 361)
     index = None
@@ -339,16 +345,21 @@ def _inputs_text(c, values, i) -> str:
 # -- trace -------------------------------------------------------------------------
 
 
-def _positive_int(text):
+def _positive_int(text, least=2):
     try:
         value = int(text)
     except ValueError:  # also for more digits than Python reads
         raise argparse.ArgumentTypeError(f"expected an integer, got {shorten(text)!r}") from None
-    if value < 2:
-        raise argparse.ArgumentTypeError(f"expected at least 2, got {value}")
+    if value < least:
+        raise argparse.ArgumentTypeError(f"expected at least {least}, got {value}")
     if value > MAX_SAMPLES:
         raise argparse.ArgumentTypeError(f"at most {MAX_SAMPLES}, got {value}")
     return value
+
+
+def _sample_count(text):
+    """An argument type for --samples: one sample is one configuration."""
+    return _positive_int(text, least=1)
 
 
 def _finite(text):
@@ -367,8 +378,9 @@ def _add_sweep_options(p):
     group.add_argument("--range", nargs=2, type=_finite, metavar=("A", "B"),
                        help="sweep from A to B instead of the declared range")
     spacing = group.add_mutually_exclusive_group()
-    spacing.add_argument("--samples", type=_positive_int, metavar="N",
-                         help="N samples, both ends included")
+    spacing.add_argument("--samples", type=_sample_count, metavar="N",
+                         help="N samples, both ends included (1: the start of the range "
+                              "alone)")
     spacing.add_argument("--step", type=_finite, metavar="S",
                          help="samples S apart from the start of the range towards its end "
                               "(the size of S counts; the range gives the direction)")
@@ -488,6 +500,8 @@ def run_plot(args: argparse.Namespace) -> int:
         if args.at is not None:
             raise UsageError("--at draws one pose; --kinematics plots against time: "
                              "give one or the other")
+        if args.samples == 1:
+            raise UsageError("--kinematics plots against time: it needs at least 2 samples")
         m, _ = motion_of(args.script, args)
         first = next(iter(m.construction.inputs), None)
         if first is None:

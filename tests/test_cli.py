@@ -120,6 +120,23 @@ def test_trace_marks_samples_that_cannot_be_assembled(capsys, tmp_path):
     assert data["C.x"][3] is None and isinstance(data["C.x"][0], float)
 
 
+def test_trace_one_sample_prints_one_configuration(capsys):
+    status, out, err = run(capsys, "trace", SIXBAR, "--samples", 1, "--range", 40, 100,
+                           "--points", "M", "--derivatives")
+    assert status == 0 and err == ""
+    header, one = read_csv(out)
+    assert one.shape == (1, len(header)) and one[0, 0] == 40 and one[0, 1] == 1
+    # the derivatives do not depend on the spacing: the same row as in a longer trace
+    status, out, _ = run(capsys, "trace", SIXBAR, "--range", 40, 100, "--samples", 7,
+                         "--points", "M", "--derivatives")
+    np.testing.assert_allclose(one[0], read_csv(out)[1][0], rtol=1e-12)
+    assert np.isfinite(one).all()
+    # a range of one value, when one sample is asked for
+    status, out, _ = run(capsys, "trace", SIXBAR, "--samples", 1, "--range", 40, 40, "--points",
+                         "M")
+    assert status == 0 and read_csv(out)[1].tolist() == [one[0, [0, 1, 4, 5]].tolist()]
+
+
 def test_trace_json_and_npz_carry_the_csv_fields(capsys, tmp_path):
     status, out, _ = run(capsys, "trace", SIXBAR, "--derivatives")
     header, table = read_csv(out)
@@ -165,7 +182,15 @@ def test_trace_derivatives_are_per_second_at_the_declared_speed(capsys):
     (["trace", SIXBAR, "--points", ","], "--points names no point"),
     (["trace", SIXBAR, "--points", "C,,B"], "has an empty name between commas"),
     (["trace", SIXBAR, "--samples", "x"], "argument --samples: expected an integer"),
-    (["trace", SIXBAR, "--samples", "1"], "argument --samples: expected at least 2"),
+    (["trace", SIXBAR, "--samples", "0"], "argument --samples: expected at least 1, got 0"),
+    (["trace", SIXBAR, "--range", "40", "40"], "--range 40 40: the two ends are equal, "
+                                               "nothing to sweep (--samples 1 gives that one"),
+    (["trace", CRANK, "--circuit", "--samples", "1"], "--circuit --samples counts the samples "
+                                                      "of each pass between two limits: at "
+                                                      "least 2"),
+    (["plot", SIXBAR, "--kinematics", "--samples", "1"], "--kinematics plots against time: it "
+                                                         "needs at least 2 samples"),
+    (["animate", SIXBAR, "-o", "out.gif", "--frames", "1"], "--frames: expected at least 2"),
     (["trace", SIXBAR, "--samples", "5", "--step", "1"], "not allowed with argument"),
     (["trace", SIXBAR, "--range", "0"], "argument --range: expected 2 arguments"),
     (["trace", SIXBAR, "--range", "0", "nan"], "expected a finite number"),
