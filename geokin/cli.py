@@ -64,11 +64,12 @@ import numpy as np
 
 from . import __version__
 from .analysis import analyze, degrees_of_freedom
+from .atomic import require_folder
 from .circuits import circuit
 from .construction import MAX_SAMPLES, Construction, whole_steps
 from .engine import evaluate
 from .engine import sweep as run_sweep
-from .errors import GeokinError
+from .errors import GeokinError, did_you_mean, quote
 from .io import EXPORT_FORMATS, columns, export_sweep, load, script_steps, write_csv
 from .kinematics import motion
 from .results import Sweep
@@ -358,7 +359,7 @@ def _positive_int(text, least=2):
 
 
 def _sample_count(text):
-    """An argument type for --samples: one sample is one configuration."""
+    """Read the value of --samples: one sample is one configuration."""
     return _positive_int(text, least=1)
 
 
@@ -438,10 +439,7 @@ def _selected_points(construction, text):
 def run_trace(args: argparse.Namespace) -> int:
     if args.output is not None:
         _output_kind(args.output, EXPORT_FORMATS, "a trace")
-    folder = pathlib.Path(args.output or ".").parent
-    if not folder.is_dir():  # say so before a long sweep, not after
-        raise UsageError(f"cannot write {args.output!r}: the folder {str(folder)!r} does not "
-                         "exist")
+        require_folder(args.output)  # say so before a long sweep, not after
     m, _ = motion_of(args.script, args)
     points = _selected_points(m.construction, args.points)
     rates = None
@@ -496,6 +494,7 @@ def run_plot(args: argparse.Namespace) -> int:
     output = args.output or pathlib.Path(args.script).with_suffix(".png").name
     plotting = _plotting()
     _output_kind(output, plotting.SAVE_FORMATS, "a picture")
+    require_folder(output)
     if args.kinematics:
         if args.at is not None:
             raise UsageError("--at draws one pose; --kinematics plots against time: "
@@ -547,6 +546,7 @@ def add_animate(subparsers: Subparsers) -> None:
 def run_animate(args: argparse.Namespace) -> int:
     plotting = _plotting()
     _output_kind(args.output, plotting.ANIMATION_FORMATS, "an animation")
+    require_folder(args.output)
     if not plotting.MIN_FPS <= args.fps <= plotting.MAX_FPS:
         raise UsageError(f"--fps must be from {plotting.MIN_FPS:g} to {plotting.MAX_FPS:g} "
                          f"frames per second, got {args.fps:g}")
@@ -593,17 +593,50 @@ COMMANDS = [add_check, add_trace, add_plot, add_animate, add_analyze]
 
 
 class _Parser(argparse.ArgumentParser):
-    """An argument parser that takes negative numbers as values and errs in one line."""
+    """An argument parser that takes negative numbers as values and errs in one line.
+
+    An argument that a command does not take is reported by that command,
+    with the closest of its options.
+    """
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
         # so that `--range -1e3 0` and `--at -inf` are read as values, not as options
         self._negative_number_matcher = re.compile(
             r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE)
+        self.commands: dict[str, _Parser] = {}  # name -> its parser, for the top-level one
 
     def error(self, message):
         """Print one line naming what is wrong, without the usage, and exit with status 2."""
         self.exit(2, f"geokin: error: {one_line(message)} (see '{self.prog} --help')\n")
+
+    def parse_args(self, args=None, namespace=None):
+        """Parse the arguments; exit naming one that no option takes, where it was given."""
+        args = sys.argv[1:] if args is None else list(args)
+        for arg in args:  # options before the command are the program's own
+            if not arg.startswith("-") or self._negative_number_matcher.match(arg):
+                break
+            name = arg.split("=", 1)[0]
+            if not any(option.startswith(name) for option in self._option_string_actions):
+                self.refuse([arg], None)
+        parsed, extra = self.parse_known_args(args, namespace)
+        if extra:
+            name = getattr(parsed, "command", None)
+            (self.commands.get(name) or self).refuse(extra, name)
+        return parsed
+
+    def refuse(self, extra: list[str], command: str | None) -> None:
+        """Exit naming the first argument in ``extra``, an option before a value."""
+        who = command or self.prog
+        options = [a for a in extra if a.startswith("-") and a != "-"
+                   and not self._negative_number_matcher.match(a)]
+        if not options:
+            self.error(f"{who} does not take the argument {quote(extra[0])}")
+        name = options[0].split("=", 1)[0]
+        # a long option has a closest one; a letter is as near to any other letter
+        close = did_you_mean(name, [o for o in self._option_string_actions
+                                    if o.startswith("--")]) if name.startswith("--") else ""
+        self.error(f"{who} has no option {quote(name)}{close}")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -616,6 +649,7 @@ def build_parser() -> argparse.ArgumentParser:
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for add in COMMANDS:
         add(subparsers)
+    parser.commands = dict(subparsers.choices)
     return parser
 
 

@@ -225,6 +225,50 @@ def test_errors_exit_2_without_a_traceback(capsys, argv, message):
     assert out == ""
 
 
+@pytest.mark.parametrize("argv, message", [
+    (["plot", SIXBAR, "--att", "40"], "plot has no option '--att'; did you mean '--at'? "
+                                      "(see 'geokin plot --help')"),
+    (["plot", "--att=40", SIXBAR], "plot has no option '--att'; did you mean '--at'? "
+                                   "(see 'geokin plot --help')"),
+    (["trace", SIXBAR, "--derivatves"], "trace has no option '--derivatves'; did you mean "
+                                        "'--derivatives'? (see 'geokin trace --help')"),
+    (["analyze", SIXBAR, "--jsno"], "analyze has no option '--jsno'; did you mean '--json'? "
+                                    "(see 'geokin analyze --help')"),
+    (["check", SIXBAR, "--json"], "check has no option '--json' (see 'geokin check --help')"),
+    (["trace", SIXBAR, "-x"], "trace has no option '-x' (see 'geokin trace --help')"),
+    (["trace", SIXBAR, "other.toml"], "trace does not take the argument 'other.toml' "
+                                      "(see 'geokin trace --help')"),
+    (["--verison"], "geokin has no option '--verison'; did you mean '--version'? "
+                    "(see 'geokin --help')"),
+])
+def test_an_unknown_option_is_named_by_its_command_with_the_closest_one(capsys, argv,
+                                                                        message):
+    status, out, err = run(capsys, *argv)
+    assert (status, out, err) == (2, "", f"geokin: error: {message}\n")
+
+
+@pytest.mark.parametrize("argv, suffix", [
+    (["trace", SIXBAR], ".csv"), (["plot", SIXBAR], ".png"),
+    (["plot", SIXBAR, "--kinematics"], ".svg"), (["animate", SIXBAR], ".gif"),
+])
+def test_a_missing_output_folder_is_said_in_the_same_words_by_every_command(
+        capsys, tmp_path, monkeypatch, argv, suffix):
+    def no_sweep(*args, **kwargs):
+        raise AssertionError("swept before the folder was checked")
+
+    monkeypatch.setattr("geokin.cli.run_sweep", no_sweep)
+    path = tmp_path / "missing" / f"out{suffix}"
+    status, out, err = run(capsys, *argv, "-o", path)
+    assert (status, out) == (2, "")
+    assert err == (f"geokin: error: cannot write '{path}': the folder '{path.parent}' does not "
+                   "exist\n")
+    file = tmp_path / "file"
+    file.write_text("")
+    status, _, err = run(capsys, *argv, "-o", file / f"out{suffix}")
+    assert err == f"geokin: error: cannot write '{file / f'out{suffix}'}': '{file}' is not a " \
+                  "folder\n"
+
+
 def test_help_and_version_exit_0(capsys):
     status, out, _ = run(capsys, "--help")
     assert status == 0
