@@ -137,6 +137,13 @@ def _sample(lo, hi, samples=None, step=None, *, label="--range") -> np.ndarray:
     return np.linspace(lo, hi, samples)
 
 
+def _range_asked(first, args) -> tuple[float, float]:
+    """Return the first input's range to sweep, in script units: --range or the declared one."""
+    if args.range is not None:
+        return tuple(args.range)
+    return to_script(first, first.range[0]), to_script(first, first.range[1])
+
+
 def sweep_values(construction: Construction, args: argparse.Namespace) -> dict[str, np.ndarray]:
     """Return the input values, in script units, asked for by the sweep options."""
     inputs = list(construction.inputs.values())
@@ -146,8 +153,7 @@ def sweep_values(construction: Construction, args: argparse.Namespace) -> dict[s
             raise UsageError("this construction has no input to sweep")
         return {}
     first, *others = inputs
-    lo, hi = (args.range if args.range is not None
-              else (to_script(first, first.range[0]), to_script(first, first.range[1])))
+    lo, hi = _range_asked(first, args)
     label = "--range" if args.range is not None else f"input {first.name}: range"
     if args.samples is not None:
         values = _sample(lo, hi, samples=args.samples, label=label)
@@ -179,6 +185,11 @@ def motion_of(path: str | os.PathLike[str], args: argparse.Namespace,
         if not values:
             raise UsageError("--at needs a construction with an input")
         name = next(iter(values))
+        first = construction.inputs[name]
+        lo, hi = _range_asked(first, args)
+        if not min(lo, hi) - 1e-9 * max(1.0, abs(at)) <= at <= max(lo, hi) + 1e-9 * max(
+                1.0, abs(at)):
+            raise _outside(at, first, lo, hi, "the sweep")
         values, index = _insert(values, name, at)
     radians = {name: from_script(construction.inputs[name], v) for name, v in values.items()}
     result = run_sweep(construction, radians or None)
@@ -199,8 +210,12 @@ def _circuit_of(construction, args, at):
     result = circuit(construction, first, samples_per_pass=args.samples or 361)
     index = None
     if at is not None:
-        result, index = _circuit_at(result, from_script(
-            construction.inputs[next(iter(result.inputs))], at))
+        inp = construction.inputs[next(iter(result.inputs))]
+        path = result.input_values
+        if not path.min() <= from_script(inp, at) <= path.max():
+            raise _outside(at, inp, to_script(inp, path.min()), to_script(inp, path.max()),
+                           "the circuit")
+        result, index = _circuit_at(result, from_script(inp, at))
     values = {name: to_script_array(construction.inputs[name], v)
               for name, v in result.inputs.items()}
     return ScriptSweep(construction, result, values), index
@@ -221,6 +236,13 @@ def _circuit_at(result, at):
     inputs = {k: np.insert(v, i + 1, at if k == name else v[i]) for k, v in result.inputs.items()}
     branches = {k: np.insert(b, i + 1, b[i]) for k, b in result.branches.items()}
     return evaluate(result.construction, inputs, len(path) + 1, branches, track=False), i + 1
+
+
+def _outside(at, inp, start, end, what) -> UsageError:
+    """Refuse an --at beyond the values swept, naming them: drawing there would extrapolate."""
+    swept = (f"{_format_value(inp, start)} alone" if start == end
+             else f"{start:g} to {_format_value(inp, end)}")
+    return UsageError(f"--at {at:g} is outside {what} of input {quote(inp.name)}: {swept}")
 
 
 def _insert(values: dict, name: str, at: float):
@@ -480,8 +502,8 @@ def add_plot(subparsers: Subparsers) -> None:
     p.add_argument("-o", "--output", metavar="FILE",
                    help="FILE.png or FILE.svg (default: the script's name with .png, here)")
     p.add_argument("--at", type=_finite, metavar="VALUE",
-                   help="the first input's value to draw, in script units (default: the "
-                        "first sample that can be assembled)")
+                   help="the first input's value to draw, in script units, within the range "
+                        "swept (default: the first sample that can be assembled)")
     p.add_argument("--title", help="the figure's title (default: the construction's name)")
     p.add_argument("--kinematics", action="store_true",
                    help="instead of the mechanism, plot the angle, angular velocity and "

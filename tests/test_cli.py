@@ -324,9 +324,39 @@ def test_plot_svg_and_a_value_between_samples(capsys, tmp_path):
 
 
 def test_plot_where_it_cannot_be_assembled_warns(capsys, tmp_path):
-    status, _, err = run(capsys, "plot", CRANK, "-o", tmp_path / "x.png", "--at", 140)
+    status, _, err = run(capsys, "plot", CRANK, "-o", tmp_path / "x.png", "--range", -140, 140,
+                         "--at", 140)
     assert status == 0
     assert "warning: theta2 = 140 deg: node 'C' cannot be assembled" in err
+
+
+@pytest.mark.parametrize("argv, message", [
+    ([SIXBAR, "--at", 5000], "--at 5000 is outside the sweep of input 'theta': 0 to 1800 deg"),
+    ([SIXBAR, "--at", -1], "--at -1 is outside the sweep of input 'theta': 0 to 1800 deg"),
+    ([SIXBAR, "--range", 30, 0, "--at", 40], "--at 40 is outside the sweep of input 'theta': "
+                                             "30 to 0 deg"),
+    ([SIXBAR, "--range", 40, 40, "--samples", 1, "--at", 41], "--at 41 is outside the sweep of "
+                                                              "input 'theta': 40 deg alone"),
+    ([CRANK, "--at", 140], "--at 140 is outside the sweep of input 'theta2': -132 to 132 deg"),
+    ([CRANK, "--circuit", "--at", 140], "--at 140 is outside the circuit of input 'theta2': "
+                                        "-132.177 to 132.177 deg"),
+])
+def test_plot_refuses_a_value_outside_the_sweep_with_its_range(capsys, tmp_path, argv,
+                                                               message):
+    path = tmp_path / "x.png"
+    status, out, err = run(capsys, "plot", *argv, "-o", path)
+    assert (status, out, err) == (2, "", f"geokin: error: {message}\n")
+    assert not path.exists()
+
+
+def test_plot_at_the_ends_of_the_range(capsys, tmp_path):
+    # the declared range, not only the samples: the six-bar's last sample is 1792
+    for at in (0, 1800, 1800 + 1e-10):
+        status, _, err = run(capsys, "plot", SIXBAR, "--at", at, "-o", tmp_path / "x.svg")
+        assert status == 0 and err == f"wrote {tmp_path / 'x.svg'}\n"
+    status, _, err = run(capsys, "plot", SIXBAR, "--range", 30, 0, "--at", 20, "-o",
+                         tmp_path / "x.svg")
+    assert status == 0 and err == f"wrote {tmp_path / 'x.svg'}\n"
 
 
 def test_animate_gif_has_the_frames_asked_for(capsys, tmp_path):
