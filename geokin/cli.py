@@ -30,7 +30,9 @@ and ``--samples N`` or ``--step S`` for the first input (other inputs are
 swept over their own ranges with as many samples), or ``--circuit`` for the
 first input's whole circuit. Errors are printed on standard error without a
 traceback, one line each with what came from a script escaped, and the exit
-status is 2. Every output file is written whole or not at all
+status is 2; a construction that cannot be assembled at any sample is said
+so, naming the node that fails and why, with exit status 1 and no output
+file. Every output file is written whole or not at all
 (:mod:`geokin.atomic`): Ctrl-C exits with status 130 and leaves the old file.
 
 Adding a command takes a function ``run_<name>(args) -> int`` and a
@@ -69,7 +71,7 @@ from .circuits import circuit
 from .construction import MAX_SAMPLES, Construction, whole_steps
 from .engine import evaluate
 from .engine import sweep as run_sweep
-from .errors import GeokinError, did_you_mean, quote
+from .errors import AssemblyError, GeokinError, did_you_mean, quote
 from .io import EXPORT_FORMATS, columns, export_sweep, load, script_steps, write_csv
 from .kinematics import motion
 from .results import Sweep
@@ -192,7 +194,8 @@ def motion_of(path: str | os.PathLike[str], args: argparse.Namespace,
             raise _outside(at, first, lo, hi, "the sweep")
         values, index = _insert(values, name, at)
     radians = {name: from_script(construction.inputs[name], v) for name, v in values.items()}
-    result = run_sweep(construction, radians or None)
+    # nothing to write or draw if no sample assembles: say why instead
+    result = run_sweep(construction, radians or None).require_assembled()
     return ScriptSweep(construction, result, values), index
 
 
@@ -290,6 +293,9 @@ def run_check(args: argparse.Namespace) -> int:
             _check_one(path)
         except BrokenPipeError:
             raise
+        except AssemblyError as err:
+            _print_error(err, path)
+            status = max(status, 1)
         except (GeokinError, OSError) as err:
             _print_error(err)
             status = 2
@@ -349,6 +355,7 @@ def _check_one(path):
     for event in s.events:
         _print_lines(f"  at {_inputs_text(c, s.event_inputs(event), event.index)}: node "
                      f"{event.node!r} changes branch from {event.before} to {event.after}")
+    s.require_assembled()
 
 
 def _sample_text(c, s, i) -> str:
@@ -683,12 +690,15 @@ def _describe(err: BaseException) -> str:
         return f"({type(err).__name__} with a message that cannot be shown)"
 
 
-def _print_error(err):
+def _print_error(err, script=None):
+    """Print an error in one line, after the script it is about if the error does not name it."""
     if isinstance(err, OSError) and not isinstance(err, GeokinError):
         name = err.filename if err.filename is not None else ""
         message = f"cannot open {shorten(str(name), 1000)!r}: {err.strerror or _describe(err)}"
     else:
         message = _describe(err)
+    if script is not None:
+        message = f"{shorten(str(script), 1000)}: {message}"
     print(f"geokin: error: {one_line(message)}", file=sys.stderr)
 
 
@@ -717,10 +727,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     Returns
     -------
     int
-        The exit status: 0 on success, 2 for any error (printed on standard
-        error) and 130 after Ctrl-C, which leaves every output file as it
-        was. SIGTERM cleans up the same way, then ends the process by that
-        signal.
+        The exit status: 0 on success, 1 when the construction cannot be
+        assembled at any sample (nothing is written), 2 for any other error
+        (a bad script or argument; printed on standard error) and 130 after
+        Ctrl-C, which leaves every output file as it was. SIGTERM cleans up
+        the same way, then ends the process by that signal.
     """
     sigterm = None
     if threading.current_thread() is threading.main_thread():
@@ -736,6 +747,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _run(argv) -> int:
+    args = None
     try:
         parser = build_parser()
         try:
@@ -747,6 +759,9 @@ def _run(argv) -> int:
         # the reader has gone: stop quietly, and keep Python from complaining at exit
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except AssemblyError as err:  # the script is valid, its mechanism does not assemble
+        _print_error(err, getattr(args, "script", None))
+        return 1
     except (GeokinError, OSError) as err:
         _print_error(err)
         return 2

@@ -74,6 +74,95 @@ def test_check_a_bad_script_exits_2_with_the_place_of_the_error(capsys, tmp_path
     assert "construction 'six-bar'" in out  # the good script is still checked
 
 
+NEVER = """\
+[construction]
+name = "too short"
+trace = ["B"]
+[inputs.theta]
+range = [0, 360]
+[points]
+O2 = { op = "fixed", at = [0, 0] }
+O4 = { op = "fixed", at = [40, 0] }
+A = { op = "polar", origin = "O2", distance = 10, angle = "theta" }
+B = { op = "circle_circle", centers = ["A", "O4"], radii = [5, 5], branch = "left" }
+[links]
+frame = ["O2", "O4"]
+crank = ["O2", "A"]
+coupler = ["A", "B"]
+rocker = ["O4", "B"]
+"""
+"""A four-bar whose coupler and rocker (5 and 5) cannot reach across: nothing assembles."""
+
+NEVER_ERROR = ("no sample can be assembled: node 'B' fails at all 361 samples: no intersection: "
+               "the curves do not meet")
+
+
+@pytest.fixture
+def never(tmp_path):
+    path = tmp_path / "never.toml"
+    path.write_text(NEVER)
+    return path
+
+
+@pytest.mark.parametrize("argv, output, message", [
+    (["trace"], None, NEVER_ERROR),
+    (["trace", "--derivatives", "-o"], "out.csv", NEVER_ERROR),
+    (["trace", "-o"], "out.npz", NEVER_ERROR),
+    (["trace", "--samples", 1], None, NEVER_ERROR.replace("all 361 samples", "the one sample")),
+    (["plot", "-o"], "out.png", NEVER_ERROR),
+    (["plot", "--at", 90, "-o"], "out.png", NEVER_ERROR),
+    (["plot", "--kinematics", "-o"], "out.png", NEVER_ERROR),
+    (["animate", "--no-progress", "-o"], "out.gif", NEVER_ERROR),
+    (["plot", "--circuit", "-o"], "out.png", "the construction cannot be assembled anywhere "
+                                             "over a whole turn of input 'theta': node 'B': no "
+                                             "intersection: the curves do not meet"),
+    (["analyze"], None, "the construction cannot be assembled anywhere over a whole turn of "
+                        "input 'theta': node 'B': no intersection: the curves do not meet"),
+])
+def test_a_construction_that_never_assembles_exits_1_writing_nothing(capsys, tmp_path, never,
+                                                                     argv, output, message):
+    args = [argv[0], never, *argv[1:]]
+    if output is not None:
+        args.append(tmp_path / output)
+    status, out, err = run(capsys, *args)
+    assert (status, out, err) == (1, "", f"geokin: error: {never}: {message}\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["never.toml"]
+
+
+def test_a_construction_that_never_assembles_leaves_the_old_output(capsys, tmp_path, never):
+    for name in ("old.csv", "old.png"):
+        (tmp_path / name).write_text("the old file")
+    assert run(capsys, "trace", never, "-o", tmp_path / "old.csv")[0] == 1
+    assert run(capsys, "plot", never, "-o", tmp_path / "old.png")[0] == 1
+    for name in ("old.csv", "old.png"):
+        assert (tmp_path / name).read_text() == "the old file"
+
+
+def test_check_of_a_construction_that_never_assembles_exits_1(capsys, tmp_path, never):
+    status, out, err = run(capsys, "check", never, SIXBAR)
+    assert status == 1
+    assert err == f"geokin: error: {never}: {NEVER_ERROR}\n"
+    assert ("sweep: 361 samples, 0 assembled, 361 cannot be: first at theta = 0 deg: node 'B': "
+            "no intersection: the curves do not meet; 0 branch changes") in out
+    assert "construction 'six-bar'" in out  # the next script is still checked
+    # a script that cannot be read weighs more: the status says the worse
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[points]\nA = { op = "fixd", at = [0, 0] }\n')
+    status, _, err = run(capsys, "check", never, bad)
+    assert status == 2 and err.count("geokin: error: ") == 2
+
+
+def test_a_construction_that_assembles_somewhere_is_not_an_error(capsys, never):
+    # with the rocker's pivot 15 from the crank's, the crank pin comes within reach (10)
+    # of it for part of the turn: today's NaN where it does not
+    script = never.with_name("some.toml")
+    script.write_text(NEVER.replace("at = [40, 0]", "at = [15, 0]"))
+    status, out, err = run(capsys, "trace", script, "--points", "B")
+    assert status == 0 and err == ""
+    valid = read_csv(out)[1][:, 1]
+    assert 0 < valid.sum() < len(valid)
+
+
 # -- trace -------------------------------------------------------------------------
 
 
