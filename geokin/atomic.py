@@ -35,6 +35,7 @@ Examples
 from __future__ import annotations
 
 import contextlib
+import errno
 import os
 import secrets
 import signal
@@ -43,7 +44,7 @@ import threading
 
 from .errors import GeokinError
 
-__all__ = ["OutputError", "replacing", "replacing_path"]
+__all__ = ["OutputError", "replacing", "replacing_path", "require_folder"]
 
 
 class OutputError(GeokinError, OSError):
@@ -70,6 +71,29 @@ class OutputError(GeokinError, OSError):
 
 def _output_error(err: OSError, target: str) -> OutputError:
     return OutputError(err.errno, err.strerror or str(err), target)
+
+
+def require_folder(path: str | os.PathLike[str]) -> None:
+    """Raise :class:`OutputError` unless the folder that would hold ``path`` exists.
+
+    Check it before the work whose result the file would hold: a missing
+    folder is then reported before a long job, not after it, and in the same
+    words whatever the file.
+
+    Examples
+    --------
+    >>> try:
+    ...     require_folder("no/such/folder/out.csv")
+    ... except OutputError as err:
+    ...     print(err)
+    cannot write 'no/such/folder/out.csv': the folder 'no/such/folder' does not exist
+    """
+    folder = os.path.dirname(os.fspath(path)) or "."
+    if os.path.isdir(folder):
+        return
+    if os.path.exists(folder):
+        raise OutputError(errno.ENOTDIR, f"{folder!r} is not a folder", os.fspath(path))
+    raise OutputError(errno.ENOENT, f"the folder {folder!r} does not exist", os.fspath(path))
 
 
 @contextlib.contextmanager

@@ -30,7 +30,9 @@ and ``--samples N`` or ``--step S`` for the first input (other inputs are
 swept over their own ranges with as many samples), or ``--circuit`` for the
 first input's whole circuit. Errors are printed on standard error without a
 traceback, one line each with what came from a script escaped, and the exit
-status is 2. Every output file is written whole or not at all
+status is 2; a construction that cannot be assembled at any sample is said
+so, naming the node that fails and why, with exit status 1 and no output
+file. Every output file is written whole or not at all
 (:mod:`geokin.atomic`): Ctrl-C exits with status 130 and leaves the old file.
 
 Adding a command takes a function ``run_<name>(args) -> int`` and a
@@ -64,11 +66,12 @@ import numpy as np
 
 from . import __version__
 from .analysis import analyze, degrees_of_freedom
+from .atomic import require_folder
 from .circuits import circuit
 from .construction import MAX_SAMPLES, Construction, whole_steps
 from .engine import evaluate
 from .engine import sweep as run_sweep
-from .errors import GeokinError
+from .errors import AssemblyError, GeokinError, did_you_mean, quote
 from .io import EXPORT_FORMATS, columns, export_sweep, load, script_steps, write_csv
 from .kinematics import motion
 from .results import Sweep
@@ -114,8 +117,11 @@ def _shortest(value: float) -> str:
 
 
 def _sample(lo, hi, samples=None, step=None, *, label="--range") -> np.ndarray:
+    if samples == 1:  # one configuration: the start of the range
+        return np.array([float(lo)])
     if lo == hi:
-        raise UsageError(f"{label} {lo:g} {hi:g}: the two ends are equal, nothing to sweep")
+        raise UsageError(f"{label} {lo:g} {hi:g}: the two ends are equal, nothing to sweep "
+                         "(--samples 1 gives that one value)")
     if not math.isfinite(hi - lo):
         raise UsageError(f"{label} {lo:g} {hi:g}: too wide to compute with; the span must be "
                          f"below {sys.float_info.max:.1e}")
@@ -133,6 +139,13 @@ def _sample(lo, hi, samples=None, step=None, *, label="--range") -> np.ndarray:
     return np.linspace(lo, hi, samples)
 
 
+def _range_asked(first, args) -> tuple[float, float]:
+    """Return the first input's range to sweep, in script units: --range or the declared one."""
+    if args.range is not None:
+        return tuple(args.range)
+    return to_script(first, first.range[0]), to_script(first, first.range[1])
+
+
 def sweep_values(construction: Construction, args: argparse.Namespace) -> dict[str, np.ndarray]:
     """Return the input values, in script units, asked for by the sweep options."""
     inputs = list(construction.inputs.values())
@@ -142,8 +155,7 @@ def sweep_values(construction: Construction, args: argparse.Namespace) -> dict[s
             raise UsageError("this construction has no input to sweep")
         return {}
     first, *others = inputs
-    lo, hi = (args.range if args.range is not None
-              else (to_script(first, first.range[0]), to_script(first, first.range[1])))
+    lo, hi = _range_asked(first, args)
     label = "--range" if args.range is not None else f"input {first.name}: range"
     if args.samples is not None:
         values = _sample(lo, hi, samples=args.samples, label=label)
@@ -175,9 +187,15 @@ def motion_of(path: str | os.PathLike[str], args: argparse.Namespace,
         if not values:
             raise UsageError("--at needs a construction with an input")
         name = next(iter(values))
+        first = construction.inputs[name]
+        lo, hi = _range_asked(first, args)
+        if not min(lo, hi) - 1e-9 * max(1.0, abs(at)) <= at <= max(lo, hi) + 1e-9 * max(
+                1.0, abs(at)):
+            raise _outside(at, first, lo, hi, "the sweep")
         values, index = _insert(values, name, at)
     radians = {name: from_script(construction.inputs[name], v) for name, v in values.items()}
-    result = run_sweep(construction, radians or None)
+    # nothing to write or draw if no sample assembles: say why instead
+    result = run_sweep(construction, radians or None).require_assembled()
     return ScriptSweep(construction, result, values), index
 
 
@@ -188,12 +206,19 @@ def _circuit_of(construction, args, at):
     if args.range is not None or args.step is not None:
         raise UsageError("--circuit runs between the limits of the motion: it takes "
                          "--samples (per pass) but not --range or --step")
+    if args.samples == 1:
+        raise UsageError("--circuit --samples counts the samples of each pass between two "
+                         "limits: at least 2")
     first = next(iter(construction.inputs))
     result = circuit(construction, first, samples_per_pass=args.samples or 361)
     index = None
     if at is not None:
-        result, index = _circuit_at(result, from_script(
-            construction.inputs[next(iter(result.inputs))], at))
+        inp = construction.inputs[next(iter(result.inputs))]
+        path = result.input_values
+        if not path.min() <= from_script(inp, at) <= path.max():
+            raise _outside(at, inp, to_script(inp, path.min()), to_script(inp, path.max()),
+                           "the circuit")
+        result, index = _circuit_at(result, from_script(inp, at))
     values = {name: to_script_array(construction.inputs[name], v)
               for name, v in result.inputs.items()}
     return ScriptSweep(construction, result, values), index
@@ -214,6 +239,13 @@ def _circuit_at(result, at):
     inputs = {k: np.insert(v, i + 1, at if k == name else v[i]) for k, v in result.inputs.items()}
     branches = {k: np.insert(b, i + 1, b[i]) for k, b in result.branches.items()}
     return evaluate(result.construction, inputs, len(path) + 1, branches, track=False), i + 1
+
+
+def _outside(at, inp, start, end, what) -> UsageError:
+    """Refuse an --at beyond the values swept, naming them: drawing there would extrapolate."""
+    swept = (f"{_format_value(inp, start)} alone" if start == end
+             else f"{start:g} to {_format_value(inp, end)}")
+    return UsageError(f"--at {at:g} is outside {what} of input {quote(inp.name)}: {swept}")
 
 
 def _insert(values: dict, name: str, at: float):
@@ -261,6 +293,9 @@ def run_check(args: argparse.Namespace) -> int:
             _check_one(path)
         except BrokenPipeError:
             raise
+        except AssemblyError as err:
+            _print_error(err, path)
+            status = max(status, 1)
         except (GeokinError, OSError) as err:
             _print_error(err)
             status = 2
@@ -320,6 +355,7 @@ def _check_one(path):
     for event in s.events:
         _print_lines(f"  at {_inputs_text(c, s.event_inputs(event), event.index)}: node "
                      f"{event.node!r} changes branch from {event.before} to {event.after}")
+    s.require_assembled()
 
 
 def _sample_text(c, s, i) -> str:
@@ -339,16 +375,21 @@ def _inputs_text(c, values, i) -> str:
 # -- trace -------------------------------------------------------------------------
 
 
-def _positive_int(text):
+def _positive_int(text, least=2):
     try:
         value = int(text)
     except ValueError:  # also for more digits than Python reads
         raise argparse.ArgumentTypeError(f"expected an integer, got {shorten(text)!r}") from None
-    if value < 2:
-        raise argparse.ArgumentTypeError(f"expected at least 2, got {value}")
+    if value < least:
+        raise argparse.ArgumentTypeError(f"expected at least {least}, got {value}")
     if value > MAX_SAMPLES:
         raise argparse.ArgumentTypeError(f"at most {MAX_SAMPLES}, got {value}")
     return value
+
+
+def _sample_count(text):
+    """Read the value of --samples: one sample is one configuration."""
+    return _positive_int(text, least=1)
 
 
 def _finite(text):
@@ -367,8 +408,9 @@ def _add_sweep_options(p):
     group.add_argument("--range", nargs=2, type=_finite, metavar=("A", "B"),
                        help="sweep from A to B instead of the declared range")
     spacing = group.add_mutually_exclusive_group()
-    spacing.add_argument("--samples", type=_positive_int, metavar="N",
-                         help="N samples, both ends included")
+    spacing.add_argument("--samples", type=_sample_count, metavar="N",
+                         help="N samples, both ends included (1: the start of the range "
+                              "alone)")
     spacing.add_argument("--step", type=_finite, metavar="S",
                          help="samples S apart from the start of the range towards its end "
                               "(the size of S counts; the range gives the direction)")
@@ -426,10 +468,7 @@ def _selected_points(construction, text):
 def run_trace(args: argparse.Namespace) -> int:
     if args.output is not None:
         _output_kind(args.output, EXPORT_FORMATS, "a trace")
-    folder = pathlib.Path(args.output or ".").parent
-    if not folder.is_dir():  # say so before a long sweep, not after
-        raise UsageError(f"cannot write {args.output!r}: the folder {str(folder)!r} does not "
-                         "exist")
+        require_folder(args.output)  # say so before a long sweep, not after
     m, _ = motion_of(args.script, args)
     points = _selected_points(m.construction, args.points)
     rates = None
@@ -470,8 +509,8 @@ def add_plot(subparsers: Subparsers) -> None:
     p.add_argument("-o", "--output", metavar="FILE",
                    help="FILE.png or FILE.svg (default: the script's name with .png, here)")
     p.add_argument("--at", type=_finite, metavar="VALUE",
-                   help="the first input's value to draw, in script units (default: the "
-                        "first sample that can be assembled)")
+                   help="the first input's value to draw, in script units, within the range "
+                        "swept (default: the first sample that can be assembled)")
     p.add_argument("--title", help="the figure's title (default: the construction's name)")
     p.add_argument("--kinematics", action="store_true",
                    help="instead of the mechanism, plot the angle, angular velocity and "
@@ -484,10 +523,13 @@ def run_plot(args: argparse.Namespace) -> int:
     output = args.output or pathlib.Path(args.script).with_suffix(".png").name
     plotting = _plotting()
     _output_kind(output, plotting.SAVE_FORMATS, "a picture")
+    require_folder(output)
     if args.kinematics:
         if args.at is not None:
             raise UsageError("--at draws one pose; --kinematics plots against time: "
                              "give one or the other")
+        if args.samples == 1:
+            raise UsageError("--kinematics plots against time: it needs at least 2 samples")
         m, _ = motion_of(args.script, args)
         first = next(iter(m.construction.inputs), None)
         if first is None:
@@ -533,6 +575,7 @@ def add_animate(subparsers: Subparsers) -> None:
 def run_animate(args: argparse.Namespace) -> int:
     plotting = _plotting()
     _output_kind(args.output, plotting.ANIMATION_FORMATS, "an animation")
+    require_folder(args.output)
     if not plotting.MIN_FPS <= args.fps <= plotting.MAX_FPS:
         raise UsageError(f"--fps must be from {plotting.MIN_FPS:g} to {plotting.MAX_FPS:g} "
                          f"frames per second, got {args.fps:g}")
@@ -579,17 +622,50 @@ COMMANDS = [add_check, add_trace, add_plot, add_animate, add_analyze]
 
 
 class _Parser(argparse.ArgumentParser):
-    """An argument parser that takes negative numbers as values and errs in one line."""
+    """An argument parser that takes negative numbers as values and errs in one line.
+
+    An argument that a command does not take is reported by that command,
+    with the closest of its options.
+    """
 
     def __init__(self, *args, **kwargs):
         super().__init__(*args, **kwargs)
         # so that `--range -1e3 0` and `--at -inf` are read as values, not as options
         self._negative_number_matcher = re.compile(
             r"^-(\d+\.?\d*|\.\d+)([eE][-+]?\d+)?$|^-(inf|infinity|nan)$", re.IGNORECASE)
+        self.commands: dict[str, _Parser] = {}  # name -> its parser, for the top-level one
 
     def error(self, message):
         """Print one line naming what is wrong, without the usage, and exit with status 2."""
         self.exit(2, f"geokin: error: {one_line(message)} (see '{self.prog} --help')\n")
+
+    def parse_args(self, args=None, namespace=None):
+        """Parse the arguments; exit naming one that no option takes, where it was given."""
+        args = sys.argv[1:] if args is None else list(args)
+        for arg in args:  # options before the command are the program's own
+            if not arg.startswith("-") or self._negative_number_matcher.match(arg):
+                break
+            name = arg.split("=", 1)[0]
+            if not any(option.startswith(name) for option in self._option_string_actions):
+                self.refuse([arg], None)
+        parsed, extra = self.parse_known_args(args, namespace)
+        if extra:
+            name = getattr(parsed, "command", None)
+            (self.commands.get(name) or self).refuse(extra, name)
+        return parsed
+
+    def refuse(self, extra: list[str], command: str | None) -> None:
+        """Exit naming the first argument in ``extra``, an option before a value."""
+        who = command or self.prog
+        options = [a for a in extra if a.startswith("-") and a != "-"
+                   and not self._negative_number_matcher.match(a)]
+        if not options:
+            self.error(f"{who} does not take the argument {quote(extra[0])}")
+        name = options[0].split("=", 1)[0]
+        # a long option has a closest one; a letter is as near to any other letter
+        close = did_you_mean(name, [o for o in self._option_string_actions
+                                    if o.startswith("--")]) if name.startswith("--") else ""
+        self.error(f"{who} has no option {quote(name)}{close}")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -602,6 +678,7 @@ def build_parser() -> argparse.ArgumentParser:
     subparsers = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for add in COMMANDS:
         add(subparsers)
+    parser.commands = dict(subparsers.choices)
     return parser
 
 
@@ -613,12 +690,15 @@ def _describe(err: BaseException) -> str:
         return f"({type(err).__name__} with a message that cannot be shown)"
 
 
-def _print_error(err):
+def _print_error(err, script=None):
+    """Print an error in one line, after the script it is about if the error does not name it."""
     if isinstance(err, OSError) and not isinstance(err, GeokinError):
         name = err.filename if err.filename is not None else ""
         message = f"cannot open {shorten(str(name), 1000)!r}: {err.strerror or _describe(err)}"
     else:
         message = _describe(err)
+    if script is not None:
+        message = f"{shorten(str(script), 1000)}: {message}"
     print(f"geokin: error: {one_line(message)}", file=sys.stderr)
 
 
@@ -647,10 +727,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     Returns
     -------
     int
-        The exit status: 0 on success, 2 for any error (printed on standard
-        error) and 130 after Ctrl-C, which leaves every output file as it
-        was. SIGTERM cleans up the same way, then ends the process by that
-        signal.
+        The exit status: 0 on success, 1 when the construction cannot be
+        assembled at any sample (nothing is written), 2 for any other error
+        (a bad script or argument; printed on standard error) and 130 after
+        Ctrl-C, which leaves every output file as it was. SIGTERM cleans up
+        the same way, then ends the process by that signal.
     """
     sigterm = None
     if threading.current_thread() is threading.main_thread():
@@ -666,6 +747,7 @@ def main(argv: Sequence[str] | None = None) -> int:
 
 
 def _run(argv) -> int:
+    args = None
     try:
         parser = build_parser()
         try:
@@ -677,6 +759,9 @@ def _run(argv) -> int:
         # the reader has gone: stop quietly, and keep Python from complaining at exit
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 0
+    except AssemblyError as err:  # the script is valid, its mechanism does not assemble
+        _print_error(err, getattr(args, "script", None))
+        return 1
     except (GeokinError, OSError) as err:
         _print_error(err)
         return 2

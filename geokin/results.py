@@ -16,7 +16,7 @@ import numpy as np
 
 from .compat import renamed_attribute
 from .construction import Compiled
-from .errors import did_you_mean
+from .errors import AssemblyError, did_you_mean, quote
 from .frozen import Frozen, read_only
 from .nodes import REASONS
 
@@ -176,6 +176,64 @@ class Sweep(Frozen):
         if not step.node.branch_names:
             raise KeyError(f"point {node!r} is a {step.node.kind} node: it has one root")
         return np.array(step.node.branch_names, dtype=object)[self.branches[node]]
+
+    def require_assembled(self) -> Sweep:
+        """Return this sweep if any of its samples can be assembled; raise if none can.
+
+        A sweep where some samples cannot be assembled is data (NaN there);
+        one where none can has nothing to show, which a caller that draws or
+        writes the motion wants to say rather than write NaN.
+
+        Returns
+        -------
+        Sweep
+            This sweep.
+
+        Raises
+        ------
+        AssemblyError
+            Naming the node that fails and why, with the number of samples
+            where it does: every cause of failure, the most frequent first
+            (up to three). Its ``node`` is the most frequent failing node.
+
+        Examples
+        --------
+        A four-bar whose coupler and rocker are too short to meet:
+
+        >>> from geokin import Construction, sweep
+        >>> c = Construction("too short")
+        >>> c.input("theta")
+        >>> c.fixed("O2", 0, 0)
+        >>> c.fixed("O4", 40, 0)
+        >>> c.polar("A", "O2", 10, "theta")
+        >>> c.circle_circle("B", ("A", "O4"), (5, 5), branch="left")
+        >>> sweep(c, np.radians([0.0, 90.0, 180.0])).require_assembled()
+        ... # doctest: +NORMALIZE_WHITESPACE
+        Traceback (most recent call last):
+        ...
+        geokin.errors.AssemblyError: no sample can be assembled: node 'B' fails at all 3
+        samples: no intersection: the curves do not meet
+        """
+        n = len(self)
+        if n == 0 or self.valid.any():
+            return self
+        key = self.failed_step.astype(np.int64) * 256 + self.reason_code.astype(np.int64)
+        keys, first, counts = np.unique(key, return_index=True, return_counts=True)
+        order = sorted(range(len(keys)), key=lambda i: (-counts[i], first[i]))
+        names, reasons = self.failed_node, self.failure_reason
+        causes = [(names[first[i]], reasons[first[i]], int(counts[i])) for i in order]
+        node, reason, count = causes[0]
+        if len(causes) == 1:
+            where = "the one sample" if n == 1 else f"all {n:,} samples"
+            text = f"node {quote(node)} fails at {where}: {reason}"
+        else:
+            shown = [f"node {quote(name)} at {k:,} of {n:,} samples ({why})"
+                     for name, why, k in causes[:3]]
+            if len(causes) > 3:
+                rest = sum(k for _, _, k in causes[3:])
+                shown.append(f"{len(causes) - 3} other cause(s) at {rest:,}")
+            text = "nodes fail: " + ", ".join(shown)
+        raise AssemblyError(f"no sample can be assembled: {text}", node=node)
 
     def explain(self, index: int) -> str:
         """Say in words whether sample ``index`` is assembled, and if not why.

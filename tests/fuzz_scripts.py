@@ -464,10 +464,12 @@ def run_case(raw: bytes, folder: pathlib.Path) -> Outcome:
         seconds = time.perf_counter() - start
         lines = (out.getvalue() + err.getvalue()).splitlines()
         bad = [line for line in lines if not line.isprintable()]
-        if status not in (0, 2) or bad or err.getvalue().count("\n") > 1:
+        # 1: a script that loads but assembles at no sample; 2: one refused
+        if status not in (0, 1, 2) or bad or err.getvalue().count("\n") > 1:
             return Outcome(f"check: status {status}, {len(bad)} unescaped lines", seconds,
                            AssertionError("check output"), "cli.py", details=bad[:3])
-        return Outcome("ok" if status == 0 else "check: error", seconds)
+        return Outcome({0: "ok", 1: "check: never assembles"}.get(status, "check: error"),
+                       seconds)
     except Timeout as exc:
         return Outcome(f"timeout at {step}", time.perf_counter() - start, exc, step)
     except (Exception, RecursionError) as exc:  # noqa: B014 - the point is to list them

@@ -74,6 +74,95 @@ def test_check_a_bad_script_exits_2_with_the_place_of_the_error(capsys, tmp_path
     assert "construction 'six-bar'" in out  # the good script is still checked
 
 
+NEVER = """\
+[construction]
+name = "too short"
+trace = ["B"]
+[inputs.theta]
+range = [0, 360]
+[points]
+O2 = { op = "fixed", at = [0, 0] }
+O4 = { op = "fixed", at = [40, 0] }
+A = { op = "polar", origin = "O2", distance = 10, angle = "theta" }
+B = { op = "circle_circle", centers = ["A", "O4"], radii = [5, 5], branch = "left" }
+[links]
+frame = ["O2", "O4"]
+crank = ["O2", "A"]
+coupler = ["A", "B"]
+rocker = ["O4", "B"]
+"""
+"""A four-bar whose coupler and rocker (5 and 5) cannot reach across: nothing assembles."""
+
+NEVER_ERROR = ("no sample can be assembled: node 'B' fails at all 361 samples: no intersection: "
+               "the curves do not meet")
+
+
+@pytest.fixture
+def never(tmp_path):
+    path = tmp_path / "never.toml"
+    path.write_text(NEVER)
+    return path
+
+
+@pytest.mark.parametrize("argv, output, message", [
+    (["trace"], None, NEVER_ERROR),
+    (["trace", "--derivatives", "-o"], "out.csv", NEVER_ERROR),
+    (["trace", "-o"], "out.npz", NEVER_ERROR),
+    (["trace", "--samples", 1], None, NEVER_ERROR.replace("all 361 samples", "the one sample")),
+    (["plot", "-o"], "out.png", NEVER_ERROR),
+    (["plot", "--at", 90, "-o"], "out.png", NEVER_ERROR),
+    (["plot", "--kinematics", "-o"], "out.png", NEVER_ERROR),
+    (["animate", "--no-progress", "-o"], "out.gif", NEVER_ERROR),
+    (["plot", "--circuit", "-o"], "out.png", "the construction cannot be assembled anywhere "
+                                             "over a whole turn of input 'theta': node 'B': no "
+                                             "intersection: the curves do not meet"),
+    (["analyze"], None, "the construction cannot be assembled anywhere over a whole turn of "
+                        "input 'theta': node 'B': no intersection: the curves do not meet"),
+])
+def test_a_construction_that_never_assembles_exits_1_writing_nothing(capsys, tmp_path, never,
+                                                                     argv, output, message):
+    args = [argv[0], never, *argv[1:]]
+    if output is not None:
+        args.append(tmp_path / output)
+    status, out, err = run(capsys, *args)
+    assert (status, out, err) == (1, "", f"geokin: error: {never}: {message}\n")
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["never.toml"]
+
+
+def test_a_construction_that_never_assembles_leaves_the_old_output(capsys, tmp_path, never):
+    for name in ("old.csv", "old.png"):
+        (tmp_path / name).write_text("the old file")
+    assert run(capsys, "trace", never, "-o", tmp_path / "old.csv")[0] == 1
+    assert run(capsys, "plot", never, "-o", tmp_path / "old.png")[0] == 1
+    for name in ("old.csv", "old.png"):
+        assert (tmp_path / name).read_text() == "the old file"
+
+
+def test_check_of_a_construction_that_never_assembles_exits_1(capsys, tmp_path, never):
+    status, out, err = run(capsys, "check", never, SIXBAR)
+    assert status == 1
+    assert err == f"geokin: error: {never}: {NEVER_ERROR}\n"
+    assert ("sweep: 361 samples, 0 assembled, 361 cannot be: first at theta = 0 deg: node 'B': "
+            "no intersection: the curves do not meet; 0 branch changes") in out
+    assert "construction 'six-bar'" in out  # the next script is still checked
+    # a script that cannot be read weighs more: the status says the worse
+    bad = tmp_path / "bad.toml"
+    bad.write_text('[points]\nA = { op = "fixd", at = [0, 0] }\n')
+    status, _, err = run(capsys, "check", never, bad)
+    assert status == 2 and err.count("geokin: error: ") == 2
+
+
+def test_a_construction_that_assembles_somewhere_is_not_an_error(capsys, never):
+    # with the rocker's pivot 15 from the crank's, the crank pin comes within reach (10)
+    # of it for part of the turn: today's NaN where it does not
+    script = never.with_name("some.toml")
+    script.write_text(NEVER.replace("at = [40, 0]", "at = [15, 0]"))
+    status, out, err = run(capsys, "trace", script, "--points", "B")
+    assert status == 0 and err == ""
+    valid = read_csv(out)[1][:, 1]
+    assert 0 < valid.sum() < len(valid)
+
+
 # -- trace -------------------------------------------------------------------------
 
 
@@ -118,6 +207,23 @@ def test_trace_marks_samples_that_cannot_be_assembled(capsys, tmp_path):
     assert list(data) == ["theta2", "valid", "C.x", "C.y"]
     assert data["valid"] == [True, True, True, False, False]
     assert data["C.x"][3] is None and isinstance(data["C.x"][0], float)
+
+
+def test_trace_one_sample_prints_one_configuration(capsys):
+    status, out, err = run(capsys, "trace", SIXBAR, "--samples", 1, "--range", 40, 100,
+                           "--points", "M", "--derivatives")
+    assert status == 0 and err == ""
+    header, one = read_csv(out)
+    assert one.shape == (1, len(header)) and one[0, 0] == 40 and one[0, 1] == 1
+    # the derivatives do not depend on the spacing: the same row as in a longer trace
+    status, out, _ = run(capsys, "trace", SIXBAR, "--range", 40, 100, "--samples", 7,
+                         "--points", "M", "--derivatives")
+    np.testing.assert_allclose(one[0], read_csv(out)[1][0], rtol=1e-12)
+    assert np.isfinite(one).all()
+    # a range of one value, when one sample is asked for
+    status, out, _ = run(capsys, "trace", SIXBAR, "--samples", 1, "--range", 40, 40, "--points",
+                         "M")
+    assert status == 0 and read_csv(out)[1].tolist() == [one[0, [0, 1, 4, 5]].tolist()]
 
 
 def test_trace_json_and_npz_carry_the_csv_fields(capsys, tmp_path):
@@ -165,7 +271,15 @@ def test_trace_derivatives_are_per_second_at_the_declared_speed(capsys):
     (["trace", SIXBAR, "--points", ","], "--points names no point"),
     (["trace", SIXBAR, "--points", "C,,B"], "has an empty name between commas"),
     (["trace", SIXBAR, "--samples", "x"], "argument --samples: expected an integer"),
-    (["trace", SIXBAR, "--samples", "1"], "argument --samples: expected at least 2"),
+    (["trace", SIXBAR, "--samples", "0"], "argument --samples: expected at least 1, got 0"),
+    (["trace", SIXBAR, "--range", "40", "40"], "--range 40 40: the two ends are equal, "
+                                               "nothing to sweep (--samples 1 gives that one"),
+    (["trace", CRANK, "--circuit", "--samples", "1"], "--circuit --samples counts the samples "
+                                                      "of each pass between two limits: at "
+                                                      "least 2"),
+    (["plot", SIXBAR, "--kinematics", "--samples", "1"], "--kinematics plots against time: it "
+                                                         "needs at least 2 samples"),
+    (["animate", SIXBAR, "-o", "out.gif", "--frames", "1"], "--frames: expected at least 2"),
     (["trace", SIXBAR, "--samples", "5", "--step", "1"], "not allowed with argument"),
     (["trace", SIXBAR, "--range", "0"], "argument --range: expected 2 arguments"),
     (["trace", SIXBAR, "--range", "0", "nan"], "expected a finite number"),
@@ -198,6 +312,50 @@ def test_errors_exit_2_without_a_traceback(capsys, argv, message):
     assert status == 2
     assert message in err, err
     assert out == ""
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["plot", SIXBAR, "--att", "40"], "plot has no option '--att'; did you mean '--at'? "
+                                      "(see 'geokin plot --help')"),
+    (["plot", "--att=40", SIXBAR], "plot has no option '--att'; did you mean '--at'? "
+                                   "(see 'geokin plot --help')"),
+    (["trace", SIXBAR, "--derivatves"], "trace has no option '--derivatves'; did you mean "
+                                        "'--derivatives'? (see 'geokin trace --help')"),
+    (["analyze", SIXBAR, "--jsno"], "analyze has no option '--jsno'; did you mean '--json'? "
+                                    "(see 'geokin analyze --help')"),
+    (["check", SIXBAR, "--json"], "check has no option '--json' (see 'geokin check --help')"),
+    (["trace", SIXBAR, "-x"], "trace has no option '-x' (see 'geokin trace --help')"),
+    (["trace", SIXBAR, "other.toml"], "trace does not take the argument 'other.toml' "
+                                      "(see 'geokin trace --help')"),
+    (["--verison"], "geokin has no option '--verison'; did you mean '--version'? "
+                    "(see 'geokin --help')"),
+])
+def test_an_unknown_option_is_named_by_its_command_with_the_closest_one(capsys, argv,
+                                                                        message):
+    status, out, err = run(capsys, *argv)
+    assert (status, out, err) == (2, "", f"geokin: error: {message}\n")
+
+
+@pytest.mark.parametrize("argv, suffix", [
+    (["trace", SIXBAR], ".csv"), (["plot", SIXBAR], ".png"),
+    (["plot", SIXBAR, "--kinematics"], ".svg"), (["animate", SIXBAR], ".gif"),
+])
+def test_a_missing_output_folder_is_said_in_the_same_words_by_every_command(
+        capsys, tmp_path, monkeypatch, argv, suffix):
+    def no_sweep(*args, **kwargs):
+        raise AssertionError("swept before the folder was checked")
+
+    monkeypatch.setattr("geokin.cli.run_sweep", no_sweep)
+    path = tmp_path / "missing" / f"out{suffix}"
+    status, out, err = run(capsys, *argv, "-o", path)
+    assert (status, out) == (2, "")
+    assert err == (f"geokin: error: cannot write '{path}': the folder '{path.parent}' does not "
+                   "exist\n")
+    file = tmp_path / "file"
+    file.write_text("")
+    status, _, err = run(capsys, *argv, "-o", file / f"out{suffix}")
+    assert err == f"geokin: error: cannot write '{file / f'out{suffix}'}': '{file}' is not a " \
+                  "folder\n"
 
 
 def test_help_and_version_exit_0(capsys):
@@ -255,9 +413,39 @@ def test_plot_svg_and_a_value_between_samples(capsys, tmp_path):
 
 
 def test_plot_where_it_cannot_be_assembled_warns(capsys, tmp_path):
-    status, _, err = run(capsys, "plot", CRANK, "-o", tmp_path / "x.png", "--at", 140)
+    status, _, err = run(capsys, "plot", CRANK, "-o", tmp_path / "x.png", "--range", -140, 140,
+                         "--at", 140)
     assert status == 0
     assert "warning: theta2 = 140 deg: node 'C' cannot be assembled" in err
+
+
+@pytest.mark.parametrize("argv, message", [
+    ([SIXBAR, "--at", 5000], "--at 5000 is outside the sweep of input 'theta': 0 to 1800 deg"),
+    ([SIXBAR, "--at", -1], "--at -1 is outside the sweep of input 'theta': 0 to 1800 deg"),
+    ([SIXBAR, "--range", 30, 0, "--at", 40], "--at 40 is outside the sweep of input 'theta': "
+                                             "30 to 0 deg"),
+    ([SIXBAR, "--range", 40, 40, "--samples", 1, "--at", 41], "--at 41 is outside the sweep of "
+                                                              "input 'theta': 40 deg alone"),
+    ([CRANK, "--at", 140], "--at 140 is outside the sweep of input 'theta2': -132 to 132 deg"),
+    ([CRANK, "--circuit", "--at", 140], "--at 140 is outside the circuit of input 'theta2': "
+                                        "-132.177 to 132.177 deg"),
+])
+def test_plot_refuses_a_value_outside_the_sweep_with_its_range(capsys, tmp_path, argv,
+                                                               message):
+    path = tmp_path / "x.png"
+    status, out, err = run(capsys, "plot", *argv, "-o", path)
+    assert (status, out, err) == (2, "", f"geokin: error: {message}\n")
+    assert not path.exists()
+
+
+def test_plot_at_the_ends_of_the_range(capsys, tmp_path):
+    # the declared range, not only the samples: the six-bar's last sample is 1792
+    for at in (0, 1800, 1800 + 1e-10):
+        status, _, err = run(capsys, "plot", SIXBAR, "--at", at, "-o", tmp_path / "x.svg")
+        assert status == 0 and err == f"wrote {tmp_path / 'x.svg'}\n"
+    status, _, err = run(capsys, "plot", SIXBAR, "--range", 30, 0, "--at", 20, "-o",
+                         tmp_path / "x.svg")
+    assert status == 0 and err == f"wrote {tmp_path / 'x.svg'}\n"
 
 
 def test_animate_gif_has_the_frames_asked_for(capsys, tmp_path):
@@ -302,6 +490,17 @@ def test_the_installed_console_script(tmp_path):
     done = subprocess.run(["geokin", "trace", SIXBAR, "--points", "M"], capture_output=True,
                           text=True, timeout=120)
     assert done.returncode == 0 and len(done.stdout.splitlines()) == 114
+
+
+def test_python_m_geokin_is_the_command(tmp_path):
+    done = subprocess.run([sys.executable, "-m", "geokin", "--version"], capture_output=True,
+                          text=True, timeout=120)
+    assert (done.returncode, done.stdout, done.stderr) == (0, f"geokin {geokin.__version__}\n",
+                                                           "")
+    # the exit status is the command's, not the interpreter's
+    done = subprocess.run([sys.executable, "-m", "geokin", "check", str(tmp_path / "no.toml")],
+                          capture_output=True, text=True, timeout=120)
+    assert done.returncode == 2 and done.stderr.startswith("geokin: error: cannot open")
 
 
 def test_analyze_prints_limits_class_and_transmission_angle(capsys):

@@ -391,3 +391,26 @@ def test_a_sweep_in_blocks_is_the_sweep_in_one_pass(monkeypatch, block):
         for name in one.branches:
             np.testing.assert_array_equal(blocked.branches[name], one.branches[name])
             np.testing.assert_array_equal(blocked.margins[name], one.margins[name])
+
+
+def test_require_assembled_names_every_cause_when_no_sample_assembles():
+    import re
+
+    from geokin import AssemblyError
+
+    c = Construction("reach")
+    c.input("r", kind="length", range=(1, 10), samples=10)
+    c.fixed("O", 0, 0)
+    c.fixed("Q", 4, 0)
+    c.circle_circle("P", ("O", "Q"), ("r", 1), branch="left")     # meets for 3 <= r <= 5
+    s = sweep(c)
+    assert s.require_assembled() is s  # one sample that assembles is enough
+    c.circle_circle("R", ("O", "Q"), ("r", 100), branch="left")   # for 96 <= r <= 104
+    s = sweep(c)
+    assert not s.valid.any()
+    with pytest.raises(AssemblyError, match=re.escape(
+            "no sample can be assembled: nodes fail: node 'P' at 7 of 10 samples (no "
+            "intersection: the curves do not meet), node 'R' at 3 of 10 samples (no "
+            "intersection: the curves do not meet)")) as caught:
+        s.require_assembled()
+    assert caught.value.node == "P"

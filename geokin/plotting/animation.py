@@ -24,7 +24,7 @@ import time
 
 import numpy as np
 
-from ..atomic import replacing, replacing_path
+from ..atomic import replacing, replacing_path, require_folder
 from ..budgets import check_memory
 from ..errors import GeokinError
 from ..results import Sweep
@@ -418,6 +418,8 @@ def animate(sweep: Sweep, path: str | os.PathLike[str], *, fps: float = 25,
     GeokinError
         For an unknown extension, an ``.mp4`` without ffmpeg, bad ``fps``
         or ``frames``, or a file that would not fit on the disk.
+    geokin.atomic.OutputError
+        For a folder that does not exist, or a file that cannot be written.
     BudgetError
         For a drawing that would need more than the memory budget.
 
@@ -452,9 +454,7 @@ def animate(sweep: Sweep, path: str | os.PathLike[str], *, fps: float = 25,
             f"cannot write {str(path)!r}: an .mp4 needs ffmpeg, which was not found. "
             "Install ffmpeg (for example 'apt install ffmpeg' or 'conda install ffmpeg') "
             "and make sure it is on PATH, or write a .gif or .html file instead")
-    if not path.parent.is_dir():
-        raise GeokinError(f"cannot write {str(path)!r}: the folder {str(path.parent)!r} "
-                          "does not exist")
+    require_folder(path)
 
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure

@@ -52,7 +52,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from ..atomic import replacing
+from ..atomic import replacing, require_folder
 from ..errors import GeokinError
 from ..results import Sweep
 from .layout import Layout, input_text, shown_text
@@ -525,7 +525,9 @@ def save(fig: Figure, path: str | os.PathLike[str]) -> pathlib.Path:
     Raises
     ------
     GeokinError
-        For another extension, or a folder that does not exist.
+        For another extension.
+    geokin.atomic.OutputError
+        For a folder that does not exist, or a file that cannot be written.
 
     Examples
     --------
@@ -541,9 +543,7 @@ def save(fig: Figure, path: str | os.PathLike[str]) -> pathlib.Path:
     suffix = path.suffix.lower()
     if suffix not in SAVE_FORMATS:
         raise GeokinError(f"cannot save a figure as {str(path)!r}: use a .png or .svg file")
-    if not path.parent.is_dir():
-        raise GeokinError(f"cannot save {str(path)!r}: the folder {str(path.parent)!r} "
-                          "does not exist")
+    require_folder(path)
     with replacing(path, "wb") as f:
         fig.savefig(f, format=suffix[1:], dpi="figure")
     return path
