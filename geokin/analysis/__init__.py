@@ -9,7 +9,7 @@
 Angles are radians throughout.
 """
 
-from ..kinematics import link_angles, unwrap_valid
+from ..kinematics import link_angles, slider_positions, unwrap_valid
 from .fourbar import (
     KINDS,
     Grashof,
@@ -56,6 +56,7 @@ __all__ = [
     "grashof",
     "link_angles",
     "refine_extreme",
+    "slider_positions",
     "stroke",
     "time_ratio",
     "transmission_angles",

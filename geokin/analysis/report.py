@@ -21,7 +21,7 @@ from ..circuits import circuit, describe_limit, limits
 from ..construction import Compiled, Construction, as_compiled
 from ..engine import sweep
 from ..errors import AnalysisError
-from ..kinematics import link_angles
+from ..kinematics import link_angles, slider_positions
 from ..nodes import CircleCircle
 from ..results import Sweep
 from ..terminal import one_line
@@ -655,14 +655,8 @@ def _strokes(compiled: Compiled, motion: Sweep,
     for point in compiled.traced:
         outputs[f"{point}.x"] = (motion[point][:, 0], False)
         outputs[f"{point}.y"] = (motion[point][:, 1], False)
-    for slider in compiled.sliders:
-        # the block's position along its guide, from the guide's first point
-        a, b = slider.along
-        guide = motion[b] - motion[a]
-        with np.errstate(all="ignore"):
-            unit = guide / np.hypot(*guide.T)[:, None]
-        outputs[f"{slider.name}.position"] = (
-            np.einsum("ij,ij->i", motion[slider.point] - motion[a], unit), False)
+    for slider, position in slider_positions(motion).items():
+        outputs[f"{slider}.position"] = (position, False)
     angles = link_angles(motion)
     for link in compiled.links:
         if set(link.points[:2]) <= compiled.ground:
