@@ -25,7 +25,7 @@ from numpy.typing import ArrayLike
 
 from .construction import Input
 
-__all__ = ["from_script", "script_degrees", "to_script", "to_script_array"]
+__all__ = ["angles_to_script", "from_script", "script_degrees", "to_script", "to_script_array"]
 
 
 def script_degrees(radians: float) -> float:
@@ -63,6 +63,20 @@ def to_script(inp: Input, value: float) -> float:
 def to_script_array(inp: Input, values: ArrayLike) -> np.ndarray:
     """Return an input's values in the script's units."""
     return np.degrees(values) if inp.kind == "angle" else np.asarray(values, dtype=float)
+
+
+def angles_to_script(values: ArrayLike) -> np.ndarray:
+    """Return angles, or angular rates, in the script's unit: radians to degrees.
+
+    For what is an angle whatever the inputs are: link angles (deg), their
+    angular velocities (deg/s) and accelerations (deg/s^2).
+
+    Examples
+    --------
+    >>> angles_to_script([math.pi, -math.pi / 2]).tolist()
+    [180.0, -90.0]
+    """
+    return np.degrees(np.asarray(values, dtype=float))
 
 
 def from_script(inp: Input, values: ArrayLike) -> np.ndarray:
