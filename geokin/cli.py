@@ -10,12 +10,16 @@ Commands
     Validate scripts; print the compiled steps, the inputs, the degrees of
     freedom (with a warning where Gruebler's count and the inputs differ)
     and whether the default sweep can be assembled.
-``geokin trace SCRIPT [-o FILE.csv|.json|.npz] [--points M,B] [--derivatives]``
+``geokin trace SCRIPT [-o FILE] [--points M,B] [--links L,..] [--sliders S,..] [--derivatives]``
     The motion as data: the input (named as in the script, in its units),
     ``valid``, and ``<point>.x``, ``<point>.y`` for each point; with
     ``--derivatives`` also ``time`` and ``flagged`` and ``<point>.vx .vy .ax
     .ay`` per second at the input's declared speed; where branches change,
-    ``<node>.branch``. CSV on standard output without ``-o``.
+    ``<node>.branch``. ``--links`` adds ``<link>.angle`` (degrees, unwrapped)
+    and with ``--derivatives`` ``.omega`` (deg/s) and ``.alpha`` (deg/s^2);
+    ``--sliders`` adds ``<slider>.position`` along its guide and with
+    ``--derivatives`` ``.velocity`` and ``.acceleration``. ``FILE.csv``,
+    ``.json`` or ``.npz``; CSV on standard output without ``-o``.
 ``geokin plot SCRIPT [-o FILE.png|.svg] [--at VALUE] [--kinematics]``
     The mechanism drawn at one input value with the paths of its traced
     points; with ``--kinematics`` the link angles and their rates against time.
@@ -426,12 +430,21 @@ def add_trace(subparsers: Subparsers) -> None:
         description="Sweep a construction and write the motion: the input (script units), "
                     "valid, and <point>.x, <point>.y for each point; with --derivatives "
                     "also <point>.vx, .vy, .ax, .ay per second at the input's speed. "
+                    "--links and --sliders add link angles (degrees) and slider positions. "
                     "NaN where a sample cannot be assembled.")
     p.add_argument("script", metavar="SCRIPT", help="construction script (.toml)")
     p.add_argument("-o", "--output", metavar="FILE",
                    help="write FILE.csv, FILE.json or FILE.npz (default: CSV on standard output)")
     p.add_argument("--points", metavar="NAMES",
                    help="comma-separated points to write (default: all)")
+    p.add_argument("--links", metavar="NAMES",
+                   help="comma-separated links whose angle to write: <link>.angle in degrees, "
+                        "unwrapped (with --derivatives also .omega in deg/s and .alpha in "
+                        "deg/s^2)")
+    p.add_argument("--sliders", metavar="NAMES",
+                   help="comma-separated sliders whose position along the guide, from its "
+                        "first point, to write: <slider>.position (with --derivatives also "
+                        ".velocity and .acceleration along the guide)")
     p.add_argument("--derivatives", action="store_true",
                    help="add velocities and accelerations per second")
     _add_sweep_options(p)
@@ -446,22 +459,37 @@ def _output_kind(path, formats, what) -> str:
     return suffix
 
 
-def _selected_points(construction, text):
-    names = list(construction.nodes)
+_TRACED = {"point": "--points", "link": "--links", "slider": "--sliders"}
+"""What ``geokin trace`` writes columns of, and the option that names them."""
+
+
+def _selected(construction, text, kind):
+    """Return the names of points, links or sliders an option of ``trace`` gives.
+
+    Without the option: every point, and no link or slider. A name of
+    another kind is named as such, with the option that takes it.
+    """
+    option = _TRACED[kind]
+    declared = {"point": list(construction.nodes), "link": list(construction.links),
+                "slider": list(construction.sliders)}
     if text is None:
-        return names
+        return declared["point"] if kind == "point" else []
     # names are declared in Unicode form NFKC: a name typed another way is the same
     chosen = [unicodedata.normalize("NFKC", p.strip()) for p in text.split(",")]
     if not any(chosen):
-        raise UsageError("--points names no point")
+        raise UsageError(f"{option} names no {kind}")
     if not all(chosen):
-        raise UsageError(f"--points {text!r} has an empty name between commas")
-    compiled = construction.compile()
-    for p in chosen:
-        try:
-            compiled.step_named(p)
-        except KeyError as err:
-            raise UsageError(f"--points: {err.args[0]} (points: {', '.join(names)})") from None
+        raise UsageError(f"{option} {text!r} has an empty name between commas")
+    names = declared[kind]
+    for name in chosen:
+        if name in names:
+            continue
+        other = next((k for k in declared if name in declared[k]), None)
+        if other is not None:
+            raise UsageError(f"{option}: {name!r} is a {other}, not a {kind}; "
+                             f"use {_TRACED[other]} {name}")
+        listed = f"{kind}s: {', '.join(names)}" if names else f"the construction has no {kind}s"
+        raise UsageError(f"{option}: no {kind} {name!r}{did_you_mean(name, names)} ({listed})")
     return chosen
 
 
@@ -470,16 +498,18 @@ def run_trace(args: argparse.Namespace) -> int:
         _output_kind(args.output, EXPORT_FORMATS, "a trace")
         require_folder(args.output)  # say so before a long sweep, not after
     m, _ = motion_of(args.script, args)
-    points = _selected_points(m.construction, args.points)
+    points = _selected(m.construction, args.points, "point")
+    links = _selected(m.construction, args.links, "link")
+    sliders = _selected(m.construction, args.sliders, "slider")
     rates = None
     if args.derivatives:
         if not m.construction.inputs:
             raise UsageError("--derivatives needs a construction with an input")
         rates = motion(m.sweep, next(iter(m.construction.inputs)))
     # inputs in the script's units, as swept: degrees converted back from radians
-    # could be an ulp off the values asked for
+    # could be an ulp off the values asked for; link angles in degrees too
     table = columns(m.sweep, points, motion=rates, branches=args.circuit or None,
-                    inputs=m.inputs)
+                    inputs=m.inputs, links=links, sliders=sliders, degrees=True)
     if args.output is None:
         write_csv(table, sys.stdout)
         sys.stdout.flush()

@@ -21,14 +21,20 @@ A four-bar with a coupler point, ground pivots 40 apart:
 >>> c.fixed("O4", 40, 0)
 >>> c.polar("A", "O2", "crank", "theta")
 >>> c.circle_circle("B", ("A", "O4"), (35, 30), branch="left")
->>> c.polar("P", "A", 20, "radians(30)", reference=("A", "B"))
+>>> c.polar("P", "A", 20, np.radians(30), reference=("A", "B"))
 >>> print(c.compile())
 construction 'four-bar': 5 steps
   1  O2 = fixed(0, 0)
   2  O4 = fixed(40, 0)
   3  A  = polar(O2, crank, theta)
   4  B  = circle_circle(A, 35; O4, 30)  [left]
-  5  P  = polar(A, 20, radians(30) from A->B)
+  5  P  = polar(A, 20, 30 deg from A->B)
+
+The step list shows an angle's numbers in degrees, with the unit; the
+construction holds radians (``repr`` of a step, the values):
+
+>>> c.compile().steps[-1]
+<Step 5: P = polar(A, 20, 0.5235987755982988 from A->B)>
 """
 
 from __future__ import annotations
@@ -55,6 +61,7 @@ from .expressions import (
     as_expr,
     look_alike,
     normal_name,
+    shown_in_degrees,
     skeleton,
 )
 from .frozen import Frozen
@@ -183,7 +190,8 @@ class Compiled(Frozen):
         and the drawing alike.
 
     A compiled construction is not changed after it is made; the mappings it
-    holds are its own copies.
+    holds are its own copies. ``str(compiled)`` is the step list of
+    :meth:`listing`, angles shown in degrees.
     """
 
     name: str
@@ -242,11 +250,42 @@ class Compiled(Frozen):
         return rows
 
     def __str__(self) -> str:
+        return self.listing()
+
+    def listing(self, *, degrees: bool = True) -> str:
+        """Return the steps as text, one a line, readable like a textbook construction.
+
+        Parameters
+        ----------
+        degrees : bool, optional
+            Show each angle's numbers in degrees with the unit, ``30 deg``
+            (see :func:`~geokin.expressions.shown_in_degrees`): the number a
+            script gave, or ``np.radians(30)`` given in Python. With False,
+            the numbers as the nodes hold them: radians, or the units of a
+            caller that rewrote them (:func:`geokin.io.script_steps` shows a
+            script's own text this way).
+
+        Examples
+        --------
+        >>> c = Construction("crank")
+        >>> c.input("theta")
+        >>> c.fixed("O", 0, 0)
+        >>> c.polar("A", "O", 10, -np.pi / 2)
+        >>> c.polar("B", "A", 5, "theta + pi / 6")
+        >>> print(c.compile().listing())
+        construction 'crank': 3 steps
+          1  O = fixed(0, 0)
+          2  A = polar(O, 10, -90 deg)
+          3  B = polar(A, 5, theta + pi / 6)
+        >>> print(c.compile().listing(degrees=False).splitlines()[2])
+          2  A = polar(O, 10, -1.5707963267948966)
+        """
         width = max((len(s.node.name) for s in self.steps), default=0)
         lines = [f"construction {self.name!r}: {len(self.steps)} steps"]
         for step in self.steps:
+            node = _angles_in_degrees(step.node) if degrees else step.node
             lines.append(f"  {step.index:>{len(str(len(self.steps)))}}  "
-                         f"{step.node.name:<{width}} = {step.node.describe()}")
+                         f"{node.name:<{width}} = {node.describe()}")
         return "\n".join(lines)
 
     def __repr__(self) -> str:
@@ -296,6 +335,19 @@ class Compiled(Frozen):
             if step.node.name == name:
                 return step
         raise KeyError(f"no point {name!r}{did_you_mean(name, self.point_names)}")
+
+
+def _angles_in_degrees(node: Node) -> Node:
+    """Return ``node`` with its angle fields shown in degrees (its step list text only)."""
+    changes: dict[str, Expr | tuple[Expr, ...]] = {}
+    for key in node.keys:
+        if key.angle:
+            for attribute in key.attributes:
+                value = getattr(node, attribute)
+                changes[attribute] = (shown_in_degrees(value) if isinstance(value, Expr)
+                                      else tuple(map(shown_in_degrees, value)))
+    # mypy checks replace() against Node, whose only field is the name
+    return dataclasses.replace(node, **changes) if changes else node  # type: ignore[arg-type]
 
 
 def as_compiled(construction: Construction | Compiled) -> Compiled:

@@ -67,6 +67,8 @@ __all__ = [
     "look_alike",
     "normal_name",
     "parse",
+    "script_degrees",
+    "shown_in_degrees",
     "skeleton",
 ]
 
@@ -306,6 +308,80 @@ class Call(Expr):
 
 ValueLike: TypeAlias = Expr | float | str
 """What a construction takes as a value: a number, an expression's text or an :class:`Expr`."""
+
+
+# -- angles shown in degrees ----------------------------------------------------------
+
+
+def script_degrees(radians: float) -> float:
+    """Return the shortest degree value that reads back as exactly ``radians``.
+
+    ``math.degrees`` may land an ulp or two off the value a script gave
+    (``radians(-645.6585625622657)`` comes back as ``-645.6585625622658``),
+    so its neighbours are tried too.
+
+    Examples
+    --------
+    >>> script_degrees(math.radians(-645.6585625622657))
+    -645.6585625622657
+    >>> script_degrees(math.pi / 2)
+    90.0
+    """
+    degrees = math.degrees(radians)
+    exact, below, above = [], degrees, degrees
+    for _ in range(4):
+        exact += [d for d in (below, above) if math.radians(d) == radians and d not in exact]
+        below, above = math.nextafter(below, -math.inf), math.nextafter(above, math.inf)
+    for digits in range(1, 18):
+        for candidate in exact:
+            shortest = float(f"{candidate:.{digits}g}")
+            if math.radians(shortest) == radians:
+                return shortest
+    return exact[0] if exact else degrees  # some radians have no degree value exactly
+
+
+@dataclass(frozen=True, slots=True, repr=False)
+class _Degrees(Number):
+    """A number of radians that prints as degrees with the unit: ``30 deg``.
+
+    For showing an angle only (:func:`shown_in_degrees`): its text does not
+    parse back.
+    """
+
+    def __str__(self) -> str:
+        return f"{Number(script_degrees(self.value))} deg"
+
+
+def shown_in_degrees(angle: Expr) -> Expr:
+    """Return an angle to be shown with its numbers in degrees: ``30 deg`` for 0.5236.
+
+    The numbers of an angle that are angles themselves are shown in degrees
+    (the shortest that reads back exactly, :func:`script_degrees`) with the
+    unit: the whole value if it is a number, and every number added to,
+    subtracted from or negated in it, since each term of an angle is an
+    angle. Any other number (a factor, a function's argument) and every
+    name are shown as they are. The value is unchanged: it is radians, as
+    every angle inside geokin; only its text differs, and that text is for
+    reading, not for :func:`parse`.
+
+    Examples
+    --------
+    >>> str(shown_in_degrees(as_expr(math.radians(30))))
+    '30 deg'
+    >>> str(shown_in_degrees(parse("theta - 0.5235987755982988")))
+    'theta - 30 deg'
+    >>> str(shown_in_degrees(parse("2 * theta + radians(45)")))
+    '2 * theta + radians(45)'
+    >>> float(shown_in_degrees(as_expr(math.pi)).evaluate({})) == math.pi
+    True
+    """
+    if isinstance(angle, Number):
+        return _Degrees(angle.value)
+    if isinstance(angle, Neg):
+        return Neg(shown_in_degrees(angle.operand))
+    if isinstance(angle, BinOp) and angle.op in "+-":
+        return BinOp(angle.op, shown_in_degrees(angle.left), shown_in_degrees(angle.right))
+    return angle
 
 
 def as_expr(value: ValueLike, *, node: str | None = None, field: str | None = None) -> Expr:

@@ -62,7 +62,7 @@ from .frozen import Frozen, read_only
 from .results import Sweep
 
 __all__ = ["Derivatives", "Motion", "input_derivatives", "link_angles", "motion",
-           "unwrap_valid"]
+           "slider_positions", "unwrap_valid"]
 
 RELATIVE_STEP = 2e-4
 """The perturbation h: this many radians for an angle input, and this
@@ -423,19 +423,26 @@ class Motion(Frozen):
         to its second (unwrapped, radians) and its time derivatives.
     flagged : ndarray of bool, shape (N,)
         Assembled samples whose velocities or accelerations may be less
-        accurate than stated: the estimated error of some point's velocity
-        exceeds :data:`VELOCITY_RTOL` of the fastest point's speed at that
-        sample, or of its acceleration :data:`ACCELERATION_RTOL` of the
-        largest acceleration there (or of that speed squared over the
-        mechanism's size, if larger); likewise for link angular rates against
-        the fastest-turning link; or no stencil could be assembled; or the
-        sample is near a singular position.
+        accurate than stated: the estimated error of some point's velocity,
+        or of a slider's rate along its guide, exceeds :data:`VELOCITY_RTOL`
+        of the fastest point's speed at that sample, or of its acceleration
+        :data:`ACCELERATION_RTOL` of the largest acceleration there (or of
+        that speed squared over the mechanism's size, if larger); likewise
+        for link angular rates against the fastest-turning link; or no
+        stencil could be assembled; or the sample is near a singular
+        position.
     velocity_error, acceleration_error : ndarray, shape (N,)
         The estimated error of the velocities and accelerations at each
         sample, the largest over the points (NaN where unassembled).
     derivatives : Derivatives
         The derivatives along the motion, with respect to time, that the
         velocities and accelerations come from.
+    slider_position, slider_velocity, slider_acceleration : dict of str to ndarray, shape (N,)
+        For every declared slider, the position of its block along its
+        guide (:func:`slider_positions`) and its time derivatives: the rate
+        at which the block slides along the guide, seen from the guide
+        (which may itself turn), in length units per second and per second
+        squared.
     """
 
     sweep: Sweep
@@ -452,6 +459,9 @@ class Motion(Frozen):
     velocity_error: np.ndarray
     acceleration_error: np.ndarray
     derivatives: Derivatives
+    slider_position: dict
+    slider_velocity: dict
+    slider_acceleration: dict
 
     input = renamed_attribute("input", "input_name")
     _read_only = ("time", "speed", "input_acceleration", "velocity", "acceleration", "angle",
@@ -606,11 +616,70 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
         for error_w, error_al in link_errors:
             flagged |= error_w > VELOCITY_RTOL * turn_scale
             flagged |= error_al > ACCELERATION_RTOL * turn_accel_scale
+        slides = _slider_rates(sweep, velocity, accel, velocity_error, acceleration_error)
+        for _, _, _, error_v, error_a in slides.values():
+            flagged |= error_v > VELOCITY_RTOL * speed_scale
+            flagged |= error_a > ACCELERATION_RTOL * accel_scale
         for margin in sweep.margins.values():
             flagged |= sweep.valid & (margin < SINGULAR_MARGIN)
     return Motion(sweep, driver, time, rate, rate_change, velocity, accel, angle,
                   angular_velocity, angular_acceleration, flagged & sweep.valid,
-                  velocity_error, acceleration_error, d)
+                  velocity_error, acceleration_error, d,
+                  {name: rates[0] for name, rates in slides.items()},
+                  {name: rates[1] for name, rates in slides.items()},
+                  {name: rates[2] for name, rates in slides.items()})
+
+
+def _dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Return the dot product of each row of two (N, 2) arrays."""
+    return np.einsum("ij,ij->i", u, v)
+
+
+def _slider_rates(sweep: Sweep, velocity: dict, accel: dict, velocity_error: np.ndarray,
+                  acceleration_error: np.ndarray) -> dict[str, tuple[np.ndarray, ...]]:
+    """Return each slider's position along its guide, its two rates and their errors.
+
+    With ``q`` the block's point from the guide's first point, ``u`` the
+    guide's unit direction and ``n`` that turned a quarter turn
+    counter-clockwise, the guide turning at ``w`` with ``al``: the position
+    is ``s = q.u``, so ``s' = q'.u + w q.n`` and ``s'' = q''.u + 2 w q'.n +
+    al q.n - w**2 q.u``. The errors follow from the points' (none for a
+    ground point) through the guide's rates, as for a link's.
+    """
+    ground = sweep.construction.ground
+    rates: dict[str, tuple[np.ndarray, ...]] = {}
+    positions = slider_positions(sweep)
+    for block in sweep.construction.sliders:
+        first, second = block.along
+        d = sweep.points[second] - sweep.points[first]
+        vd, ad = velocity[second] - velocity[first], accel[second] - accel[first]
+        q = sweep.points[block.point] - sweep.points[first]
+        vq, aq = velocity[block.point] - velocity[first], accel[block.point] - accel[first]
+        r2 = _dot(d, d)
+        r = np.sqrt(r2)
+        u = d / r[:, None]
+        n = np.c_[-u[:, 1], u[:, 0]]
+        w = (d[:, 0] * vd[:, 1] - d[:, 1] * vd[:, 0]) / r2
+        al = (d[:, 0] * ad[:, 1] - d[:, 1] * ad[:, 0]) / r2 - 2 * w * _dot(d, vd) / r2
+        along, across = positions[block.name], _dot(q, n)
+        speed = _dot(vq, u) + w * across
+        acceleration = _dot(aq, u) + 2 * w * _dot(vq, n) + al * across - w * w * along
+
+        def moving(*points: str) -> int:
+            return sum(p not in ground for p in points)
+
+        # errors: the points' own, and through the guide's turning (as for a link)
+        guide_v = moving(first, second) * velocity_error / r
+        guide_a = (moving(first, second) * acceleration_error / r
+                   + 6 * np.abs(w) * guide_v)
+        distance = np.hypot(along, across)
+        error_v = moving(block.point, first) * velocity_error + distance * guide_v
+        error_a = (moving(block.point, first) * (acceleration_error + 2 * np.abs(w)
+                                                 * velocity_error)
+                   + 2 * np.hypot(*vq.T) * guide_v
+                   + distance * (guide_a + 2 * np.abs(w) * guide_v))
+        rates[block.name] = (along, speed, acceleration, error_v, error_a)
+    return rates
 
 
 def _largest_at_each(vectors, n: int) -> np.ndarray:
@@ -633,6 +702,47 @@ def unwrap_valid(angle: np.ndarray) -> np.ndarray:
     ok = np.isfinite(angle)
     out[ok] = np.unwrap(angle[ok])
     return out
+
+
+def slider_positions(sweep: Sweep) -> dict[str, np.ndarray]:
+    """Return the position of every declared slider's block along its guide, over a sweep.
+
+    A slider ``Slider(name, point, along=(P, Q))`` is a block at ``point``
+    sliding on the line through P and Q. Its position is the signed distance
+    from P to the point's projection on that line, positive towards Q: the
+    distance along the guide from its first point (the block's point lies
+    on the guide wherever the construction keeps it there). Its rates along
+    the guide are :attr:`Motion.slider_velocity` and
+    :attr:`Motion.slider_acceleration`.
+
+    Returns
+    -------
+    dict of str to ndarray, shape (N,)
+        By slider name, in length units; NaN at invalid samples and where
+        the guide's two points coincide.
+
+    Examples
+    --------
+    A block on a crank's line, 3 out from the pivot along the guide O->A:
+
+    >>> from geokin import Construction, sweep
+    >>> c = Construction("block on a crank")
+    >>> c.input("theta")
+    >>> c.fixed("O", 0, 0)
+    >>> c.polar("A", "O", 1, "theta")
+    >>> c.along("B", ("O", "A"), 3)
+    >>> c.slider("block", "B", ("O", "A"))
+    >>> slider_positions(sweep(c, [0.0, 1.0]))["block"].round(12)
+    array([3., 3.])
+    """
+    result = {}
+    for slider in sweep.construction.sliders:
+        first, second = slider.along
+        guide = sweep.points[second] - sweep.points[first]
+        with np.errstate(all="ignore"):
+            result[slider.name] = _dot(sweep.points[slider.point] - sweep.points[first],
+                                       guide) / np.hypot(guide[:, 0], guide[:, 1])
+    return result
 
 
 def link_angles(sweep: Sweep) -> dict[str, np.ndarray]:

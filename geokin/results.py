@@ -7,6 +7,7 @@ a sweep; nothing in it changes once the engine has made it.
 
 from __future__ import annotations
 
+import math
 import unicodedata
 import warnings
 from collections.abc import Mapping
@@ -251,12 +252,29 @@ class Sweep(Frozen):
         "sample 0 (r = 1): node 'P' cannot be assembled: no intersection: the curves do not meet"
         >>> s.explain(2)
         'sample 2 (r = 3): assembled'
+
+        An angle input is said in degrees (the sweep holds radians):
+
+        >>> c = Construction("crank")
+        >>> c.input("theta")
+        >>> c.fixed("O", 0, 0)
+        >>> c.polar("A", "O", 1, "theta")
+        >>> sweep(c, [-np.pi]).explain(0)
+        'sample 0 (theta = -180 deg): assembled'
         """
-        values = ", ".join(f"{k} = {v[index]:g}" for k, v in self.inputs.items())
+        values = ", ".join(f"{k} = {self._input_text(k, v[index])}"
+                           for k, v in self.inputs.items())
         if self.valid[index]:
             return f"sample {index} ({values}): assembled"
         return (f"sample {index} ({values}): node {self.failed_node[index]!r} cannot be "
                 f"assembled: {self.failure_reason[index]}")
+
+
+    def _input_text(self, name: str, value: float) -> str:
+        """Return an input's value as :meth:`explain` says it: degrees for an angle."""
+        if self.construction.inputs[name].kind == "angle":
+            return f"{math.degrees(value):g} deg"
+        return f"{value:g}"
 
 
 class PointTable(Mapping):

@@ -4,10 +4,13 @@ Scripts and the command line give angles in degrees. These helpers convert
 an input's values between the script's units (degrees for an angle input,
 the length unit for a length input) and geokin's (radians or the length
 unit); :mod:`geokin.io` and :mod:`geokin.cli` use them, nothing below them
-does.
+does. :func:`script_degrees`, the shortest degree value of an angle, lives
+in :mod:`geokin.expressions`, which shows angles in degrees too (a
+construction's step list), and is given here as well.
 
 Examples
 --------
+>>> import math
 >>> from geokin.construction import Input
 >>> theta = Input("theta")
 >>> to_script(theta, math.pi / 2)
@@ -18,41 +21,13 @@ True
 
 from __future__ import annotations
 
-import math
-
 import numpy as np
 from numpy.typing import ArrayLike
 
 from .construction import Input
+from .expressions import script_degrees
 
-__all__ = ["from_script", "script_degrees", "to_script", "to_script_array"]
-
-
-def script_degrees(radians: float) -> float:
-    """Return the shortest degree value that reads back as exactly ``radians``.
-
-    ``math.degrees`` may land an ulp or two off the value a script gave
-    (``radians(-645.6585625622657)`` comes back as ``-645.6585625622658``),
-    so its neighbours are tried too.
-
-    Examples
-    --------
-    >>> script_degrees(math.radians(-645.6585625622657))
-    -645.6585625622657
-    >>> script_degrees(math.pi / 2)
-    90.0
-    """
-    degrees = math.degrees(radians)
-    exact, below, above = [], degrees, degrees
-    for _ in range(4):
-        exact += [d for d in (below, above) if math.radians(d) == radians and d not in exact]
-        below, above = math.nextafter(below, -math.inf), math.nextafter(above, math.inf)
-    for digits in range(1, 18):
-        for candidate in exact:
-            shortest = float(f"{candidate:.{digits}g}")
-            if math.radians(shortest) == radians:
-                return shortest
-    return exact[0] if exact else degrees  # some radians have no degree value exactly
+__all__ = ["angles_to_script", "from_script", "script_degrees", "to_script", "to_script_array"]
 
 
 def to_script(inp: Input, value: float) -> float:
@@ -63,6 +38,20 @@ def to_script(inp: Input, value: float) -> float:
 def to_script_array(inp: Input, values: ArrayLike) -> np.ndarray:
     """Return an input's values in the script's units."""
     return np.degrees(values) if inp.kind == "angle" else np.asarray(values, dtype=float)
+
+
+def angles_to_script(values: ArrayLike) -> np.ndarray:
+    """Return angles, or angular rates, in the script's unit: radians to degrees.
+
+    For what is an angle whatever the inputs are: link angles (deg), their
+    angular velocities (deg/s) and accelerations (deg/s^2).
+
+    Examples
+    --------
+    >>> angles_to_script([np.pi, -np.pi / 2]).tolist()
+    [180.0, -90.0]
+    """
+    return np.degrees(np.asarray(values, dtype=float))
 
 
 def from_script(inp: Input, values: ArrayLike) -> np.ndarray:

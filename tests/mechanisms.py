@@ -80,3 +80,46 @@ def triple_rocker(driver, branch="left", input_range=None):
     c.link("coupler", "B", "C")
     c.link("follower", "D", "C")
     return c
+
+
+def fourbar_closed_form(theta2, a, b, c, d, omega2=1.0, sign=-1):
+    """Coupler and rocker angles and rates of a four-bar, by Freudenstein and Norton.
+
+    Crank a at ``theta2`` turning at the constant rate ``omega2``, coupler b,
+    rocker c, ground d along the x axis. The rocker angle is the half-angle
+    solution ``theta4 = 2 atan2(-B + sign sqrt(B^2 - 4AC), 2A)`` (``sign``
+    -1 for the open circuit), the coupler's follows from the loop, and the
+    rates from the loop equation differentiated once and twice. Returns
+    ``(theta3, theta4, omega3, omega4, alpha3, alpha4)``, radians.
+    """
+    t2 = np.asarray(theta2, dtype=float)
+    k1, k2, k3 = d / a, d / c, (a * a - b * b + c * c + d * d) / (2 * a * c)
+    qa = np.cos(t2) - k1 - k2 * np.cos(t2) + k3
+    qb = -2 * np.sin(t2)
+    qc = k1 - (k2 + 1) * np.cos(t2) + k3
+    t4 = 2 * np.arctan2(-qb + sign * np.sqrt(qb * qb - 4 * qa * qc), 2 * qa)
+    t3 = np.arctan2(c * np.sin(t4) - a * np.sin(t2), d + c * np.cos(t4) - a * np.cos(t2))
+    w3 = a * omega2 * np.sin(t4 - t2) / (b * np.sin(t3 - t4))
+    w4 = a * omega2 * np.sin(t2 - t3) / (c * np.sin(t4 - t3))
+    na, nb, nd, ne = c * np.sin(t4), b * np.sin(t3), c * np.cos(t4), b * np.cos(t3)
+    nc = a * omega2**2 * np.cos(t2) + b * w3**2 * np.cos(t3) - c * w4**2 * np.cos(t4)
+    nf = -a * omega2**2 * np.sin(t2) - b * w3**2 * np.sin(t3) + c * w4**2 * np.sin(t4)
+    al3 = (nc * nd - na * nf) / (na * ne - nb * nd)
+    al4 = (nc * ne - nb * nf) / (na * ne - nb * nd)
+    return t3, t4, w3, w4, al3, al4
+
+
+def slider_crank_closed_form(theta, r, rod, e, omega=1.0):
+    """Block position, velocity and acceleration of an offset slider-crank.
+
+    Crank r about the origin at ``theta`` turning at the constant rate
+    ``omega``, rod ``rod``, block on the horizontal line y = e, ahead of the
+    crank: ``x = r cos t + sqrt(rod^2 - (r sin t - e)^2)``, differentiated.
+    """
+    t = np.asarray(theta, dtype=float)
+    g, dg, ddg = r * np.sin(t) - e, r * np.cos(t), -r * np.sin(t)
+    root = np.sqrt(rod * rod - g * g)
+    x = r * np.cos(t) + root
+    dx = -r * np.sin(t) - g * dg / root
+    ddx = -r * np.cos(t) - (dg * dg + g * ddg) / root - (g * dg) ** 2 / root**3
+    return x, dx * omega, ddx * omega**2

@@ -12,6 +12,7 @@ import time
 
 import numpy as np
 import pytest
+from mechanisms import fourbar_closed_form, slider_crank_closed_form
 from PIL import Image
 
 import geokin
@@ -261,6 +262,65 @@ def test_trace_derivatives_are_per_second_at_the_declared_speed(capsys):
     np.testing.assert_allclose(np.hypot(data[:, 6], data[:, 7]), 20 * 2 * np.pi, rtol=1e-6)
     np.testing.assert_allclose(np.hypot(data[:, 8], data[:, 9]), 20 * (2 * np.pi) ** 2,
                                rtol=1e-5)
+
+
+def test_trace_link_angles_and_rates_in_degrees(capsys):
+    """Seed 004's open four-bar at one turn a second, against the closed form."""
+    status, out, _ = run(capsys, "trace", CONSTRUCTIONS / "fourbar_open.toml", "--points", "B",
+                         "--links", "coupler,rocker", "--derivatives")
+    assert status == 0
+    header, data = read_csv(out)
+    assert header[-6:] == ["coupler.angle", "coupler.omega", "coupler.alpha", "rocker.angle",
+                           "rocker.omega", "rocker.alpha"]
+    table = dict(zip(header, data.T, strict=True))
+    theta2 = np.radians(table["theta2"])
+    t3, t4, w3, w4, a3, a4 = fourbar_closed_form(theta2, 10.55, 25, 14, 24, 2 * np.pi)
+    ok = table["flagged"] == 0
+    assert ok.all()
+    fastest = np.degrees(np.max(np.abs([2 * np.pi + 0 * t3, w3, w4]), axis=0))
+    largest = np.fmax(np.degrees(np.max(np.abs([a3, a4]), axis=0)),
+                      np.degrees(np.radians(fastest) ** 2))
+    for link, angle, omega, alpha in (("coupler", t3, w3, a3), ("rocker", t4, w4, a4)):
+        gap = np.angle(np.exp(1j * (np.radians(table[f"{link}.angle"]) - angle)))
+        assert np.degrees(np.abs(gap)).max() <= 1e-9, link
+        assert (np.abs(table[f"{link}.omega"] - np.degrees(omega)) <= 1e-7 * fastest).all()
+        assert (np.abs(table[f"{link}.alpha"] - np.degrees(alpha)) <= 1e-5 * largest).all()
+
+
+def test_trace_slider_positions_along_the_guide(capsys):
+    """The offset slider-crank's block (crank 20, rod 70, offset 10) in mm, mm/s, mm/s^2."""
+    status, out, _ = run(capsys, "trace", CONSTRUCTIONS / "slider_crank_offset.toml",
+                         "--sliders", "slider", "--links", "crank", "--points", "B",
+                         "--derivatives", "--samples", 73)
+    assert status == 0
+    header, data = read_csv(out)
+    table = dict(zip(header, data.T, strict=True))
+    assert header[-4:] == ["crank.alpha", "slider.position", "slider.velocity",
+                           "slider.acceleration"]
+    x, v, a = slider_crank_closed_form(np.radians(table["theta"]), 20, 70, 10, 2 * np.pi)
+    np.testing.assert_allclose(table["slider.position"], x, rtol=0, atol=1e-12 * 70)
+    np.testing.assert_array_equal(table["slider.position"], table["B.x"])  # guide from x = 0
+    fastest = np.fmax(20 * 2 * np.pi, np.abs(v))
+    largest = np.fmax(20 * (2 * np.pi) ** 2, np.abs(a))
+    assert (np.abs(table["slider.velocity"] - v) <= 1e-7 * fastest).all()
+    assert (np.abs(table["slider.acceleration"] - a) <= 1e-5 * largest).all()
+    np.testing.assert_allclose(table["crank.angle"], table["theta"], rtol=1e-15)
+    np.testing.assert_allclose(table["crank.omega"], 360, rtol=1e-9)
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--points", "ram"], "--points: 'ram' is a slider, not a point; use --sliders ram"),
+    (["--points", "B,lever"], "--points: 'lever' is a link, not a point; use --links lever"),
+    (["--links", "B"], "--links: 'B' is a point, not a link; use --points B"),
+    (["--sliders", "lever"], "--sliders: 'lever' is a link, not a slider; use --links lever"),
+    (["--links", "lver"], "--links: no link 'lver'; did you mean 'lever'? (links: ground, "
+                          "crank, lever)"),
+    (["--sliders", ","], "--sliders names no slider"),
+])
+def test_trace_says_which_option_takes_a_name(capsys, argv, message):
+    status, out, err = run(capsys, "trace", CONSTRUCTIONS / "quick_return.toml", *argv)
+    assert status == 2 and out == ""
+    assert message in err, err
 
 
 @pytest.mark.parametrize("argv, message", [

@@ -183,8 +183,34 @@ def test_every_node_kind_describes_itself():
     assert kinds == set(NODE_KINDS)
     for fragment in ["along(A0->A, 3)", "line_line(A0-A; B0-P1)", "line_circle(A0-B0; A, 20)",
                      "segment_circle(A0..B0; A, 20)  [second]", "near (1, 2)",
-                     "polar(A, 2, 0.5 from A0->A)"]:
+                     "polar(A, 2, 28.64788975654116 deg from A0->A)"]:
         assert fragment in text
+
+
+def test_the_step_list_shows_angles_in_degrees_and_the_construction_keeps_radians():
+    """Numbers that are angles, or terms of one, read in degrees with the unit; factors,
+    names and function arguments as they are; the values and repr stay radians."""
+    c = Construction("angles")
+    c.input("theta")
+    c.fixed("O", 0, 0)
+    c.polar("A", "O", 1, np.radians(30))
+    c.polar("B", "O", 1, f"theta - {float(np.radians(45))!r}")
+    c.polar("C", "O", 1, -np.pi)
+    c.polar("D", "O", 1, "2 * theta + radians(10) + 0.25 * pi")
+    c.polar("E", "O", 1, f"-({float(np.radians(5))!r} + theta)")
+    compiled = c.compile()
+    assert str(compiled).splitlines()[2:] == [
+        "  2  A = polar(O, 1, 30 deg)",
+        "  3  B = polar(O, 1, theta - 45 deg)",
+        "  4  C = polar(O, 1, -180 deg)",
+        "  5  D = polar(O, 1, 2 * theta + radians(10) + 0.25 * pi)",
+        "  6  E = polar(O, 1, -(5 deg + theta))",
+    ]
+    assert compiled.step_named("A").node.angle.evaluate({}) == np.radians(30)
+    assert repr(compiled.step_named("C")) == "<Step 4: C = polar(O, 1, -3.141592653589793)>"
+    assert "-3.141592653589793" in compiled.listing(degrees=False)
+    s = sweep(c, [0.0])
+    np.testing.assert_allclose(s["A"][0], [np.cos(np.pi / 6), 0.5], rtol=1e-15)
 
 
 def test_constructions_compare_by_content():

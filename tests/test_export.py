@@ -10,6 +10,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
+from mechanisms import fourbar_closed_form, slider_crank_closed_form
 
 import geokin
 from geokin import ConstructionError, circuit, load, motion, sweep
@@ -26,6 +27,8 @@ from geokin.io import (
 CONSTRUCTIONS = pathlib.Path(__file__).resolve().parent.parent / "constructions"
 SIXBAR = CONSTRUCTIONS / "sixbar.toml"
 CRANK = CONSTRUCTIONS / "triple_rocker_crank.toml"
+FOURBAR = CONSTRUCTIONS / "fourbar_open.toml"
+SLIDER_CRANK = CONSTRUCTIONS / "slider_crank_offset.toml"
 
 
 def read_csv(path):
@@ -124,6 +127,73 @@ def test_a_motion_of_another_sweep_is_refused():
 def test_an_unknown_point_is_named():
     with pytest.raises(KeyError, match="did you mean 'A'"):
         columns(sweep(a_crank("theta"), [0.0]), ["AA"])
+
+
+def wrapped(angle):
+    """Return angles wrapped to (-180, 180] degrees."""
+    return np.degrees(np.angle(np.exp(1j * np.radians(angle))))
+
+
+def test_link_angles_and_rates_match_the_four_bar_closed_form():
+    """Seed 004's open four-bar over two turns: angles to 1e-9 deg, unwrapped; the rates
+    as accurate as geokin.motion states at every unflagged sample."""
+    s = sweep(load(FOURBAR), np.linspace(0, 4 * np.pi, 1441))
+    m = motion(s, speed=2 * np.pi)
+    links = ["crank", "coupler", "rocker"]
+    radians = columns(s, [], motion=m, links=links)
+    assert list(radians) == ["theta2", "valid", "time", "flagged"] + [
+        f"{link}.{k}" for link in links for k in ("angle", "omega", "alpha")]
+    table = columns(s, [], motion=m, links=links, degrees=True)
+    for name, column in radians.items():
+        if name.split(".")[-1] in ("theta2", "angle", "omega", "alpha"):
+            np.testing.assert_array_equal(table[name], np.degrees(column), err_msg=name)
+    t2 = s.inputs["theta2"]
+    t3, t4, w3, w4, a3, a4 = fourbar_closed_form(t2, 10.55, 25, 14, 24, 2 * np.pi)
+    # the crank runs on to 720 degrees; the others rock, each within one turn
+    np.testing.assert_allclose(table["crank.angle"], np.degrees(t2), rtol=0, atol=1e-9)
+    for link, theta in (("coupler", t3), ("rocker", t4)):
+        angle = table[f"{link}.angle"]
+        assert np.abs(wrapped(angle - np.degrees(theta))).max() <= 1e-9, link
+        assert np.abs(np.diff(angle)).max() < 2 and np.ptp(angle) < 180, link
+    ok = ~table["flagged"]
+    assert ok.all()
+    w = 2 * np.pi
+    fastest = np.max(np.abs([w + 0 * t2, w3, w4]), axis=0)
+    largest = np.fmax(np.max(np.abs([a3, a4]), axis=0), fastest**2)
+    for link, omega, alpha in (("crank", w, 0), ("coupler", w3, a3), ("rocker", w4, a4)):
+        assert (np.abs(radians[f"{link}.omega"] - omega) <= 1e-7 * fastest)[ok].all(), link
+        assert (np.abs(radians[f"{link}.alpha"] - alpha) <= 1e-5 * largest)[ok].all(), link
+
+
+def test_slider_columns_match_the_offset_slider_crank_closed_form():
+    """Crank 20, rod 70, guide 10 above the crank's pivot from (0, 10) along +x."""
+    s = sweep(load(SLIDER_CRANK))
+    m = motion(s, speed=2 * np.pi)
+    table = columns(s, [], motion=m, sliders=["slider"], degrees=True)
+    assert list(table)[-3:] == ["slider.position", "slider.velocity", "slider.acceleration"]
+    x, v, a = slider_crank_closed_form(s.inputs["theta"], 20, 70, 10, 2 * np.pi)
+    np.testing.assert_allclose(table["slider.position"], x, rtol=0, atol=1e-12 * 70)
+    ok = ~table["flagged"]
+    assert ok.all()
+    fastest = np.fmax(20 * 2 * np.pi, np.abs(v))
+    largest = np.fmax(20 * (2 * np.pi) ** 2, np.abs(a))
+    assert (np.abs(table["slider.velocity"] - v) <= 1e-7 * fastest).all()
+    assert (np.abs(table["slider.acceleration"] - a) <= 1e-5 * largest).all()
+    # lengths stay lengths in degrees; without a motion only the position
+    assert list(columns(s, [], sliders=["slider"]))[-1] == "slider.position"
+
+
+def test_links_and_sliders_are_named_and_given_only_when_asked():
+    s = sweep(load(SLIDER_CRANK), np.linspace(0, np.pi, 5))
+    assert not any(k.endswith((".angle", ".position")) for k in columns(s))
+    with pytest.raises(KeyError, match="no link 'crnk'; did you mean 'crank'"):
+        columns(s, [], links=["crnk"])
+    with pytest.raises(KeyError, match="no slider 'crank'"):
+        columns(s, [], sliders=["crank"])
+    # degrees converts the angle inputs too, unless they are given
+    assert columns(s, [], degrees=True)["theta"].tolist() == pytest.approx([0, 45, 90, 135, 180])
+    given = columns(s, [], degrees=True, inputs={"theta": [0, 1, 2, 3, 4]})
+    assert given["theta"].tolist() == [0, 1, 2, 3, 4]
 
 
 # -- the formats round trip exactly --------------------------------------------------

@@ -117,6 +117,17 @@ def test_angles_are_degrees_in_scripts_and_radians_in_the_construction():
     np.testing.assert_allclose(result["A"], [[0, 10], [-10, 0]], atol=1e-12)
 
 
+def test_a_loaded_script_lists_its_angles_in_degrees_with_the_unit():
+    """The step list of the construction reads in degrees; script_steps (for geokin check)
+    as the script has it, the angle input in degrees too."""
+    from geokin.io import script_steps
+
+    c = loads(ONE_INPUT.replace('"theta + 90"', '"theta - 22.5"'))
+    assert str(c.compile()).splitlines()[-1] == "  2  A = polar(O, 10 + s, theta - 22.5 deg)"
+    assert script_steps(c).splitlines()[-1] == "  2  A = polar(O, 10 + s, theta - 22.5)"
+    assert c.compile().step_named("A").node.angle == parse(f"theta - {math.radians(22.5)!r}")
+
+
 def test_defaults_of_an_input():
     c = loads('[inputs.t]\n[points]\nO = { op = "fixed", at = [0, 0] }')
     t = c.inputs["t"]

@@ -1,9 +1,9 @@
 import numpy as np
 import pytest
-from mechanisms import R1, R2, R3, R4, triple_rocker
+from mechanisms import R1, R2, R3, R4, slider_crank_closed_form, triple_rocker
 
 from geokin import Construction, sweep
-from geokin.kinematics import RELATIVE_STEP, input_derivatives, motion
+from geokin.kinematics import RELATIVE_STEP, input_derivatives, motion, slider_positions
 
 
 def loop_rates(theta, omega_driver, alpha_driver, driver):
@@ -135,6 +135,73 @@ def test_slider_crank_against_its_closed_form():
     np.testing.assert_allclose(m.velocity["P"][:, 1], 0, atol=1e-9)
     # crank tip: |a| = r w^2
     np.testing.assert_allclose(np.hypot(*m.acceleration["A"].T), r * w**2, rtol=1e-7)
+
+
+@pytest.mark.parametrize("guide", [("H", "G"), ("G", "H")])
+def test_a_slider_on_a_fixed_guide_against_the_slider_crank_closed_form(guide):
+    """The block of an offset slider-crank, measured from either end of its guide.
+
+    The guide's first point is 0 (H) or 1 (G) along x: the position is x or
+    1 - x, and the rates change sign with the guide's direction.
+    """
+    r, rod, e, w = 3.0, 10.0, 1.0, 5.0
+    c = Construction()
+    c.input("t")
+    c.fixed("O", 0, 0)
+    c.fixed("H", 0, e)
+    c.fixed("G", 1, e)
+    c.polar("A", "O", r, "t")
+    c.ray_circle("P", ("H", "G"), "A", rod, branch="second")
+    c.slider("block", "P", guide)
+    t = np.linspace(0, 2 * np.pi, 721)
+    s = sweep(c, t)
+    m = motion(s, speed=w)
+    x, v, a = slider_crank_closed_form(t, r, rod, e, w)
+    start, sense = (0.0, 1.0) if guide[0] == "H" else (1.0, -1.0)
+    np.testing.assert_allclose(slider_positions(s)["block"], sense * (x - start),
+                               rtol=0, atol=1e-13 * rod)
+    np.testing.assert_array_equal(m.slider_position["block"], slider_positions(s)["block"])
+    # as accurate as stated wherever unflagged: the fastest point and the largest
+    # acceleration at each sample are the crank tip's or the block's
+    ok = ~m.flagged
+    assert ok.all()
+    fastest, largest = np.fmax(r * w, np.abs(v)), np.fmax(r * w * w, np.abs(a))
+    assert (np.abs(m.slider_velocity["block"] - sense * v) <= 1e-7 * fastest)[ok].all()
+    assert (np.abs(m.slider_acceleration["block"] - sense * a) <= 1e-5 * largest)[ok].all()
+
+
+def test_a_slider_on_a_turning_guide_against_the_closed_form():
+    """An inverted slider-crank: the crank pin A slides in a lever turning about O1.
+
+    O1 = (0, 0), crank O2 = (0, d) of radius r at a constant w: the block's
+    position along the lever is s = |A|, so s s' = A.v and s s'' + s'^2 =
+    v.v + A.a, with v and a the crank pin's velocity and acceleration.
+    """
+    r, d, w = 3.0, 5.0, 2.0
+    c = Construction()
+    c.input("t")
+    c.fixed("O1", 0, 0)
+    c.fixed("O2", 0, d)
+    c.polar("A", "O2", r, "t")
+    c.along("L", ("O1", "A"), 12)  # a point of the lever, 12 from its pivot
+    c.slider("block", "A", ("O1", "L"))
+    t = np.linspace(0, 2 * np.pi, 721)
+    m = motion(sweep(c, t), speed=w)
+    pin = np.c_[r * np.cos(t), d + r * np.sin(t)]
+    v = r * w * np.c_[-np.sin(t), np.cos(t)]
+    a = -r * w * w * np.c_[np.cos(t), np.sin(t)]
+    position = np.hypot(*pin.T)
+    speed = (pin * v).sum(axis=1) / position
+    accel = ((v * v).sum(axis=1) + (pin * a).sum(axis=1) - speed**2) / position
+    np.testing.assert_allclose(m.slider_position["block"], position, rtol=1e-14)
+    ok = ~m.flagged
+    assert ok.all()
+    # the lever's end L is the fastest point: 12 times the lever's rate
+    lever = (pin[:, 0] * v[:, 1] - pin[:, 1] * v[:, 0]) / position**2
+    fastest = np.fmax(r * w, 12 * np.abs(lever))
+    largest = np.max([np.hypot(*q.T) for q in m.acceleration.values()], axis=0)
+    assert (np.abs(m.slider_velocity["block"] - speed) <= 1e-7 * fastest).all()
+    assert (np.abs(m.slider_acceleration["block"] - accel) <= 1e-5 * largest).all()
 
 
 def test_a_circuit_runs_time_forwards_and_the_input_backwards_on_the_return():

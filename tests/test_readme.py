@@ -37,3 +37,20 @@ def test_the_quick_start_has_two_commands_one_for_the_tests():
     assert commands[1].endswith("pytest") and "geokin plot" in commands[0]
     ci = (ROOT / ".ci" / "run").read_text(encoding="utf-8")
     assert "pip install -e '.[test]' && pytest" in ci
+
+
+def test_the_example_error_is_what_geokin_check_prints(tmp_path, capsys):
+    """The README's example error, from the six-bar with the typo it describes."""
+    from geokin.cli import main
+
+    section = README.split("A script that cannot be read", 1)[1]
+    typo = re.search(r'with `l3` mistyped `l33` in\s+B\'s radii \(`(radii = \[".*?\])`\)',
+                     section).group(1)
+    right = typo.replace('"l33"', '"l3"')
+    example = re.search(r"```\n(.*?)\n```", section, flags=re.S).group(1)
+    script = (ROOT / "constructions" / "sixbar.toml").read_text(encoding="utf-8")
+    assert right in script
+    (tmp_path / "sixbar.toml").write_text(script.replace(right, typo), encoding="utf-8")
+    assert main(["check", str(tmp_path / "sixbar.toml")]) == 2
+    err = capsys.readouterr().err
+    assert err.strip().endswith(example.replace("sixbar.toml", str(tmp_path / "sixbar.toml")))

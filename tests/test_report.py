@@ -104,14 +104,39 @@ def test_the_quick_returns_strokes_and_time_ratios_match_the_closed_form():
         assert (ram.minimum, ram.maximum) == pytest.approx(
             (-120 * np.tan(beta), 120 * np.tan(beta)), rel=1e-9)
         assert ram.time_ratio == pytest.approx(1 / slow, rel=5e-7)
+        # the usual figure: the slower stroke over the faster, here the ram's return
+        assert ram.quick_return_ratio == pytest.approx(slow, rel=5e-7)
+        assert ram.slower_stroke == "max->min"
+    assert lever.quick_return_ratio == lever.time_ratio and lever.slower_stroke == "min->max"
     # the block on the crank pin, from O1: r1 - r2 at the bottom, r1 + r2 at the top, half
     # a turn apart
     pin = strokes["pin_block.position"]
     assert (pin.minimum, pin.maximum, pin.stroke) == pytest.approx((20, 100, 80), rel=1e-12)
     assert pin.time_ratio == pytest.approx(1, rel=1e-12)
+    assert pin.quick_return_ratio >= 1 and pin.slower_stroke is None
     block = strokes["ram_block.position"]
     assert (block.minimum, block.maximum) == pytest.approx((120, 120 / np.cos(beta)), rel=1e-9)
     assert block.strokes_per_turn == 2 and block.time_ratio is None
+
+
+def test_the_text_gives_the_time_ratio_at_least_1_and_the_slower_stroke():
+    """Seed 001's quick return: (180 + alpha) / (180 - alpha), alpha = 2 asin(r2 / r1), the
+    lever slower from its minimum to its maximum angle, the ram slower coming back."""
+    report = analyze(load(CONSTRUCTIONS / "quick_return.toml"), degrees=True)
+    alpha = 2 * np.degrees(np.arcsin(40 / 60))
+    slow = f"{(180 + alpha) / (180 - alpha):.4f}"
+    lines = dict(line.split(": ", 1) for line in report.to_text("mm").splitlines()
+                 if ": " in line)
+    assert lines["lever.angle"].endswith(f", time ratio {slow} (min->max slower)")
+    assert lines["ram.position"].endswith(f", time ratio {slow} (max->min slower)")
+    assert lines["pin_block.position"].endswith(", time ratio 1.0000 (strokes equal)")
+    assert lines["ram_block.position"].endswith(", 2 strokes per turn")
+    data = report.to_dict()["strokes"]
+    assert data["ram.position"]["time_ratio"] == pytest.approx(1 / float(slow), rel=1e-4)
+    assert data["ram.position"]["quick_return_ratio"] == pytest.approx(float(slow), rel=1e-4)
+    assert data["ram.position"]["slower_stroke"] == "max->min"
+    assert data["pin_block.position"]["slower_stroke"] is None
+    assert data["ram_block.position"]["quick_return_ratio"] is None
 
 
 @pytest.mark.parametrize("k", [-660, -530, 530, 660])
@@ -182,9 +207,13 @@ def stroke_of(theta, values):
         return theta[i] + shift * (theta[1] - theta[0]), mid - 0.25 * (left - right) * shift
     (at_min, low), (at_max, high) = extreme(np.argmin(values)), extreme(np.argmax(values))
     forward = (at_max - at_min) % (2 * np.pi)
+    back = 2 * np.pi - forward
     return {"turns": False, "min": pytest.approx(low, abs=1e-8),
             "max": pytest.approx(high, abs=1e-8), "stroke": pytest.approx(high - low, abs=1e-8),
-            "time_ratio": pytest.approx(forward / (2 * np.pi - forward), rel=1e-7),
+            "time_ratio": pytest.approx(forward / back, rel=1e-7),
+            "quick_return_ratio": pytest.approx(max(forward, back) / min(forward, back),
+                                                rel=1e-7),
+            "slower_stroke": "min->max" if forward > back else "max->min",
             "strokes_per_turn": 1}
 
 

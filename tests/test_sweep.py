@@ -148,7 +148,8 @@ def test_unreachable_samples_are_data_naming_the_failing_node():
     assert all(r.startswith("no intersection") for r in s.failure_reason[~s.valid])
     assert np.isnan(s["C"][~s.valid]).all() and np.isnan(s["B"][~s.valid]).all()
     assert np.isfinite(s["C"][s.valid]).all()
-    assert "node 'C' cannot be assembled" in s.explain(180)
+    assert s.explain(180).startswith("sample 180 (theta2 = 180 deg): node 'C' cannot be "
+                                     "assembled: no intersection")
 
 
 def test_after_a_gap_the_branch_resumes_by_continuity_not_by_default():

@@ -10,7 +10,7 @@ Angles are radians throughout, except in a report asked for in degrees
 (``analyze(c, degrees=True)``), which says so in its ``angle_unit``.
 """
 
-from ..kinematics import link_angles, unwrap_valid
+from ..kinematics import link_angles, slider_positions, unwrap_valid
 from .fourbar import (
     KINDS,
     Grashof,
@@ -57,6 +57,7 @@ __all__ = [
     "grashof",
     "link_angles",
     "refine_extreme",
+    "slider_positions",
     "stroke",
     "time_ratio",
     "transmission_angles",

@@ -21,7 +21,7 @@ from ..circuits import circuit, describe_limit, limits
 from ..construction import Compiled, Construction, as_compiled
 from ..engine import sweep
 from ..errors import AnalysisError
-from ..kinematics import link_angles
+from ..kinematics import link_angles, slider_positions
 from ..nodes import CircleCircle
 from ..results import Sweep
 from ..terminal import one_line
@@ -30,6 +30,7 @@ from .measures import curve_measures, refine_extreme, stroke
 from .mobility import Mobility, cranks, degrees_of_freedom
 
 __all__ = [
+    "EQUAL_STROKES",
     "CurveReport",
     "FourBarReport",
     "InputReport",
@@ -41,6 +42,11 @@ __all__ = [
 ]
 
 # -- the report ---------------------------------------------------------------------
+
+EQUAL_STROKES = 1e-6
+"""How far above 1 a time ratio may be and its two strokes still be taken as
+equal (:attr:`StrokeReport.slower_stroke`): the extremes are placed between
+samples to about this accuracy."""
 # Angles are in the report's unit (Report.angle_unit); lengths and input values
 # of length inputs in the construction's length unit.
 
@@ -190,11 +196,18 @@ class StrokeReport:
         Where the input turns fully and the output goes out and back once
         a turn: the input travelled from the minimum to the maximum over
         that from the maximum back (forward over return time at a constant
-        input speed); None otherwise.
+        input speed); None otherwise. The usual figure, at least 1, is
+        :attr:`quick_return_ratio`, with :attr:`slower_stroke`.
     strokes_per_turn : int or None
         Where the input turns fully, how many times a turn the output goes
         out and back; None where it does not (and :meth:`to_dict` leaves
         it out).
+
+    Examples
+    --------
+    >>> s = StrokeReport(False, 0.0, 1.0, 1.0, time_ratio=0.8)
+    >>> s.quick_return_ratio, s.slower_stroke
+    (1.25, 'max->min')
     """
 
     turns: bool
@@ -204,12 +217,45 @@ class StrokeReport:
     time_ratio: float | None = None
     strokes_per_turn: int | None = None
 
+    @property
+    def quick_return_ratio(self) -> float | None:
+        """Return the slower stroke's time over the faster one's: the time ratio, at least 1.
+
+        None where there is no time ratio. At a constant input speed, the
+        input travelled during the slower stroke over that during the faster.
+        """
+        if self.time_ratio is None:
+            return None
+        return max(self.time_ratio, 1 / self.time_ratio)
+
+    @property
+    def slower_stroke(self) -> str | None:
+        """Return which stroke takes longer: ``"min->max"`` or ``"max->min"``.
+
+        None where there is no time ratio, or where the two take the same
+        time to :data:`EQUAL_STROKES` (the extremes are placed between
+        samples to about that accuracy).
+        """
+        ratio = self.quick_return_ratio
+        if ratio is None or ratio - 1 <= EQUAL_STROKES:
+            return None
+        assert self.time_ratio is not None
+        return "min->max" if self.time_ratio > 1 else "max->min"
+
     def to_dict(self) -> dict[str, Any]:
-        """Return the output's extremes as plain data: ``{"turns": True}`` for a turning link."""
+        """Return the output's extremes as plain data: ``{"turns": True}`` for a turning link.
+
+        The keys are ``turns``, ``min``, ``max``, ``stroke``, ``time_ratio``
+        (forward over return: minimum to maximum over maximum to minimum),
+        ``quick_return_ratio`` (at least 1) and ``slower_stroke``, then
+        ``strokes_per_turn`` where the input turns fully.
+        """
         if self.turns:
             return {"turns": True}
         entry: dict[str, Any] = {"turns": False, "min": self.minimum, "max": self.maximum,
-                                 "stroke": self.stroke, "time_ratio": self.time_ratio}
+                                 "stroke": self.stroke, "time_ratio": self.time_ratio,
+                                 "quick_return_ratio": self.quick_return_ratio,
+                                 "slower_stroke": self.slower_stroke}
         if self.strokes_per_turn is not None:
             entry["strokes_per_turn"] = self.strokes_per_turn
         return entry
@@ -390,7 +436,9 @@ class Report:
         transmission angle at B: 48.19 to 90.00 deg
         crank.angle: turns fully
         coupler.angle: 28.9550 to 60.0000 deg, stroke 31.0450 deg, time ratio 1.1887
+        (min->max slower)
         rocker.angle: 90.0000 to 131.8103 deg, stroke 41.8103 deg, time ratio 1.1342
+        (min->max slower)
         """
         lengths = f" {one_line(units, 1000)}" if units else ""
         angles = " deg" if self.angle_unit == "deg" else " rad"
@@ -421,7 +469,11 @@ class Report:
                 lines.append(f"{label}: turns fully")
                 continue
             unit = angles if label.endswith(".angle") else lengths
-            ratio = "" if s.time_ratio is None else f", time ratio {s.time_ratio:.4f}"
+            ratio = ""
+            if s.quick_return_ratio is not None:
+                slower = (f"{s.slower_stroke} slower" if s.slower_stroke is not None
+                          else "strokes equal")
+                ratio = f", time ratio {s.quick_return_ratio:.4f} ({slower})"
             if s.strokes_per_turn is not None and s.strokes_per_turn > 1:
                 ratio = f", {s.strokes_per_turn} strokes per turn"
             lines.append(f"{label}: {_figure(s.minimum)} to {_figure(s.maximum)}{unit}, stroke "
@@ -655,14 +707,8 @@ def _strokes(compiled: Compiled, motion: Sweep,
     for point in compiled.traced:
         outputs[f"{point}.x"] = (motion[point][:, 0], False)
         outputs[f"{point}.y"] = (motion[point][:, 1], False)
-    for slider in compiled.sliders:
-        # the block's position along its guide, from the guide's first point
-        a, b = slider.along
-        guide = motion[b] - motion[a]
-        with np.errstate(all="ignore"):
-            unit = guide / np.hypot(*guide.T)[:, None]
-        outputs[f"{slider.name}.position"] = (
-            np.einsum("ij,ij->i", motion[slider.point] - motion[a], unit), False)
+    for slider, position in slider_positions(motion).items():
+        outputs[f"{slider}.position"] = (position, False)
     angles = link_angles(motion)
     for link in compiled.links:
         if set(link.points[:2]) <= compiled.ground:

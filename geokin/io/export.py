@@ -12,7 +12,15 @@ of column name to a 1-D array with one value per sample, in this order:
   samples apart;
 - per point ``<point>.x`` and ``<point>.y`` (NaN where a sample cannot be
   assembled), and with a motion ``<point>.vx .vy`` (per second) and
-  ``<point>.ax .ay`` (per second squared).
+  ``<point>.ax .ay`` (per second squared);
+- per link asked for, ``<link>.angle`` (the direction from its first point
+  to its second, unwrapped along the sweep: :func:`~geokin.kinematics.link_angles`),
+  and with a motion ``<link>.omega`` and ``<link>.alpha``, its angular
+  velocity and acceleration;
+- per slider asked for, ``<slider>.position``, its block's position along
+  its guide from the guide's first point
+  (:func:`~geokin.kinematics.slider_positions`), and with a motion
+  ``<slider>.velocity`` and ``<slider>.acceleration`` along the guide.
 
 :func:`write_csv`, :func:`write_json` and :func:`write_npz` write a table to
 a file already open; :func:`export_sweep` writes a sweep or a table to a
@@ -36,13 +44,16 @@ NPZ
 Units
 -----
 Python is in radians: the input columns of :func:`columns` hold the
-sweep's own values. ``geokin trace`` writes an angle input in degrees, the
-script's unit: the command line passes the values it swept, as typed, in
-``inputs``, since converting the radians back (``np.degrees``) can land an
-ulp away from them (22.499999999999996 for 22.5). Pass ``inputs`` to write
-degrees from Python too::
+sweep's own values, link angles are radians (per second, per second
+squared for their rates). ``geokin trace`` writes angles in degrees, the
+script's unit: it asks for ``degrees=True``, which gives link angles in
+degrees (deg/s, deg/s^2), and passes the input values it swept, as typed,
+in ``inputs``, since converting the radians back (``np.degrees``) can land
+an ulp away from them (22.499999999999996 for 22.5). From Python,
+``degrees=True`` alone converts the angle inputs too::
 
     columns(s, inputs={name: np.degrees(v) for name, v in s.inputs.items()})
+    columns(s, links=["crank"], degrees=True)
 
 Examples
 --------
@@ -80,9 +91,10 @@ from numpy.lib import format as npy_format
 from numpy.typing import ArrayLike
 
 from ..atomic import replacing
-from ..errors import ConstructionError
-from ..kinematics import Motion
+from ..errors import ConstructionError, did_you_mean
+from ..kinematics import Motion, link_angles, slider_positions
 from ..results import Sweep
+from ..units import angles_to_script, to_script_array
 
 __all__ = ["EXPORT_FORMATS", "columns", "export_sweep", "write_csv", "write_json", "write_npz"]
 
@@ -92,7 +104,9 @@ EXPORT_FORMATS = (".csv", ".json", ".npz")
 
 def columns(sweep: Sweep, points: Sequence[str] | None = None, *, motion: Motion | None = None,
             branches: bool | None = None,
-            inputs: Mapping[str, ArrayLike] | None = None) -> dict[str, np.ndarray]:
+            inputs: Mapping[str, ArrayLike] | None = None,
+            links: Sequence[str] = (), sliders: Sequence[str] = (),
+            degrees: bool = False) -> dict[str, np.ndarray]:
     """Return a sweep as a table: column name to a 1-D array of one value per sample.
 
     Parameters
@@ -111,14 +125,25 @@ def columns(sweep: Sweep, points: Sequence[str] | None = None, *, motion: Motion
         The values for the input columns, one array per input of the sweep,
         in place of the sweep's own (radians for an angle input): for
         instance the values a script gave, in degrees.
+    links : sequence of str, optional
+        Declared links whose ``<link>.angle`` to give, in this order, with a
+        motion also ``<link>.omega`` and ``<link>.alpha`` (default: none).
+    sliders : sequence of str, optional
+        Declared sliders whose ``<slider>.position`` to give, in this order,
+        with a motion also ``<slider>.velocity`` and
+        ``<slider>.acceleration`` (default: none).
+    degrees : bool, optional
+        Give link angles and their rates in degrees (deg, deg/s, deg/s^2),
+        as a script would, and angle inputs in degrees unless ``inputs``
+        gives their values; radians by default.
 
     Returns
     -------
     dict of str to ndarray
-        Inputs, ``valid``, then ``time`` and ``flagged``, the branches, and
-        the points (see :mod:`geokin.io.export`). ``valid`` and ``flagged``
-        are boolean, branches 0.0 or 1.0; the arrays may be read-only views
-        of the sweep's.
+        Inputs, ``valid``, then ``time`` and ``flagged``, the branches, the
+        points, the links and the sliders (see :mod:`geokin.io.export`).
+        ``valid`` and ``flagged`` are boolean, branches 0.0 or 1.0; the
+        arrays may be read-only views of the sweep's.
 
     Raises
     ------
@@ -126,7 +151,7 @@ def columns(sweep: Sweep, points: Sequence[str] | None = None, *, motion: Motion
         If an input has the name of another column (``valid``, or ``time``
         or ``flagged`` with a motion): both cannot be written.
     KeyError
-        For a point the sweep does not have.
+        For a point, link or slider the construction does not have.
     ValueError
         If ``motion`` is of another sweep, or ``inputs`` does not give one
         array of the sweep's length for each input.
@@ -147,12 +172,32 @@ def columns(sweep: Sweep, points: Sequence[str] | None = None, *, motion: Motion
     (array([0.        , 3.14159265]), array([0. , 0.5]))
     >>> columns(s, ["A"], inputs={"theta": [0, 180]})["theta"]
     array([  0., 180.])
+
+    A link's angle, in degrees as ``geokin trace`` writes it:
+
+    >>> c.link("crank", "O", "A")
+    >>> s = geokin.sweep(c, [0.0, np.pi / 2, np.pi])
+    >>> table = columns(s, [], links=["crank"], degrees=True)
+    >>> list(table), table["crank.angle"].round(12)
+    (['theta', 'valid', 'crank.angle'], array([  0.,  90., 180.]))
     """
     n = len(sweep)
     if motion is not None and motion.sweep is not sweep:
         raise ValueError("motion is of another sweep: compute it with geokin.motion(sweep)")
+    compiled = sweep.construction
+    declared_links = [link.name for link in compiled.links]
+    declared_sliders = [slider.name for slider in compiled.sliders]
+    for name in links:
+        if name not in declared_links:
+            raise KeyError(f"no link {name!r}{did_you_mean(name, declared_links)}")
+    for name in sliders:
+        if name not in declared_sliders:
+            raise KeyError(f"no slider {name!r}{did_you_mean(name, declared_sliders)}")
     if inputs is None:
         values: Mapping[str, ArrayLike] = sweep.inputs
+        if degrees:
+            values = {name: to_script_array(compiled.inputs[name], v)
+                      for name, v in sweep.inputs.items()}
     else:
         if set(inputs) != set(sweep.inputs):
             raise ValueError(f"inputs must give the sweep's inputs {list(sweep.inputs)}, "
@@ -188,6 +233,21 @@ def columns(sweep: Sweep, points: Sequence[str] | None = None, *, motion: Motion
             add(f"{point}.vy", v[:, 1])
             add(f"{point}.ax", a[:, 0])
             add(f"{point}.ay", a[:, 1])
+    angle = angles_to_script if degrees else np.asarray
+    if links:
+        angles = link_angles(sweep)
+        for link in links:
+            add(f"{link}.angle", angle(angles[link]))
+            if motion is not None:
+                add(f"{link}.omega", angle(motion.angular_velocity[link]))
+                add(f"{link}.alpha", angle(motion.angular_acceleration[link]))
+    if sliders:
+        positions = slider_positions(sweep)
+        for slider in sliders:
+            add(f"{slider}.position", positions[slider])
+            if motion is not None:
+                add(f"{slider}.velocity", motion.slider_velocity[slider])
+                add(f"{slider}.acceleration", motion.slider_acceleration[slider])
     return table
 
 
@@ -340,7 +400,9 @@ def write_npz(columns: Mapping[str, ArrayLike], file: IO[bytes]) -> None:
 def export_sweep(data: Sweep | Mapping[str, ArrayLike], path: str | os.PathLike[str],
                  points: Sequence[str] | None = None, *, motion: Motion | None = None,
                  branches: bool | None = None,
-                 inputs: Mapping[str, ArrayLike] | None = None) -> pathlib.Path:
+                 inputs: Mapping[str, ArrayLike] | None = None,
+                 links: Sequence[str] = (), sliders: Sequence[str] = (),
+                 degrees: bool = False) -> pathlib.Path:
     """Write a sweep, or a table of columns, to a CSV, JSON or NPZ file.
 
     The format is the path's suffix, in any case: ``.csv``, ``.json`` or
@@ -351,11 +413,11 @@ def export_sweep(data: Sweep | Mapping[str, ArrayLike], path: str | os.PathLike[
     Parameters
     ----------
     data : Sweep or mapping of str to array_like
-        A sweep, made into a table by :func:`columns` with ``points``,
-        ``motion``, ``branches`` and ``inputs``; or a table already made.
+        A sweep, made into a table by :func:`columns` with the options
+        below; or a table already made.
     path : str or os.PathLike
         The file to write; its folder must exist.
-    points, motion, branches, inputs
+    points, motion, branches, inputs, links, sliders, degrees
         As for :func:`columns`; only with a sweep.
 
     Returns
@@ -390,10 +452,12 @@ def export_sweep(data: Sweep | Mapping[str, ArrayLike], path: str | os.PathLike[
     if kind not in EXPORT_FORMATS:
         raise ValueError(f"cannot export to {str(path)!r}: use a .csv, .json or .npz file")
     if isinstance(data, Sweep):
-        table = columns(data, points, motion=motion, branches=branches, inputs=inputs)
-    elif any(given is not None for given in (points, motion, branches, inputs)):
-        raise TypeError("points, motion, branches and inputs make a table of a sweep; "
-                        "a table is written as it is")
+        table = columns(data, points, motion=motion, branches=branches, inputs=inputs,
+                        links=links, sliders=sliders, degrees=degrees)
+    elif (any(given is not None for given in (points, motion, branches, inputs))
+          or links or sliders or degrees):
+        raise TypeError("points, motion, branches, inputs, links, sliders and degrees make "
+                        "a table of a sweep; a table is written as it is")
     else:
         table = _arrays(data)  # checked before the file is opened
     if kind == ".npz":

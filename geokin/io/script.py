@@ -765,9 +765,10 @@ def dump(construction: Construction) -> str:
 def script_steps(construction: Construction) -> str:
     r"""Return the compiled steps as text, with angles in degrees as a script has them.
 
-    Inside geokin every angle is radians, so ``str(construction.compile())``
-    shows an angle field of 30 degrees as 0.5235987755982988; this shows it
-    as the script writes it.
+    Inside geokin every angle is radians; ``str(construction.compile())``
+    shows an angle field of 30 degrees as ``30 deg`` but keeps the angle
+    inputs' radians (``theta + 30 deg``); this shows every angle as the
+    script writes it, the angle inputs in degrees (``theta + 30``).
 
     Examples
     --------
@@ -782,7 +783,7 @@ def script_steps(construction: Construction) -> str:
     to_script = _AngleRewriter(construction, to_script=True)
     steps = tuple(dataclasses.replace(step, node=to_script.node(step.node))
                   for step in compiled.steps)
-    return str(dataclasses.replace(compiled, steps=steps))
+    return dataclasses.replace(compiled, steps=steps).listing(degrees=False)
 
 
 def _node_entries(node: Node, convert: _AngleRewriter) -> list[tuple[str, str]]:
