@@ -88,3 +88,9 @@ def test_a_keyword_given_by_both_names_is_refused():
     with pytest.raises(TypeError, match="both input= and input_name="):
         motion(geokin.sweep(triple_rocker("crank"), [0.0]), input="theta2",
                input_name="theta2")
+
+
+def test_the_report_still_reads_as_the_dict_it_was():
+    report = geokin.analyze(triple_rocker("crank"))
+    with deprecated("report.to_dict"):
+        assert report["inputs"] == report.to_dict()["inputs"]

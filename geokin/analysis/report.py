@@ -11,6 +11,7 @@ curves, in a :class:`Report`. ``geokin analyze`` prints it;
 
 from __future__ import annotations
 
+import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -346,6 +347,13 @@ class Report:
     def dof(self) -> int:
         """Return the degrees of freedom of the declared links (Gruebler-Kutzbach)."""
         return self.mobility.dof
+
+    def __getitem__(self, key: str) -> Any:
+        """Return ``to_dict()[key]``: the dict :func:`analyze` used to return (deprecated)."""
+        warnings.warn("analyze() returns a Report: read its fields (report.inputs), or "
+                      "report.to_dict() for the old dict; indexing it will be removed",
+                      DeprecationWarning, stacklevel=2)
+        return self.to_dict()[key]
 
     def to_dict(self) -> dict[str, Any]:
         """Return the report as plain data, ready for JSON: what ``geokin analyze --json`` prints.
