@@ -2,17 +2,21 @@
 
 A script is read with the standard library's :mod:`tomllib`; loading never
 runs code. Every value is a number or a string holding arithmetic of
-numbers, parameter names and input names (``+ - * / **``, parentheses,
-``sqrt sin cos tan atan2 radians degrees`` and ``pi``), parsed by the safe
-parser of :mod:`geokin.expressions`.
+numbers, parameter names and input names, parsed by the safe parser of
+:mod:`geokin.expressions`: ``+ - * / **``, parentheses, ``pi`` and the
+functions ``sqrt abs hypot min max sin cos tan asin acos atan atan2
+radians degrees`` (``min`` and ``max`` of two or more values). Each works
+elementwise over the samples; a value outside a function's domain
+(``acos(1.2)``) makes that sample unassemblable, with the reason.
 
 Units
 -----
 Angles are **degrees** everywhere in a script: input ranges, steps and
 speeds, and every angle field (the ``angle`` of a ``polar`` point). An angle
 input is handed to expressions in degrees, so ``angle = "theta + 90"`` means
-90 degrees ahead of the input. The trigonometric functions still take
-radians: write ``sin(radians(theta))``. Lengths are in the script's
+90 degrees ahead of the input. The trigonometric functions still take and
+give radians: write ``sin(radians(theta))``, and
+``angle = "degrees(asin(e / l))"``. Lengths are in the script's
 ``units`` (a label such as ``"mm"``), speeds in degrees (or length units)
 per second. The construction a script gives holds radians, as every
 construction does: its angle inputs, ranges and angle fields are converted
