@@ -879,7 +879,11 @@ class _AngleRewriter:
         return script_degrees(value) if self.to_script else math.radians(value)
 
     def angular(self, expr: Expr) -> bool:
-        """Whether an expression involves an angle input, pi or a conversion."""
+        """Whether an expression involves an angle input, pi or a conversion.
+
+        A conversion either way counts: ``degrees(asin(r))`` in a script is
+        the angle of a product ``2 * degrees(asin(r))``, as ``theta`` is.
+        """
         if isinstance(expr, Name):
             return expr.name in self.angles or expr.name == "pi"
         if isinstance(expr, Neg):
@@ -887,7 +891,8 @@ class _AngleRewriter:
         if isinstance(expr, BinOp):
             return self.angular(expr.left) or self.angular(expr.right)
         if isinstance(expr, Call):
-            return expr.function == self.wrap or any(self.angular(a) for a in expr.args)
+            return (expr.function in (self.wrap, self.read)
+                    or any(self.angular(a) for a in expr.args))
         return False
 
     def plain(self, expr: Expr) -> Expr:
@@ -925,9 +930,14 @@ class _AngleRewriter:
             if expr.op in "+-":
                 return _fold(expr.op, self.angle(expr.left), self.angle(expr.right))
             if expr.op == "*":
-                if self.angular(expr.right) and not self.angular(expr.left):
-                    return _fold("*", self.plain(expr.left), self.angle(expr.right))
-                return _fold("*", self.angle(expr.left), self.plain(expr.right))
+                # the factor that carries the angle is converted; of two that carry
+                # none, the one that is not a number (2 * atan2(y, x) is written
+                # 2 * degrees(atan2(y, x)), not 114.59... * atan2(y, x))
+                left, right = expr.left, expr.right
+                if not self.angular(left) and (self.angular(right) or (
+                        isinstance(left, Number) and not isinstance(right, Number))):
+                    return _fold("*", self.plain(left), self.angle(right))
+                return _fold("*", self.angle(left), self.plain(right))
             if expr.op == "/":
                 return _fold("/", self.angle(expr.left), self.plain(expr.right))
         return Call(self.wrap, (self.plain(expr),))
