@@ -566,6 +566,37 @@ class Construction:
         self.add("polar", name, origin=origin, distance=distance, angle=angle,
                  reference=reference)
 
+    def local(self, name: str, origin: str, toward: str, at: Sequence[ValueLike]) -> None:
+        """Declare the point at coordinates ``at = (u, v)`` in a frame on two points.
+
+        The frame has its origin at ``origin`` and its x axis pointing towards
+        ``toward``; v is measured a quarter turn counter-clockwise from it.
+        A point of a rigid link (a coupler point, a leg's foot) is so given by
+        its coordinates on the link, however the link moves. Samples where
+        the two points coincide cannot be assembled.
+
+        Parameters
+        ----------
+        name, origin, toward : str
+        at : (value, value)
+            The coordinates u and v, lengths.
+
+        Examples
+        --------
+        A coupler point 12 along the coupler A->B and 5 to its left:
+
+        >>> c = Construction()
+        >>> c.input("theta")
+        >>> c.fixed("O", 0, 0)
+        >>> c.fixed("Q", 40, 0)
+        >>> c.polar("A", "O", 10, "theta")
+        >>> c.circle_circle("B", ("A", "Q"), (35, 30), branch="left")
+        >>> c.local("P", "A", "B", (12, 5))
+        >>> print(c.compile().steps[-1].node.describe())
+        local(A->B, 12, 5)
+        """
+        self.add("local", name, origin=origin, toward=toward, at=at)
+
     def along(self, name: str, line: Sequence[str], distance: ValueLike) -> None:
         """Declare the point at a signed ``distance`` from ``line[0]`` towards ``line[1]``.
 

@@ -50,6 +50,7 @@ __all__ = [
     "Key",
     "LineCircle",
     "LineLine",
+    "Local",
     "Node",
     "Polar",
     "RayCircle",
@@ -340,6 +341,43 @@ class Polar(Node):
 
 
 @dataclass(frozen=True)
+class Local(Node):
+    """The point at coordinates ``(u, v)`` in the frame of ``origin`` and ``toward``.
+
+    The frame's x axis points from ``origin`` towards ``toward``, its y axis
+    a quarter turn counter-clockwise from it: a coupler or leg point is given
+    once by its coordinates on the link, ``at = [u, v]``. No root where the
+    two points coincide (degenerate input).
+
+    Examples
+    --------
+    >>> from geokin.expressions import as_expr
+    >>> node = Local("P", "A", "B", as_expr(12), as_expr(5))
+    >>> node.describe()
+    'local(A->B, 12, 5)'
+    >>> cand = node.candidates({"A": (1.0, 1.0), "B": (1.0, 9.0)}, {"u": 12.0, "v": 5.0})
+    >>> float(cand.x[0]), float(cand.y[0])
+    (-4.0, 13.0)
+    """
+
+    origin: str
+    toward: str
+    u: Expr
+    v: Expr
+    kind: ClassVar[str] = "local"
+    keys: ClassVar[tuple[Key, ...]] = (Key("origin", "point"), Key("toward", "point"),
+                                       Key("at", "value pair", ("u", "v")))
+
+    def describe(self) -> str:
+        return f"local({self.origin}->{self.toward}, {self.u}, {self.v})"
+
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
+        (ox, oy), (tx, ty) = coords[self.origin], coords[self.toward]
+        x, y = prim.local_point_xy(ox, oy, tx, ty, values["u"], values["v"])
+        return Candidates((x,), (y,))
+
+
+@dataclass(frozen=True)
 class Along(Node):
     """The point at a signed ``distance`` from ``line[0]`` towards ``line[1]``."""
 
@@ -482,7 +520,8 @@ class SegmentCircle(_LineCircle):
 
 NODE_KINDS: dict[str, type[Node]] = {
     cls.kind: cls
-    for cls in (Fixed, Polar, Along, LineLine, LineCircle, SegmentCircle, RayCircle, CircleCircle)
+    for cls in (Fixed, Polar, Local, Along, LineLine, LineCircle, SegmentCircle, RayCircle,
+                CircleCircle)
 }
 """Every point node kind by its name in scripts, in the order the docs list them."""
 

@@ -178,12 +178,13 @@ def test_every_node_kind_describes_itself():
     c.ray_circle("P5", ("A0", "B0"), "A", 20, near=(1, 2))
     c.circle_circle("P6", ("A", "B0"), (30, 30), branch="right")
     c.polar("P7", "A", 2, 0.5, reference=("A0", "A"))
+    c.local("P8", "A", "B0", (3, "1 + 1"))
     text = str(c.compile())
     kinds = {step.node.kind for step in c.compile()}
     assert kinds == set(NODE_KINDS)
     for fragment in ["along(A0->A, 3)", "line_line(A0-A; B0-P1)", "line_circle(A0-B0; A, 20)",
                      "segment_circle(A0..B0; A, 20)  [second]", "near (1, 2)",
-                     "polar(A, 2, 0.5 from A0->A)"]:
+                     "polar(A, 2, 0.5 from A0->A)", "local(A->B0, 3, 1 + 1)"]:
         assert fragment in text
 
 
@@ -519,7 +520,7 @@ hostile = st.one_of(hostile_number, hostile_text, st.none(),
                     st.lists(st.one_of(hostile_number, hostile_text), max_size=3))
 
 
-@given(st.lists(st.tuples(st.sampled_from(["parameter", "input", "fixed", "polar", "along",
+@given(st.lists(st.tuples(st.sampled_from(["parameter", "input", "fixed", "polar", "local", "along",
                                            "line_line", "circle_circle", "line_circle",
                                            "link", "slider", "trace"]),
                           st.lists(hostile, min_size=1, max_size=5)), max_size=6))

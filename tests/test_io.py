@@ -162,9 +162,10 @@ def python_constructions():
     c.segment_circle("L", ("Q", "A"), "Q", 3, branch="first")
     c.ray_circle("M", ("A", "J"), "A", "4 * s + 1", branch="second")
     c.line_line("N", ("O", "A"), ("Q", "J"))
+    c.local("P", "A", "J", ("r / 2", "-2 + s"))
     c.link("body", "A", "B", "C")
     c.slider("block", "I", ("A", "B"))
-    c.trace("C", "N")
+    c.trace("C", "N", "P")
     yield c
 
 
@@ -291,6 +292,16 @@ ERRORS = [
     ('branch = "left"', 'branch = 1', ["[points] B.branch: expected a branch name (a string), "
                                        "got the integer 1"]),
     ('branch = "left"', 'near = "10, 20"', ["[points] B.near: expected two numbers [x, y]"]),
+    ('A = { op = "polar", origin = "A0", distance = "l2", angle = "theta" }',
+     'A = { op = "local", origin = "A0", toward = "B0", at = ["l2", "thta"] }',
+     ["sixbar.toml:18: [points] A.at[1]: unknown parameter or input 'thta'; did you mean "
+      "'theta'?"]),
+    ('A = { op = "polar", origin = "A0", distance = "l2", angle = "theta" }',
+     'A = { op = "local", origin = "A0", at = ["l2", 0] }',
+     ["sixbar.toml:18: [points] A.toward: missing key 'toward' (required: origin, toward, at)"]),
+    ('A = { op = "polar", origin = "A0", distance = "l2", angle = "theta" }',
+     'A = { op = "local", origin = "A0", toward = "B0", at = [1, 2, 3] }',
+     ["[points] A.at: expected two values such as [0, \"l1\"], got an array of 3"]),
     ('at = [0, 30]', 'at = 30', ["sixbar.toml:16: [points] A0.at: expected two values"]),
     ('at = [0, 30]', 'at = [0, true]', ["[points] A0.at[1]: expected a number or an expression"]),
     ('at = [0, 30]', 'at = [0, "30 +"]', ["[points] A0.at[1]: expression '30 +': not a valid"]),

@@ -59,6 +59,8 @@ Point kinds (``op``)
 ``fixed``           ``at = [x, y]``: a ground pivot.
 ``polar``           ``origin``, ``distance``, ``angle`` (degrees, counter-clockwise
                     from the x axis, or from the direction ``reference = [P, Q]``).
+``local``           ``origin``, ``toward``, ``at = [u, v]``: u along the direction from
+                    ``origin`` towards ``toward``, v to its left (a link's own frame).
 ``along``           ``line = [P, Q]``, ``distance``: signed distance from P towards Q.
 ``line_line``       ``first = [P, Q]``, ``second = [R, S]``: two lines' crossing.
 ``line_circle``     ``line = [P, Q]``, ``center``, ``radius``: the whole line P-Q.
