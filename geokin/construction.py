@@ -178,8 +178,9 @@ class Compiled:
         The points whose paths are traced.
     ground : frozenset of str
         The points that never move (see :meth:`~geokin.nodes.Node.is_ground`):
-        the one place that decides what is ground, for the analysis and the
-        drawing alike.
+        fixed points that use no input, and points built only on those with
+        values that use no input. The one place that decides what is
+        ground, for the analysis and the drawing alike.
 
     A compiled construction is not changed after it is made; the mappings it
     holds are its own copies.
@@ -875,10 +876,14 @@ class Construction:
         order = self._ordered()
         steps = tuple(Step(i + 1, self.nodes[name]) for i, name in enumerate(order))
         inputs = frozenset(self.inputs)
+        ground: set[str] = set()
+        for step in steps:  # in order: each point after the points it is built on
+            if step.node.is_ground(inputs, ground):
+                ground.add(step.node.name)
         self._compiled = Compiled(
             self.name, steps, {k: p.value for k, p in self.parameters.items()},
             dict(self.inputs), tuple(self.links.values()), tuple(self.sliders.values()),
-            self.traced, frozenset(n for n, node in self.nodes.items() if node.is_ground(inputs)))
+            self.traced, frozenset(ground))
         return self._compiled
 
     def _check_constant_values(self):

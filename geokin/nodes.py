@@ -200,7 +200,9 @@ class Node:
         with one root.
     ground_kind : bool
         Whether a point of this kind is ground when none of its values
-        uses an input (see :meth:`is_ground`).
+        uses an input, whatever it is built on (a fixed point is built on
+        nothing); a point of another kind is ground when, besides, every
+        point it is built on is ground (see :meth:`is_ground`).
     low, high : float
         Where along its line a root counts, as the line's parameter:
         ``low <= t <= high``.
@@ -251,8 +253,21 @@ class Node:
             seen.update(dict.fromkeys(names))
         return tuple(seen)
 
-    def is_ground(self, inputs: frozenset[str] | set[str]) -> bool:
-        """Whether the point never moves: a ground kind whose values use none of ``inputs``.
+    def is_ground(self, inputs: frozenset[str] | set[str],
+                  ground: frozenset[str] | set[str] = frozenset()) -> bool:
+        """Whether the point never moves.
+
+        It never moves when its values use none of ``inputs`` and it is of
+        a ground kind (a fixed point), or is built only on points that never
+        move: a second point of a fixed slider guide, at a constant angle
+        from a fixed point, is ground as the fixed point is.
+
+        Parameters
+        ----------
+        inputs : set of str
+            The construction's inputs.
+        ground : set of str
+            The points already known to be ground.
 
         Examples
         --------
@@ -261,9 +276,16 @@ class Node:
         False
         >>> Fixed("A", as_expr(0), as_expr(1)).is_ground({"s"})
         True
+        >>> guide = Polar("H", "G", as_expr(1), as_expr(0.5))
+        >>> guide.is_ground({"s"}, {"G"}), guide.is_ground({"s"}, set())
+        (True, False)
         """
-        return self.ground_kind and not any(
-            expr.names() & inputs for expr in self.value_fields().values())
+        if any(expr.names() & inputs for expr in self.value_fields().values()):
+            return False
+        if self.ground_kind:
+            return True
+        built_on = self.depends_on()
+        return bool(built_on) and all(p in ground for p in built_on)
 
     def choice(self) -> str | None:
         """Return how the initial branch is chosen, as text (None for one root)."""

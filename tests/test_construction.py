@@ -188,6 +188,24 @@ def test_every_node_kind_describes_itself():
         assert fragment in text
 
 
+def test_a_point_built_only_on_ground_with_values_that_use_no_input_is_ground():
+    """A fixed guide's second point, polar from a fixed point, never moves: it is ground."""
+    c = Construction()
+    c.input("theta")
+    c.input("s", kind="length", range=(0, 1))
+    c.polar("H", "G", 5, 0.5)  # declared before the point it is built on
+    c.fixed("O", 0, 0)
+    c.polar("G", "O", 5, 1.0)
+    c.local("K", "G", "H", (1, 2))
+    c.circle_circle("X", ("G", "H"), (4, 4), branch="left")
+    c.fixed("S", "s", 0)  # a fixed kind, but moved by an input
+    c.polar("A", "O", 1, "theta")
+    c.polar("Y", "G", "s", 0)  # on ground, but its value uses an input
+    c.local("Z", "G", "A", (1, 0))  # on a moving point
+    c.along("W", ("O", "S"), 1)
+    assert c.compile().ground == {"O", "G", "H", "K", "X"}
+
+
 def test_constructions_compare_by_content():
     assert sixbar() == sixbar()
     other = sixbar()
