@@ -34,7 +34,7 @@ def test_the_library_is_complete():
     names = {p.stem for p in SCRIPTS}
     assert {"sixbar", "quick_return", "triple_rocker_crank", "triple_rocker_coupler",
             "triple_rocker_follower", "fourbar_open", "fourbar_crossed", "crank_rocker",
-            "slider_crank_offset"} <= names
+            "slider_crank_offset", "slider_crank_inclined"} <= names
 
 
 @pytest.mark.parametrize("path", SCRIPTS, ids=lambda p: p.name)
