@@ -169,6 +169,13 @@ def python_constructions():
     yield c
 
 
+def test_the_round_trips_cover_every_node_kind():
+    kinds = {node.kind for c in python_constructions() for node in c.nodes.values()}
+    assert kinds == set(NODE_KINDS)
+    shipped = {node.kind for path in SCRIPTS for node in load(path).nodes.values()}
+    assert {"local", "polar", "line_circle"} <= shipped
+
+
 @pytest.mark.parametrize("c", list(python_constructions()), ids=lambda c: c.name)
 def test_dump_of_a_python_construction_is_an_equivalent_degree_script(c):
     text = dump(c)
