@@ -184,10 +184,11 @@ class Compiled(Frozen):
     traced : tuple of str
         The points whose paths are traced.
     ground : frozenset of str
-        The frame's points, found from the steps: every fixed point whose
-        coordinates use no input (one driven along a line by an input is a
-        joint). The one place that decides what is ground, for the analysis
-        and the drawing alike.
+        The points that never move: fixed points that use no input, and
+        points built only on those with values that use no input (see
+        :meth:`~geokin.nodes.Node.is_ground`), found from the steps. The one
+        place that decides what is ground, for the analysis and the drawing
+        alike.
 
     A compiled construction is not changed after it is made; the mappings it
     holds are its own copies. ``str(compiled)`` is the step list of
@@ -209,13 +210,12 @@ class Compiled(Frozen):
 
     def __post_init__(self) -> None:
         super().__post_init__()
-        # ground is the frame: the fixed points whose coordinates use no input. A
-        # point built on them with constant values (a crank held at one angle) stays a
-        # joint of its links, so that counting the links' freedom sees the linkage
-        inputs = self.inputs.keys()
-        object.__setattr__(self, "ground", frozenset(
-            step.node.name for step in self.steps if step.node.ground_kind
-            and not any(e.names() & inputs for e in step.node.value_fields().values())))
+        inputs = frozenset(self.inputs)
+        ground: set[str] = set()
+        for step in self.steps:  # in order: each point after the points it is built on
+            if step.node.is_ground(inputs, ground):
+                ground.add(step.node.name)
+        object.__setattr__(self, "ground", frozenset(ground))
 
     def __len__(self) -> int:
         return len(self.steps)
@@ -620,6 +620,37 @@ class Construction:
         """
         self.add("polar", name, origin=origin, distance=distance, angle=angle,
                  reference=reference)
+
+    def local(self, name: str, origin: str, toward: str, at: Sequence[ValueLike]) -> None:
+        """Declare the point at coordinates ``at = (u, v)`` in a frame on two points.
+
+        The frame has its origin at ``origin`` and its x axis pointing towards
+        ``toward``; v is measured a quarter turn counter-clockwise from it.
+        A point of a rigid link (a coupler point, a leg's foot) is so given by
+        its coordinates on the link, however the link moves. Samples where
+        the two points coincide cannot be assembled.
+
+        Parameters
+        ----------
+        name, origin, toward : str
+        at : (value, value)
+            The coordinates u and v, lengths.
+
+        Examples
+        --------
+        A coupler point 12 along the coupler A->B and 5 to its left:
+
+        >>> c = Construction()
+        >>> c.input("theta")
+        >>> c.fixed("O", 0, 0)
+        >>> c.fixed("Q", 40, 0)
+        >>> c.polar("A", "O", 10, "theta")
+        >>> c.circle_circle("B", ("A", "Q"), (35, 30), branch="left")
+        >>> c.local("P", "A", "B", (12, 5))
+        >>> print(c.compile().steps[-1].node.describe())
+        local(A->B, 12, 5)
+        """
+        self.add("local", name, origin=origin, toward=toward, at=at)
 
     def along(self, name: str, line: Sequence[str], distance: ValueLike) -> None:
         """Declare the point at a signed ``distance`` from ``line[0]`` towards ``line[1]``.

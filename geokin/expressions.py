@@ -1,12 +1,18 @@
 """Values of a construction: numbers, names, and arithmetic of them.
 
 A value is an :class:`Expr`: a number, the name of a parameter or input, or
-arithmetic (``+ - * / **``, unary minus, parentheses) and the functions
-``sqrt sin cos tan atan2 radians degrees`` with the constant ``pi``.
+arithmetic (``+ - * / **``, unary minus, parentheses) and the functions of
+:data:`FUNCTIONS` with the constant ``pi``: ``sqrt abs hypot min max``,
+``sin cos tan``, ``asin acos atan atan2``, ``radians degrees``.
 Strings are parsed by :func:`parse`, which reads Python's expression grammar
 with :mod:`ast` and accepts only those node kinds: no ``eval``, no attribute
 access, no subscripts and no calls outside that list, so parsing a script
-never runs code. The trigonometric functions work in radians.
+never runs code. The trigonometric functions work in radians: ``sin cos
+tan`` take radians and ``asin acos atan atan2`` return them. Every function
+works elementwise on numpy arrays; ``min`` and ``max`` take two or more
+values. A value outside a function's domain (``acos(2)``, ``sqrt(-1)``)
+gives NaN, as numpy does: a sample where a point's value is NaN cannot be
+assembled (see :func:`geokin.nodes.failure_reasons`).
 
 An expression holds at most :data:`~geokin.budgets.MAX_EXPRESSION_LENGTH`
 characters and nests operations and calls at most
@@ -48,9 +54,10 @@ from __future__ import annotations
 
 import ast
 import dataclasses
+import functools
 import math
 import unicodedata
-from collections.abc import Iterable, Mapping
+from collections.abc import Callable, Iterable, Mapping
 from dataclasses import dataclass
 from typing import Any, TypeAlias
 
@@ -72,15 +79,53 @@ __all__ = [
     "skeleton",
 ]
 
-FUNCTIONS = {
+
+
+def _minimum(*values: Any) -> Any:
+    """Return the elementwise minimum of two or more values (NaN if any is NaN)."""
+    return functools.reduce(np.minimum, values)
+
+
+def _maximum(*values: Any) -> Any:
+    """Return the elementwise maximum of two or more values (NaN if any is NaN)."""
+    return functools.reduce(np.maximum, values)
+
+
+Arity: TypeAlias = int | tuple[int, None]
+"""How many arguments a function takes: exactly ``n``, or ``(n, None)`` for n or more."""
+
+FUNCTIONS: dict[str, tuple[Arity, Callable[..., Any]]] = {
     "sqrt": (1, np.sqrt),
+    "abs": (1, np.abs),
+    "hypot": (2, np.hypot),
+    "min": ((2, None), _minimum),
+    "max": ((2, None), _maximum),
     "sin": (1, np.sin),
     "cos": (1, np.cos),
     "tan": (1, np.tan),
+    "asin": (1, np.arcsin),
+    "acos": (1, np.arccos),
+    "atan": (1, np.arctan),
     "atan2": (2, np.arctan2),
     "radians": (1, np.radians),
     "degrees": (1, np.degrees),
 }
+"""The functions expressions may call: name -> (arity, numpy function).
+
+All are elementwise. ``hypot(x, y)`` is ``sqrt(x ** 2 + y ** 2)`` without
+overflow; ``atan2(y, x)`` the angle of the vector (x, y) in radians, in the
+right quadrant; ``min`` and ``max`` take two or more values.
+
+Examples
+--------
+>>> parse("max(a, b, 0)").evaluate({"a": np.array([-1.0, 2.0]), "b": -3.0})
+array([0., 2.])
+>>> float(parse("degrees(acos(0.5))").evaluate({}))
+60.00000000000001
+>>> with np.errstate(invalid="ignore"):  # out of the domain: NaN, as numpy gives
+...     float(parse("acos(x)").evaluate({"x": 2.0}))
+nan
+"""
 CONSTANTS = {"pi": math.pi}
 
 _BINARY = {ast.Add: "+", ast.Sub: "-", ast.Mult: "*", ast.Div: "/", ast.Pow: "**"}
@@ -550,8 +595,11 @@ def parse(text: str, *, node: str | None = None, field: str | None = None) -> Ex
             if item.keywords:
                 raise fail(f"{name}() takes no keyword arguments")
             arity = FUNCTIONS[name][0]
-            if len(item.args) != arity:
+            if isinstance(arity, int) and len(item.args) != arity:
                 raise fail(f"{name}() takes {arity} argument{'s' * (arity > 1)}, "
+                           f"got {len(item.args)}")
+            if isinstance(arity, tuple) and len(item.args) < arity[0]:
+                raise fail(f"{name}() takes at least {arity[0]} arguments, "
                            f"got {len(item.args)}")
             return Call(name, tuple(build(a) for a in item.args))
         kind = type(item).__name__

@@ -51,6 +51,7 @@ __all__ = [
     "Key",
     "LineCircle",
     "LineLine",
+    "Local",
     "Node",
     "Polar",
     "RayCircle",
@@ -206,10 +207,10 @@ class Node:
         The names of its roots in the primitive's order; empty for a node
         with one root.
     ground_kind : bool
-        Whether this kind places its point at absolute coordinates given by
-        its values (a fixed point), built on no other point. Such a point is
-        ground when its values use no input; which points are ground is
-        decided in one place, :attr:`geokin.construction.Compiled.ground`.
+        Whether a point of this kind is ground when none of its values
+        uses an input, whatever it is built on (a fixed point is built on
+        nothing); a point of another kind is ground when, besides, every
+        point it is built on is ground (see :meth:`is_ground`).
     low, high : float
         Where along its line a root counts, as the line's parameter:
         ``low <= t <= high``.
@@ -272,6 +273,40 @@ class Node:
         for names in self.point_fields().values():
             seen.update(dict.fromkeys(names))
         return tuple(seen)
+
+    def is_ground(self, inputs: frozenset[str] | set[str],
+                  ground: frozenset[str] | set[str] = frozenset()) -> bool:
+        """Whether the point never moves.
+
+        It never moves when its values use none of ``inputs`` and it is of
+        a ground kind (a fixed point), or is built only on points that never
+        move: a second point of a fixed slider guide, at a constant angle
+        from a fixed point, is ground as the fixed point is.
+
+        Parameters
+        ----------
+        inputs : set of str
+            The construction's inputs.
+        ground : set of str
+            The points already known to be ground.
+
+        Examples
+        --------
+        >>> from geokin.expressions import as_expr
+        >>> Fixed("A", as_expr(0), as_expr("s")).is_ground({"s"})
+        False
+        >>> Fixed("A", as_expr(0), as_expr(1)).is_ground({"s"})
+        True
+        >>> guide = Polar("H", "G", as_expr(1), as_expr(0.5))
+        >>> guide.is_ground({"s"}, {"G"}), guide.is_ground({"s"}, set())
+        (True, False)
+        """
+        if any(expr.names() & inputs for expr in self.value_fields().values()):
+            return False
+        if self.ground_kind:
+            return True
+        built_on = self.depends_on()
+        return bool(built_on) and all(p in ground for p in built_on)
 
     def choice(self) -> str | None:
         """Return how the initial branch is chosen, as text (None for one root)."""
@@ -345,6 +380,43 @@ class Polar(Node):
         else:
             (x1, y1), (x2, y2) = coords[self.reference[0]], coords[self.reference[1]]
             x, y = prim.relative_point_xy(ox, oy, x1, y1, x2, y2, distance, angle)
+        return Candidates((x,), (y,))
+
+
+@dataclass(frozen=True)
+class Local(Node):
+    """The point at coordinates ``(u, v)`` in the frame of ``origin`` and ``toward``.
+
+    The frame's x axis points from ``origin`` towards ``toward``, its y axis
+    a quarter turn counter-clockwise from it: a coupler or leg point is given
+    once by its coordinates on the link, ``at = [u, v]``. No root where the
+    two points coincide (degenerate input).
+
+    Examples
+    --------
+    >>> from geokin.expressions import as_expr
+    >>> node = Local("P", "A", "B", as_expr(12), as_expr(5))
+    >>> node.describe()
+    'local(A->B, 12, 5)'
+    >>> cand = node.candidates({"A": (1.0, 1.0), "B": (1.0, 9.0)}, {"u": 12.0, "v": 5.0})
+    >>> float(cand.x[0]), float(cand.y[0])
+    (-4.0, 13.0)
+    """
+
+    origin: str
+    toward: str
+    u: Expr
+    v: Expr
+    kind: ClassVar[str] = "local"
+    keys: ClassVar[tuple[Key, ...]] = (Key("origin", "point"), Key("toward", "point"),
+                                       Key("at", "value pair", ("u", "v")))
+
+    def describe(self) -> str:
+        return f"local({self.origin}->{self.toward}, {self.u}, {self.v})"
+
+    def candidates(self, coords: Coords, values: Values) -> Candidates:
+        (ox, oy), (tx, ty) = coords[self.origin], coords[self.toward]
+        x, y = prim.local_point_xy(ox, oy, tx, ty, values["u"], values["v"])
         return Candidates((x,), (y,))
 
 
@@ -518,7 +590,8 @@ class SegmentCircle(_LineCircle):
 
 NODE_KINDS: Mapping[str, type[Node]] = MappingProxyType({
     cls.kind: cls
-    for cls in (Fixed, Polar, Along, LineLine, LineCircle, SegmentCircle, RayCircle, CircleCircle)
+    for cls in (Fixed, Polar, Local, Along, LineLine, LineCircle, SegmentCircle, RayCircle,
+                CircleCircle)
 })
 """Every point node kind by its name in scripts (read-only)."""
 

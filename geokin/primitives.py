@@ -55,6 +55,7 @@ __all__ = [
     "circle_circle",
     "line_circle",
     "line_line",
+    "local_point",
     "point_along",
     "polar_point",
     "ray_circle",
@@ -115,7 +116,7 @@ the answer is NaN, never a wrong number."""
 _CC_WINDOW = (1e-130, 1e130)  # circle_circle: scale, whose square must be normal
 _LC_WINDOW = (1e-140, 1e140)  # line_circle: squared length, and squared scale below
 _LL_WINDOW = (1e-140, 1e140)  # line_line: squared lengths, whose product must be normal
-_RP_WINDOW = (1e-280, 1e280)  # relative_point: squared length
+_RP_WINDOW = (1e-280, 1e280)  # relative_point, local_point: squared length
 
 
 _PLAIN = (float, int)
@@ -631,6 +632,83 @@ def relative_point_xy(ox, oy, x1, y1, x2, y2, distance, angle):
     shape = np.shape(outputs[0])
     return _patch(outputs, _outside(length_sq, _RP_WINDOW, shape), shape,
                   _relative_point_rescaled, ox, oy, dx, dy, distance, angle)
+
+
+def local_point(origin, toward, u, v):
+    """Return the point at coordinates ``(u, v)`` in a frame on two points.
+
+    The frame has its origin at ``origin`` and its x axis pointing from
+    ``origin`` towards ``toward``; its y axis is that turned a quarter turn
+    counter-clockwise. A point of a rigid link is so given once by its
+    coordinates in the link's own frame, wherever the link moves. NaN where
+    ``origin`` and ``toward`` coincide: the frame has no direction.
+
+    Parameters
+    ----------
+    origin, toward : array_like, shape (..., 2)
+    u, v : float or array_like
+        Coordinates along the frame's x and y axes (lengths).
+
+    Returns
+    -------
+    ndarray, shape (..., 2)
+
+    See Also
+    --------
+    relative_point : the same point by a distance and an angle.
+
+    Examples
+    --------
+    >>> local_point([1, 1], [1, 3], 2, 1)  # x axis straight up, y axis to the left
+    array([0., 3.])
+    >>> local_point([0, 0], [0, 0], 2, 1)
+    array([nan, nan])
+    """
+    ox, oy = _xy(origin)
+    tx, ty = _xy(toward)
+    with np.errstate(all="ignore"):
+        x, y = local_point_xy(ox, oy, tx, ty, np.asarray(u, dtype=float),
+                              np.asarray(v, dtype=float))
+    return np.stack(np.broadcast_arrays(x, y), axis=-1)
+
+
+def _local_point(ox, oy, dx, dy, u, v):
+    """Compute :func:`local_point_xy`; also return the squared length to check it on."""
+    length_sq = dx * dx + dy * dy
+    k = 1.0 / np.sqrt(length_sq)  # inf for a zero-length direction, NaN in the result
+    # the frame's unit axes (ex, ey) and (-ey, ex): dimensionless, so u and v set the scale
+    ex = dx * k
+    ey = dy * k
+    return (ox + (u * ex - v * ey), oy + (u * ey + v * ex)), length_sq
+
+
+def _local_point_rescaled(ox, oy, dx, dy, u, v):
+    # the axes depend on the direction only: divide it by a power of two
+    s = _power_of_two(dx, dy)
+    return _local_point(ox, oy, dx / s, dy / s, u, v)[0]
+
+
+def local_point_xy(ox, oy, tx, ty, u, v):
+    """Kernel of :func:`local_point` on coordinate arrays.
+
+    Examples
+    --------
+    >>> [float(c) for c in local_point_xy(1.0, 1.0, 4.0, 5.0, 10.0, 5.0)]
+    [3.0, 12.0]
+    >>> with np.errstate(all="ignore"):  # origin and toward coincide: no frame
+    ...     [float(c) for c in local_point_xy(1.0, 1.0, 1.0, 1.0, 2.0, 0.0)]
+    [nan, nan]
+    """
+    dx = tx - ox
+    dy = ty - oy
+    if type(dx) in _PLAIN:
+        dx = np.float64(dx)
+    outputs, length_sq = _local_point(ox, oy, dx, dy, u, v)
+    if _within(length_sq, _RP_WINDOW):
+        return outputs
+    shape = np.shape(outputs[0])
+    return _patch(outputs, _outside(length_sq, _RP_WINDOW, shape), shape,
+                  _local_point_rescaled, ox, oy, dx, dy, u, v)
 
 
 def point_along(start, through, distance):

@@ -281,19 +281,30 @@ def test_dof_of_other_linkages():
     assert (m.moving_links, m.revolute_joints, m.prismatic_pairs, m.dof) == (5, 4, 3, 1)
     assert m.guides == {"pin": "lever", "slot": "lever", "ram": "ground"}
     assert m.joints["B"] == ("slot", "ram")
-    # a five-bar needs two inputs; declared with one it does not match
-    c = Construction("five-bar")
-    c.input("t1")
-    c.fixed("O1", 0, 0)
-    c.fixed("O2", 3, 0)
-    c.polar("A", "O1", 1, "t1")
-    c.polar("C", "O2", 1, 2.0)
-    c.circle_circle("B", ("A", "C"), (3, 3), branch="left")
-    for name, pts in dict(l1=("O1", "A"), l2=("A", "B"), l3=("B", "C"), l4=("C", "O2")).items():
-        c.link(name, *pts)
-    m = degrees_of_freedom(c)
+    # a five-bar needs two inputs; declared with one, its second crank geared to the
+    # first (a constraint the count cannot see), it does not match
+    def five_bar(second_crank):
+        c = Construction("five-bar")
+        c.input("t1")
+        c.fixed("O1", 0, 0)
+        c.fixed("O2", 3, 0)
+        c.polar("A", "O1", 1, "t1")
+        c.polar("C", "O2", 1, second_crank)
+        c.circle_circle("B", ("A", "C"), (3, 3), branch="left")
+        for name, pts in dict(l1=("O1", "A"), l2=("A", "B"), l3=("B", "C"),
+                              l4=("C", "O2")).items():
+            c.link(name, *pts)
+        return c
+
+    m = degrees_of_freedom(five_bar("2 * t1"))
     assert m.dof == 2 and m.inputs == 1 and not m.matches_inputs
     assert "mismatch" in str(m)
+    # its second crank held at a constant angle is part of the frame: C never moves, and
+    # the linkage is the four-bar O1-A-B-C it moves as
+    c = five_bar(2.0)
+    assert c.compile().ground == {"O1", "O2", "C"}
+    m = degrees_of_freedom(c)
+    assert (m.moving_links, m.lower_pairs, m.dof) == (3, 4, 1) and m.matches_inputs
 
 
 # -- stroke and time ratio ----------------------------------------------------------------------

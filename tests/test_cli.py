@@ -545,8 +545,8 @@ def test_the_installed_console_script(tmp_path):
                           timeout=120)
     assert done.returncode == 2
     assert done.stderr == (f"geokin: error: {bad}:2: [points] A.op: unknown op 'fixd'; did you "
-                           "mean 'fixed'? (ops: fixed, polar, along, line_line, line_circle, "
-                           "segment_circle, ray_circle, circle_circle)\n")
+                           "mean 'fixed'? (ops: fixed, polar, local, along, line_line, "
+                           "line_circle, segment_circle, ray_circle, circle_circle)\n")
     done = subprocess.run(["geokin", "trace", SIXBAR, "--points", "M"], capture_output=True,
                           text=True, timeout=120)
     assert done.returncode == 0 and len(done.stdout.splitlines()) == 114

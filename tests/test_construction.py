@@ -178,12 +178,13 @@ def test_every_node_kind_describes_itself():
     c.ray_circle("P5", ("A0", "B0"), "A", 20, near=(1, 2))
     c.circle_circle("P6", ("A", "B0"), (30, 30), branch="right")
     c.polar("P7", "A", 2, 0.5, reference=("A0", "A"))
+    c.local("P8", "A", "B0", (3, "1 + 1"))
     text = str(c.compile())
     kinds = {step.node.kind for step in c.compile()}
     assert kinds == set(NODE_KINDS)
     for fragment in ["along(A0->A, 3)", "line_line(A0-A; B0-P1)", "line_circle(A0-B0; A, 20)",
                      "segment_circle(A0..B0; A, 20)  [second]", "near (1, 2)",
-                     "polar(A, 2, 28.64788975654116 deg from A0->A)"]:
+                     "polar(A, 2, 28.64788975654116 deg from A0->A)", "local(A->B0, 3, 1 + 1)"]:
         assert fragment in text
 
 
@@ -211,6 +212,24 @@ def test_the_step_list_shows_angles_in_degrees_and_the_construction_keeps_radian
     assert "-3.141592653589793" in compiled.listing(degrees=False)
     s = sweep(c, [0.0])
     np.testing.assert_allclose(s["A"][0], [np.cos(np.pi / 6), 0.5], rtol=1e-15)
+
+
+def test_a_point_built_only_on_ground_with_values_that_use_no_input_is_ground():
+    """A fixed guide's second point, polar from a fixed point, never moves: it is ground."""
+    c = Construction()
+    c.input("theta")
+    c.input("s", kind="length", range=(0, 1))
+    c.polar("H", "G", 5, 0.5)  # declared before the point it is built on
+    c.fixed("O", 0, 0)
+    c.polar("G", "O", 5, 1.0)
+    c.local("K", "G", "H", (1, 2))
+    c.circle_circle("X", ("G", "H"), (4, 4), branch="left")
+    c.fixed("S", "s", 0)  # a fixed kind, but moved by an input
+    c.polar("A", "O", 1, "theta")
+    c.polar("Y", "G", "s", 0)  # on ground, but its value uses an input
+    c.local("Z", "G", "A", (1, 0))  # on a moving point
+    c.along("W", ("O", "S"), 1)
+    assert c.compile().ground == {"O", "G", "H", "K", "X"}
 
 
 def test_constructions_compare_by_content():
@@ -545,7 +564,7 @@ hostile = st.one_of(hostile_number, hostile_text, st.none(),
                     st.lists(st.one_of(hostile_number, hostile_text), max_size=3))
 
 
-@given(st.lists(st.tuples(st.sampled_from(["parameter", "input", "fixed", "polar", "along",
+@given(st.lists(st.tuples(st.sampled_from(["parameter", "input", "fixed", "polar", "local", "along",
                                            "line_line", "circle_circle", "line_circle",
                                            "link", "slider", "trace"]),
                           st.lists(hostile, min_size=1, max_size=5)), max_size=6))
@@ -578,9 +597,9 @@ def test_ground_is_decided_by_the_compiled_steps_not_by_who_builds_them():
     c.fixed("S", "s", 0)  # driven along a line: a joint, not ground
     c.polar("A", "O", 1, 0.5)
     compiled = c.compile()
-    assert compiled.ground == {"O"}
+    assert compiled.ground == {"O", "A"}  # A, at a constant angle from O, never moves
     # a compiled construction rebuilt from its own fields names the same ground
     fields = {f.name: getattr(compiled, f.name) for f in dataclasses.fields(compiled) if f.init}
-    assert type(compiled)(**fields).ground == {"O"}
+    assert type(compiled)(**fields).ground == {"O", "A"}
     with pytest.raises(TypeError):
         type(compiled)(**fields, ground=frozenset())

@@ -339,6 +339,60 @@ def test_offset_slider_crank_stroke():
     assert stroke > 2 * r
 
 
+def inclined_closed_form(theta, r=20.0, rod=70.0, e=10.0, beta=math.pi / 6):
+    """B and the rod point P of the inclined offset slider-crank, from the loop by hand.
+
+    In the guide's frame (x axis along the guide at beta, y to its left) the
+    pin A is r (cos(theta - beta), sin(theta - beta)) and the guide is the
+    line y = e; B is the root ahead of A's foot on it.
+    """
+    u = np.array([np.cos(beta), np.sin(beta)])
+    n = np.array([-np.sin(beta), np.cos(beta)])
+    along = r * np.cos(theta - beta)
+    across = r * np.sin(theta - beta)
+    s = along + np.sqrt(rod**2 - (e - across) ** 2)
+    a = np.outer(along, u) + np.outer(across, n)
+    b = np.outer(s, u) + e * n
+    axis = (b - a) / rod
+    left = np.stack([-axis[:, 1], axis[:, 0]], axis=-1)
+    return s, b, a + rod / 2 * axis + 10 * left
+
+
+def test_inclined_slider_crank_matches_the_closed_form():
+    theta = np.radians(np.linspace(0, 360, 721))
+    s = sweep(load("slider_crank_inclined"), theta)
+    assert s.valid.all()
+    position, b, p = inclined_closed_form(theta)
+    np.testing.assert_allclose(s["B"], b, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(s["P"], p, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(distance(s, "G", "B"), np.abs(position), rtol=1e-13)
+    np.testing.assert_allclose(distance(s, "O", "G"), 10, rtol=1e-14)
+
+
+def test_inclined_slider_crank_is_the_offset_one_turned_by_its_guide_angle():
+    """Turned back by beta, with the crank beta behind, it is slider_crank_offset.toml."""
+    beta = np.radians(30)
+    theta = np.radians(np.linspace(0, 360, 361))
+    inclined = sweep(load("slider_crank_inclined"), theta)
+    level = sweep(load("slider_crank_offset"), theta - beta)
+    c, s_ = np.cos(-beta), np.sin(-beta)
+    turned = inclined["B"] @ np.array([[c, s_], [-s_, c]])
+    np.testing.assert_allclose(turned, level["B"], rtol=0, atol=1e-12)
+
+
+def test_inclined_slider_crank_guide_is_ground_and_its_stroke_and_time_ratio_are_exact():
+    c = load("slider_crank_inclined")
+    assert c.compile().ground == {"O", "G", "H"}
+    mobility = analysis.degrees_of_freedom(c)
+    assert mobility.guides == {"slider": "ground"} and mobility.dof == 1
+    stroke = geokin.analyze(c, degrees=True).strokes["slider.position"]
+    r, rod, e = 20, 70, 10
+    exact = math.sqrt((rod + r) ** 2 - e**2) - math.sqrt((rod - r) ** 2 - e**2)
+    assert stroke.stroke == pytest.approx(exact, abs=1e-9)
+    a = math.degrees(math.asin(e / (rod - r)) - math.asin(e / (rod + r)))
+    assert stroke.time_ratio == pytest.approx((180 - a) / (180 + a), rel=1e-9)
+
+
 # -- the examples that use the shipped scripts ------------------------------------------
 
 EXAMPLES = pathlib.Path(__file__).resolve().parent.parent / "examples"

@@ -1,3 +1,4 @@
+import re
 import sys
 import time
 
@@ -5,8 +6,9 @@ import numpy as np
 import pytest
 from hypothesis import given
 from hypothesis import strategies as st
+from hypothesis.extra import numpy as hnp
 
-from geokin import Construction, ConstructionError
+from geokin import Construction, ConstructionError, sweep
 from geokin.budgets import MAX_EXPRESSION_DEPTH, MAX_EXPRESSION_LENGTH, MAX_NAME_LENGTH
 from geokin.expressions import (
     FUNCTIONS,
@@ -21,6 +23,7 @@ from geokin.expressions import (
     parse,
     skeleton,
 )
+from geokin.nodes import NOT_FINITE, REASONS
 
 # -- depth: printing and evaluating recurse once per level, so the depth is bounded ----
 
@@ -171,11 +174,19 @@ leaves = st.one_of(st.sampled_from([Name("a"), Name("b"), Name("pi")]),
 def _extend(children):
     binary = st.builds(BinOp, st.sampled_from(["+", "-", "*", "/", "**"]), children, children)
     negated = children.filter(lambda e: not isinstance(e, Number)).map(Neg)
-    called = st.one_of(
-        st.builds(lambda f, x: Call(f, (x,)),
-                  st.sampled_from([f for f, (n, _) in FUNCTIONS.items() if n == 1]), children),
-        st.builds(lambda x, y: Call("atan2", (x, y)), children, children))
+    called = st.sampled_from(sorted(FUNCTIONS)).flatmap(
+        lambda f: st.lists(children, min_size=_low(f), max_size=_low(f) + 2 * _variadic(f))
+        .map(lambda args: Call(f, tuple(args))))
     return st.one_of(binary, negated, called)
+
+
+def _low(function):
+    arity = FUNCTIONS[function][0]
+    return arity if isinstance(arity, int) else arity[0]
+
+
+def _variadic(function):
+    return not isinstance(FUNCTIONS[function][0], int)
 
 
 @given(st.recursive(leaves, _extend, max_leaves=25))
@@ -187,3 +198,98 @@ def test_printed_expressions_parse_back_to_themselves(expr):
     env = {"a": np.array([0.5, 2.0]), "b": 3.0}
     with np.errstate(all="ignore"):
         np.testing.assert_array_equal(again.evaluate(env), expr.evaluate(env))
+
+
+# -- the functions: numpy's, elementwise, arity checked when parsing ---------------------
+
+finite = st.floats(-1e6, 1e6, allow_nan=False)
+samples = hnp.arrays(float, st.integers(1, 6), elements=finite)
+in_unit = hnp.arrays(float, st.integers(1, 6), elements=st.floats(-1, 1))
+
+
+@pytest.mark.parametrize(("text", "numpy"), [
+    ("abs(x)", lambda x, y: np.abs(x)),
+    ("hypot(x, y)", np.hypot),
+    ("min(x, y)", np.minimum),
+    ("max(x, y)", np.maximum),
+    ("atan(x)", lambda x, y: np.arctan(x)),
+    ("atan2(y, x)", lambda x, y: np.arctan2(y, x)),
+    ("min(x, y, 0)", lambda x, y: np.minimum(np.minimum(x, y), 0)),
+    ("max(0, x, y, -x)", lambda x, y: np.maximum(np.maximum(np.abs(x), 0), y)),
+])
+@given(x=samples, y=finite)
+def test_functions_are_numpys_elementwise(text, numpy, x, y):
+    """Over arrays of samples and plain numbers alike, a function gives what numpy gives."""
+    np.testing.assert_array_equal(parse(text).evaluate({"x": x, "y": y}), numpy(x, y))
+    assert float(parse(text).evaluate({"x": float(x[0]), "y": y})) == numpy(x[0], y)
+
+
+@pytest.mark.parametrize(("text", "numpy"), [("asin(x)", np.arcsin), ("acos(x)", np.arccos)])
+@given(x=in_unit)
+def test_inverse_sine_and_cosine_are_numpys_and_give_radians(text, numpy, x):
+    value = parse(text).evaluate({"x": x})
+    np.testing.assert_array_equal(value, numpy(x))
+    forward = np.sin if text.startswith("asin") else np.cos
+    np.testing.assert_allclose(forward(value), x, atol=1e-15)
+
+
+def test_min_and_max_broadcast_samples_against_numbers_and_keep_nan():
+    x = np.array([-2.0, 0.5, 3.0, np.nan])
+    np.testing.assert_array_equal(parse("min(1, x, 2)").evaluate({"x": x}), [-2, 0.5, 1, np.nan])
+    np.testing.assert_array_equal(parse("max(x, 1, 0)").evaluate({"x": x}), [1, 1, 3, np.nan])
+    assert parse("max(1, 2, 3, 4, 5)").evaluate({}) == 5
+
+
+@pytest.mark.parametrize("x", [1.0000001, -1.5, 2.0])
+def test_acos_and_asin_out_of_their_domain_give_nan(x):
+    with np.errstate(invalid="ignore"):
+        assert np.isnan(parse("acos(x)").evaluate({"x": x}))
+        assert np.isnan(parse("asin(x)").evaluate({"x": x}))
+
+
+@pytest.mark.parametrize(("text", "message"), [
+    ("abs(a, b)", "abs() takes 1 argument, got 2"),
+    ("hypot(a)", "hypot() takes 2 arguments, got 1"),
+    ("hypot(a, b, c)", "hypot() takes 2 arguments, got 3"),
+    ("acos()", "acos() takes 1 argument, got 0"),
+    ("min(a)", "min() takes at least 2 arguments, got 1"),
+    ("max()", "max() takes at least 2 arguments, got 0"),
+    ("min(a, *b)", "Starred is not allowed"),
+    ("max(a, b, key=c)", "max() takes no keyword arguments"),
+    ("arccos(a)", "unknown function 'arccos'"),
+])
+def test_the_number_of_arguments_is_checked_when_parsing(text, message):
+    with pytest.raises(ConstructionError, match=re.escape(message)):
+        parse(text)
+
+
+@pytest.mark.parametrize("name", ["abs", "min", "max", "hypot", "acos", "asin", "atan"])
+def test_function_names_are_reserved(name):
+    with pytest.raises(ConstructionError, match="reserved for the built-in function"):
+        Construction().parameter(name, 1)
+
+
+def test_a_value_out_of_its_domain_makes_its_samples_unassemblable_with_the_reason():
+    """acos of a ratio above 1 is NaN at that sample: invalid, the node and reason named."""
+    c = Construction()
+    c.input("s", kind="length", range=(0, 2), samples=5)
+    c.fixed("O", 0, 0)
+    c.polar("A", "O", 10, "acos(s - 1) + asin(1 - s / 2)")
+    with np.errstate(invalid="raise"):  # the engine keeps numpy's warnings to itself
+        s = sweep(c, {"s": np.array([0.0, 1.0, 2.0, 2.5, -0.5])})
+    assert s.valid.tolist() == [True, True, True, False, False]
+    angle = np.arccos([-1.0, 0.0, 1.0]) + np.arcsin([1.0, 0.5, 0.0])
+    np.testing.assert_allclose(s["A"][:3], 10 * np.stack([np.cos(angle), np.sin(angle)], -1),
+                               atol=1e-12)
+    assert s.failure_reason[3] == s.failure_reason[4] == REASONS[NOT_FINITE]
+    assert "node 'A' cannot be assembled" in s.explain(3)
+    assert "not finite" in s.explain(3)
+
+
+def test_a_constant_value_out_of_its_domain_is_refused():
+    c = Construction()
+    c.fixed("O", 0, 0)
+    c.polar("A", "O", "acos(2)", 0)
+    with pytest.raises(ConstructionError, match="must be a finite number") as info:
+        c.compile()
+    assert (info.value.node, info.value.field) == ("A", "distance")

@@ -133,6 +133,32 @@ def driven_pin():
     return c
 
 
+def inclined_guide():
+    """A slider on a fixed guide through G at 30 degrees, its second point H given by polar."""
+    c = Construction("inclined guide")
+    c.input("theta", samples=37)
+    c.fixed("O", 0, 0)
+    c.fixed("G", 0, 10)
+    c.polar("H", "G", 70, np.radians(30))
+    c.polar("A", "O", 20, "theta")
+    c.line_circle("B", ("G", "H"), "A", 70, branch="second")
+    c.link("crank", "O", "A")
+    c.link("rod", "A", "B")
+    c.slider("block", "B", ("G", "H"))
+    return c
+
+
+def test_a_guide_given_by_its_angle_is_drawn_as_ground():
+    """H, polar from the fixed G at a constant angle, is ground: a hatched guide, H unmarked."""
+    c = inclined_guide()
+    assert c.compile().ground == {"O", "G", "H"}
+    ax = gp.plot_mechanism(sweep(c), 4)
+    (triangle,) = pivot_triangles(ax)  # O only: G and H are shown by the guide
+    np.testing.assert_allclose(triangle.get_xy()[0], [0, 0])
+    assert len([p for p in ax.patches if p.get_hatch()]) == 2  # under O, under the block
+    assert "H" not in texts(ax) and "G" not in texts(ax)
+
+
 def pivot_triangles(ax):
     grey = matplotlib.colors.to_rgba("#d9d9d9")
     return [p for p in ax.patches if p.get_facecolor() == grey]

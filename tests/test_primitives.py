@@ -36,6 +36,8 @@ from geokin.primitives import (
     line_circle_xy,
     line_line,
     line_line_xy,
+    local_point,
+    local_point_xy,
     point_along,
     polar_point,
     ray_circle,
@@ -813,6 +815,60 @@ def test_relative_point_distance_and_angle(origin, start, through, distance, the
     assert abs(wrapped) <= 1e-13 + 1e-15 * C / abs(distance)
 
 
+@given(point, point, coord, coord, exponent)
+def test_local_point_lies_at_its_coordinates_in_the_frame(origin, toward, u, v, k):
+    """local_point is hypot(u, v) from the origin, atan2(v, u) counter-clockwise off the x axis.
+
+    Equivalently its offset from the origin projects to u on the frame's x
+    axis (origin towards toward) and to v on the y axis to its left.
+    """
+    lam = 10.0**k
+    origin, toward, u, v = lam * origin, lam * toward, lam * u, lam * v
+    direction = toward - origin
+    length = _norm(direction)
+    assume(length > 1e-6 * lam)
+    p = local_point(origin, toward, u, v)
+    C = max(_norm(origin), abs(u), abs(v))
+    offset = p - origin
+    assert abs(_norm(offset) - np.hypot(u, v)) <= 1e-13 * C
+    ex = direction / length
+    assert abs(np.dot(offset, ex) - u) <= 1e-13 * C
+    assert abs(_cross(ex, offset) - v) <= 1e-13 * C
+    assume(np.hypot(u, v) > 1e-6 * C)
+    turned = np.arctan2(_cross(direction, offset), np.dot(direction, offset))
+    wrapped = np.angle(np.exp(1j * (turned - np.arctan2(v, u))))
+    assert abs(wrapped) <= 1e-13 + 1e-15 * C / np.hypot(u, v)
+
+
+@given(point, point, coord, coord)
+def test_local_point_is_relative_point_by_distance_and_angle(origin, toward, u, v):
+    """The coordinates (u, v) are the distance hypot(u, v) at the angle atan2(v, u)."""
+    assume(_norm(toward - origin) > 1e-6)
+    np.testing.assert_allclose(
+        local_point(origin, toward, u, v),
+        relative_point(origin, origin, toward, np.hypot(u, v), np.arctan2(v, u)),
+        rtol=0, atol=1e-13 * max(_norm(origin), np.hypot(u, v), 1.0))
+
+
+def test_local_point_on_axes_is_exact():
+    """On the frame's axes no angle is rounded: a quarter turn gives exact coordinates."""
+    np.testing.assert_array_equal(local_point([1, 2], [1, 7], [3, 0, -2], [0, 4, 0]),
+                                  [[1, 5], [-3, 2], [1, 0]])
+
+
+@settings(max_examples=30)
+@given(hnp.arrays(float, (4, 2), elements=coord), hnp.arrays(float, (4, 2), elements=coord),
+       hnp.arrays(float, (3, 1), elements=coord), hnp.arrays(float, (4,), elements=coord))
+def test_local_point_broadcasts(origins, towards, us, vs):
+    """local_point broadcasts u and v against the points' leading axes."""
+    with np.errstate(all="ignore"):
+        p = local_point(origins, towards, us, vs)
+    assert p.shape == (3, 4, 2)
+    for i, j in np.ndindex(3, 4):
+        np.testing.assert_array_equal(p[i, j], local_point(origins[j], towards[j], us[i, 0],
+                                                           vs[j]))
+
+
 @given(point, point, coord, exponent)
 def test_point_along_distance_and_side(start, through, distance, k):
     """point_along is |distance| from start on the line, towards through when positive."""
@@ -834,6 +890,7 @@ def test_zero_length_direction_gives_nan(start, distance):
     """relative_point and point_along give NaN, without warnings, for a zero-length line."""
     assert np.isnan(_no_warnings(point_along, start, start, distance)).all()
     assert np.isnan(_no_warnings(relative_point, start, start, start, distance, 0.3)).all()
+    assert np.isnan(_no_warnings(local_point, start, start, distance, 0.3)).all()
 
 
 @settings(max_examples=30)
@@ -866,6 +923,7 @@ KERNELS = {
     "line_circle_xy": (line_circle_xy, 7),
     "line_line_xy": (line_line_xy, 8),
     "relative_point_xy": (relative_point_xy, 8),
+    "local_point_xy": (local_point_xy, 6),
 }
 
 # small integers make coincident points, parallel lines and zero lengths common
@@ -875,6 +933,7 @@ ARGUMENTS = {
     "line_circle_xy": st.tuples(*[grid_coord] * 6, radius),
     "line_line_xy": st.tuples(*[grid_coord] * 8),
     "relative_point_xy": st.tuples(*[grid_coord] * 6, coord, angle),
+    "local_point_xy": st.tuples(*[grid_coord] * 4, coord, coord),
 }
 
 
@@ -901,6 +960,8 @@ def test_kernels_treat_python_floats_as_arrays_of_one(name, data):
     ("line_line_xy", (0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 1.0, 1.0)),  # zero-length line
     ("relative_point_xy", (0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 2.0, 0.5)),  # zero-length line
     ("relative_point_xy", (0, 0, 1, 1, 1, 1, 2, 0)),  # Python ints
+    ("local_point_xy", (1.0, 1.0, 1.0, 1.0, 2.0, 0.5)),  # origin and toward coincide
+    ("local_point_xy", (1, 1, 1, 1, 2, 0)),  # Python ints
 ])
 def test_degenerate_python_floats_give_nan(name, args):
     """Degenerate fixed geometry in plain Python numbers gives NaN points, not ZeroDivisionError."""
@@ -918,6 +979,7 @@ LENGTHS = {
     "line_circle_xy": (2, 3, 4, 5, 6),
     "line_line_xy": (2, 3, 4, 5, 6, 7),
     "relative_point_xy": (2, 3, 4, 5, 6),
+    "local_point_xy": (2, 3, 4, 5),
 }
 ORIGIN_FIRST = {
     "circle_circle_xy": st.tuples(st.just(0.0), st.just(0.0), radius, grid_coord, grid_coord,
@@ -927,6 +989,7 @@ ORIGIN_FIRST = {
     # angles that are not subnormal: their sines would be, at scale 1 already
     "relative_point_xy": st.tuples(st.just(0.0), st.just(0.0), *[grid_coord] * 4, coord,
                                    angle.map(lambda a: 0.0 if abs(a) < 1e-9 else a)),
+    "local_point_xy": st.tuples(st.just(0.0), st.just(0.0), *[grid_coord] * 2, coord, coord),
 }
 
 
@@ -950,7 +1013,7 @@ def test_kernels_scale_exactly(name, data, bits):
     with np.errstate(all="ignore"):
         unit = kernel(*(np.full(shape, a) for a in args))
         big = kernel(*(np.full(shape, a) for a in scaled))
-    points = 2 if name in ("line_line_xy", "relative_point_xy") else 4
+    points = 2 if name in ("line_line_xy", "relative_point_xy", "local_point_xy") else 4
     for i, (u, b) in enumerate(zip(unit, big, strict=True)):
         if i < points:
             np.testing.assert_array_equal(b, u * factor)

@@ -2,9 +2,13 @@ import dataclasses
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 from mechanisms import FOURBAR_004, SIXBAR, coupler_fourbar, fourbar, sixbar, triple_rocker
 
 from geokin import Construction, ConstructionError, sweep
+from geokin.loops import fourbar_closed_form
+from geokin.nodes import DEGENERATE, REASONS
 
 
 def distance(s, p, q):
@@ -415,3 +419,52 @@ def test_require_assembled_names_every_cause_when_no_sample_assembles():
             "intersection: the curves do not meet)")) as caught:
         s.require_assembled()
     assert caught.value.node == "P"
+
+
+# -- a point in a link's own frame ---------------------------------------------------
+
+
+def test_a_coupler_point_in_the_couplers_frame_is_the_polar_point_and_the_closed_form():
+    """local(A->B, 20 cos 30°, 20 sin 30°) is polar(A, 20, 30° from A->B), and the loop's answer."""
+    c = coupler_fourbar()
+    alpha = np.radians(30)
+    c.local("Q", "A", "B", (20 * np.cos(alpha), 20 * np.sin(alpha)))
+    theta = np.linspace(0, 2 * np.pi, 721)
+    s = sweep(c, theta)
+    assert s.valid.all()
+    np.testing.assert_allclose(s["Q"], s["P"], rtol=0, atol=1e-12)
+    theta3, _ = fourbar_closed_form(40, 10, 35, 30, theta)
+    a = 10 * np.stack([np.cos(theta), np.sin(theta)], axis=-1)
+    expected = a + 20 * np.stack([np.cos(theta3 + alpha), np.sin(theta3 + alpha)], axis=-1)
+    np.testing.assert_allclose(s["Q"], expected, rtol=0, atol=1e-10)
+
+
+@given(st.floats(-80, 80), st.floats(-80, 80), st.floats(0, 2 * np.pi))
+def test_a_point_in_a_links_frame_moves_with_the_link(u, v, start):
+    """Over the motion a local point keeps its distances to both points of its frame.
+
+    It is hypot(u, v) from the origin, hypot(35 - u, v) from the other end of
+    the 35-long coupler, and on the side of the coupler that v's sign says.
+    """
+    c = fourbar(40, 10, 35, 30)
+    c.local("P", "A", "B", (u, v))
+    s = sweep(c, start + np.linspace(0, 2 * np.pi, 37))
+    assert s.valid.all()
+    scale = 1e-12 * max(80, abs(u), abs(v))
+    np.testing.assert_allclose(distance(s, "P", "A"), np.hypot(u, v), rtol=0, atol=scale)
+    np.testing.assert_allclose(distance(s, "P", "B"), np.hypot(35 - u, v), rtol=0, atol=scale)
+    np.testing.assert_allclose(cross(s, "A", "B", "P") / 35, v, rtol=0, atol=scale)
+
+
+def test_a_frame_whose_two_points_meet_is_degenerate_at_those_samples():
+    c = Construction()
+    c.input("s", kind="length", range=(-1, 1), samples=5)
+    c.fixed("O", 0, 0)
+    c.fixed("T", "s", 0)
+    c.local("P", "O", "T", (2, 1))
+    s = sweep(c)
+    assert s.valid.tolist() == [True, True, False, True, True]
+    np.testing.assert_allclose(s["P"][[0, 4]], [[-2, -1], [2, 1]], atol=1e-15)
+    assert s.failure_reason[2] == REASONS[DEGENERATE]
+    assert s.failure_reason[2].startswith("degenerate input")
+    assert "node 'P' cannot be assembled" in s.explain(2)

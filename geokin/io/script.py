@@ -2,17 +2,21 @@
 
 A script is read with the standard library's :mod:`tomllib`; loading never
 runs code. Every value is a number or a string holding arithmetic of
-numbers, parameter names and input names (``+ - * / **``, parentheses,
-``sqrt sin cos tan atan2 radians degrees`` and ``pi``), parsed by the safe
-parser of :mod:`geokin.expressions`.
+numbers, parameter names and input names, parsed by the safe parser of
+:mod:`geokin.expressions`: ``+ - * / **``, parentheses, ``pi`` and the
+functions ``sqrt abs hypot min max sin cos tan asin acos atan atan2
+radians degrees`` (``min`` and ``max`` of two or more values). Each works
+elementwise over the samples; a value outside a function's domain
+(``acos(1.2)``) makes that sample unassemblable, with the reason.
 
 Units
 -----
 Angles are **degrees** everywhere in a script: input ranges, steps and
 speeds, and every angle field (the ``angle`` of a ``polar`` point). An angle
 input is handed to expressions in degrees, so ``angle = "theta + 90"`` means
-90 degrees ahead of the input. The trigonometric functions still take
-radians: write ``sin(radians(theta))``. Lengths are in the script's
+90 degrees ahead of the input. The trigonometric functions still take and
+give radians: write ``sin(radians(theta))``, and
+``angle = "degrees(asin(e / l))"``. Lengths are in the script's
 ``units`` (a label such as ``"mm"``), speeds in degrees (or length units)
 per second. The construction a script gives holds radians, as every
 construction does: its angle inputs, ranges and angle fields are converted
@@ -55,6 +59,8 @@ Point kinds (``op``)
 ``fixed``           ``at = [x, y]``: a ground pivot.
 ``polar``           ``origin``, ``distance``, ``angle`` (degrees, counter-clockwise
                     from the x axis, or from the direction ``reference = [P, Q]``).
+``local``           ``origin``, ``toward``, ``at = [u, v]``: u along the direction from
+                    ``origin`` towards ``toward``, v to its left (a link's own frame).
 ``along``           ``line = [P, Q]``, ``distance``: signed distance from P towards Q.
 ``line_line``       ``first = [P, Q]``, ``second = [R, S]``: two lines' crossing.
 ``line_circle``     ``line = [P, Q]``, ``center``, ``radius``: the whole line P-Q.
@@ -876,7 +882,11 @@ class _AngleRewriter:
         return script_degrees(value) if self.to_script else math.radians(value)
 
     def angular(self, expr: Expr) -> bool:
-        """Whether an expression involves an angle input, pi or a conversion."""
+        """Whether an expression involves an angle input, pi or a conversion.
+
+        A conversion either way counts: ``degrees(asin(r))`` in a script is
+        the angle of a product ``2 * degrees(asin(r))``, as ``theta`` is.
+        """
         if isinstance(expr, Name):
             return expr.name in self.angles or expr.name == "pi"
         if isinstance(expr, Neg):
@@ -884,7 +894,8 @@ class _AngleRewriter:
         if isinstance(expr, BinOp):
             return self.angular(expr.left) or self.angular(expr.right)
         if isinstance(expr, Call):
-            return expr.function == self.wrap or any(self.angular(a) for a in expr.args)
+            return (expr.function in (self.wrap, self.read)
+                    or any(self.angular(a) for a in expr.args))
         return False
 
     def plain(self, expr: Expr) -> Expr:
@@ -922,9 +933,14 @@ class _AngleRewriter:
             if expr.op in "+-":
                 return _fold(expr.op, self.angle(expr.left), self.angle(expr.right))
             if expr.op == "*":
-                if self.angular(expr.right) and not self.angular(expr.left):
-                    return _fold("*", self.plain(expr.left), self.angle(expr.right))
-                return _fold("*", self.angle(expr.left), self.plain(expr.right))
+                # the factor that carries the angle is converted; of two that carry
+                # none, the one that is not a number (2 * atan2(y, x) is written
+                # 2 * degrees(atan2(y, x)), not 114.59... * atan2(y, x))
+                left, right = expr.left, expr.right
+                if not self.angular(left) and (self.angular(right) or (
+                        isinstance(left, Number) and not isinstance(right, Number))):
+                    return _fold("*", self.plain(left), self.angle(right))
+                return _fold("*", self.angle(left), self.plain(right))
             if expr.op == "/":
                 return _fold("/", self.angle(expr.left), self.plain(expr.right))
         return Call(self.wrap, (self.plain(expr),))
