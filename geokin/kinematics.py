@@ -59,7 +59,7 @@ from .compat import renamed_attribute, renamed_keywords
 from .engine import BLOCK_SAMPLES, evaluate
 from .errors import ConstructionError
 from .frozen import Frozen, read_only
-from .results import Sweep
+from .results import Sweep, short_name
 
 __all__ = ["Derivatives", "Motion", "input_derivatives", "link_angles", "motion",
            "unwrap_valid"]
@@ -141,6 +141,11 @@ class Derivatives(Frozen):
 
     input = renamed_attribute("input", "input_name")
     _read_only = ("first", "second", "stencil", "first_error", "second_error")
+
+    def __repr__(self) -> str:
+        missing = int(np.count_nonzero(self.stencil == 2))
+        return (f"<Derivatives by {short_name(self.input_name)}: {len(self.stencil)} samples, "
+                f"step {self.step:.3g}, {missing} without a stencil>")
 
 
 def _size(sweep: Sweep) -> float:
@@ -457,6 +462,11 @@ class Motion(Frozen):
     _read_only = ("time", "speed", "input_acceleration", "velocity", "acceleration", "angle",
                   "angular_velocity", "angular_acceleration", "flagged", "velocity_error",
                   "acceleration_error")
+
+    def __repr__(self) -> str:
+        return (f"<Motion of {short_name(self.sweep.construction.name)} driven by "
+                f"{short_name(self.input_name)}: {len(self.time)} samples, "
+                f"{int(np.count_nonzero(self.flagged))} flagged>")
 
 
 def _time_step(sweep: Sweep, rates: dict, step: float | None) -> float:

@@ -19,8 +19,22 @@ from .construction import Compiled
 from .errors import did_you_mean
 from .frozen import Frozen, read_only
 from .nodes import REASONS
+from .terminal import shorten
 
-__all__ = ["BranchEvent", "PointTable", "Sweep"]
+__all__ = ["BranchEvent", "PointTable", "Sweep", "short_name"]
+
+
+def short_name(name: str | None) -> str:
+    """Return a name quoted for a repr, shortened to keep the repr on one short line.
+
+    Examples
+    --------
+    >>> short_name("six-bar"), short_name(None)
+    ("'six-bar'", 'None')
+    >>> len(short_name("x" * 10_000)) < 70
+    True
+    """
+    return "None" if name is None else repr(shorten(str(name), 40))
 
 
 @dataclass(frozen=True)
@@ -104,7 +118,7 @@ class Sweep(Frozen):
         return self.points[name]
 
     def __repr__(self) -> str:
-        return (f"<Sweep of {self.construction.name!r}: {len(self)} samples, "
+        return (f"<Sweep of {short_name(self.construction.name)}: {len(self)} samples, "
                 f"{int(self.valid.sum())} valid, {len(self.events)} branch changes>")
 
     @property
