@@ -1,15 +1,19 @@
 """Results as a notebook shows them: short reprs, HTML tables and SVG pictures."""
 
 import re
+import time
+from html.parser import HTMLParser
+from pathlib import Path
 
 import numpy as np
 import pytest
 from mechanisms import sixbar
 
 import geokin
-from geokin import Construction
+from geokin import Construction, display
 from geokin.kinematics import input_derivatives
 
+CONSTRUCTIONS = Path(__file__).parents[1] / "constructions"
 LONG = "x" * 5000  # a name no repr should print whole
 
 
@@ -74,3 +78,154 @@ def test_a_repr_says_what_a_result_holds():
                                                       "node 'C'>"
     assert re.fullmatch(r"<FourBarReport at 'C': triple-rocker RRR1 \(RRR1\); ground 7, "
                         r"input 5, coupler 6, output 5>", repr(report.four_bars[0]))
+
+
+# -- HTML ---------------------------------------------------------------------------
+
+HOSTILE = '<script>alert("name")</script><img src=x onerror="alert(1)"> & \x1b[2J'
+TAGS = {"table", "thead", "tbody", "tr", "th", "td", "div", "span", "details", "summary",
+        "pre", "svg", "g", "title", "polyline", "rect"}
+
+
+class Tags(HTMLParser):
+    """Every tag and attribute of a page, and its text."""
+
+    def __init__(self):
+        super().__init__()
+        self.tags, self.attributes, self.text = [], [], []
+
+    def handle_starttag(self, tag, attrs):
+        self.tags.append(tag)
+        self.attributes += [name for name, _ in attrs]
+
+    def handle_data(self, data):
+        self.text.append(data)
+
+
+def parsed(page):
+    tags = Tags()
+    tags.feed(page)
+    tags.close()
+    return tags
+
+
+def crank(name="crank", **options):
+    c = Construction(name, **options)
+    c.input("theta")
+    c.fixed("O", 0, 0)
+    c.polar("A", "O", 10, "theta")
+    c.link("crank", "O", "A")
+    return c
+
+
+def test_html_escapes_everything_from_a_script():
+    c = crank(HOSTILE, description=HOSTILE, units=HOSTILE)
+    s = geokin.sweep(c, np.linspace(0, np.pi, 19))
+    pages = {"construction": c._repr_html_(), "compiled": c.compile()._repr_html_(),
+             "sweep": s._repr_html_(), "motion": geokin.motion(s)._repr_html_(),
+             "report": geokin.analyze(c)._repr_html_()}
+    broken = Construction(HOSTILE)
+    broken.fixed("O", 0, 0)
+    broken.polar("A", "O", 10, "theta")
+    pages["unfinished"] = broken._repr_html_()
+    for what, page in pages.items():
+        tags = parsed(page)
+        assert set(tags.tags) <= TAGS, (what, set(tags.tags) - TAGS)
+        assert not [a for a in tags.attributes if a.startswith("on")], what
+        assert "\x1b" not in page, what
+        # the name is shown, as text
+        shown = "".join(tags.text)
+        assert '<script>alert("name")</script>' in shown, what
+    assert "unknown parameter or input" in "".join(parsed(pages["unfinished"]).text)
+
+
+def test_a_construction_shows_its_inputs_in_the_units_of_its_script():
+    c = geokin.load(CONSTRUCTIONS / "sixbar.toml")
+    text = "".join(parsed(c._repr_html_()).text)
+    assert "input thetaangle, 0 to 1800 deg, every 16 deg, 360 deg/s" in text
+    assert "lengths inmm" in text and "tracedM" in text
+    assert "9  M   = ray_circle(Ap->C; Ap, l5)  [second]" in text
+    slider = Construction("slider", units="mm")
+    slider.input("s", kind="length", range=(0, 5), samples=11, speed=2)
+    slider.fixed("O", 0, 0)
+    slider.fixed("B", "s", 0)
+    sweep_text = "".join(parsed(geokin.sweep(slider)._repr_html_()).text)
+    assert "input s0 to 5 mm" in sweep_text
+
+
+def polylines(page):
+    """Every polyline of a page's SVG, as (colour, (M, 2) array of pixels)."""
+    found = re.findall(r'<polyline points="([^"]*)" fill="none" stroke="(#\w+)"', page)
+    return [(colour, np.array([[float(v) for v in xy.split(",")] for xy in points.split()]))
+            for points, colour in found]
+
+
+def svg_size(page):
+    width, height = re.search(r'<svg [^>]*width="(\d+)" height="(\d+)"', page).groups()
+    return int(width), int(height)
+
+
+def test_the_picture_draws_a_path_where_it_is_with_y_upwards():
+    c = crank()
+    c.trace("A")
+    page = geokin.sweep(c, np.linspace(0, np.pi / 2, 91))._repr_html_()
+    width, height = svg_size(page)
+    assert width == height  # a quarter circle fills a square: x and y at one scale
+    [(grey, crank_bar), (colour, path)] = polylines(page)
+    assert colour == display.PATH_COLORS[0] and grey != colour
+    assert len(path) == 91 and ((path >= 0) & (path <= [width, height])).all()
+    # A goes from (10, 0) on the right to (0, 10) at the top: pixels' y grows downwards
+    assert path[0, 0] > path[-1, 0] and path[0, 1] > path[-1, 1]
+    centre = np.array([path[-1, 0], path[0, 1]])
+    radius = np.hypot(*(path - centre).T)
+    assert np.ptp(radius) < 0.2 and radius.mean() > 0.8 * (width - 16)
+    np.testing.assert_allclose(crank_bar, [centre, path[0]], atol=0.1)  # at sample 0
+
+
+def test_a_path_breaks_where_samples_between_the_drawn_ones_cannot_be_assembled():
+    c = Construction("nearly stretched")
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 40, 0)
+    c.polar("A", "O2", 10, "theta")
+    # the links reach 49.9999 of the 50 between A and O4 at 180 degrees: a gap of 0.6 deg
+    c.circle_circle("B", ("A", "O4"), (35, 14.9999), branch="left")
+    c.trace("B")
+    s = geokin.sweep(c, np.linspace(0, 2 * np.pi, 100_001))
+    kept = display.decimate(len(s))
+    assert s.valid[kept].all() and not s.valid.all()  # no drawn sample falls in the gap
+    paths = [line for colour, line in polylines(s._repr_html_()) if colour != "#9a9a9a"]
+    assert len(paths) == 2 and sum(len(line) for line in paths) == len(kept)
+    assert "cannot be assembled" in s._repr_html_()
+
+
+def test_a_million_samples_display_at_once_and_in_a_few_kilobytes():
+    c = geokin.load(CONSTRUCTIONS / "sixbar.toml")
+    s = geokin.sweep(c, np.linspace(0, 10 * np.pi, 1_000_000))
+    start = time.process_time()
+    page = s._repr_html_()
+    took = time.process_time() - start
+    assert took < 0.5 and len(page) < 20_000
+    assert all(len(line) <= display.POLYLINE_POINTS for _, line in polylines(page))
+
+
+def test_a_motion_shows_its_flagged_samples_and_largest_rates():
+    rocker = geokin.load(CONSTRUCTIONS / "triple_rocker_crank.toml")
+    m = geokin.motion(geokin.circuit(rocker))
+    text = "".join(parsed(m._repr_html_()).text)
+    flagged = int(m.flagged.sum())
+    assert flagged and f"{len(m.time)}: {len(m.time)} valid, {flagged} flagged (the first " \
+                      f"at sample {int(np.argmax(m.flagged))})" in text
+    good = ~m.flagged
+    omega = np.degrees(np.abs(m.angular_velocity["follower"][good]).max())
+    assert f"link followerangular velocity up to {omega:.6g} deg/s" in text
+    assert "link ground" not in text  # the frame does not turn
+    assert f"input theta2{np.degrees(abs(m.speed[0])):.6g} deg/s" in text
+
+
+def test_a_construction_renamed_after_compiling_shows_its_new_name_and_units():
+    c = crank()
+    c.compile()
+    c.name, c.units = "renamed", "mm"
+    assert (c.compile().name, c.compile().units) == ("renamed", "mm")
+    assert "Construction &#x27;renamed&#x27;" in c._repr_html_()
