@@ -171,7 +171,8 @@ class Sweep(Frozen):
             first = int(np.argmax(self.valid))
             note = (f"grey: the links at sample {first} ({self._at(first)})"
                     if compiled.links else "")
-            picture += "\n" + display.legend(drawn, note)
+            if drawn or note:
+                picture += "\n" + display.legend(drawn, note)
         return display.side_by_side(table, picture)
 
     def _value(self, name: str, value: float, unit: str | None = None) -> str:

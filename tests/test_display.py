@@ -1,6 +1,8 @@
 """Results as a notebook shows them: short reprs, HTML tables and SVG pictures."""
 
 import re
+import subprocess
+import sys
 import time
 from html.parser import HTMLParser
 from pathlib import Path
@@ -229,3 +231,25 @@ def test_a_construction_renamed_after_compiling_shows_its_new_name_and_units():
     c.name, c.units = "renamed", "mm"
     assert (c.compile().name, c.compile().units) == ("renamed", "mm")
     assert "Construction &#x27;renamed&#x27;" in c._repr_html_()
+
+
+def test_showing_results_imports_neither_matplotlib_nor_ipython():
+    shown = subprocess.run([sys.executable, "-c", """if True:
+        import sys
+        import geokin
+        c = geokin.load(sys.argv[1])
+        s = geokin.sweep(c)
+        pages = [c._repr_html_(), s._repr_html_(), geokin.motion(s)._repr_html_()]
+        assert all("<table" in page for page in pages)
+        print(sorted({m.split(".")[0] for m in sys.modules} & {"matplotlib", "IPython"}))
+        """, str(CONSTRUCTIONS / "sixbar.toml")], capture_output=True, text=True, timeout=120)
+    assert shown.returncode == 0, shown.stderr
+    assert shown.stdout.strip() == "[]"
+
+
+def test_a_sweep_of_fixed_points_shows_them_without_paths():
+    c = Construction("frame")
+    c.fixed("O", 0, 0)
+    c.fixed("Q", 3, 4)
+    page = geokin.sweep(c)._repr_html_()
+    assert page.count("<rect") == 2 and "<polyline" not in page and "path of" not in page
