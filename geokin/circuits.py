@@ -29,7 +29,7 @@ from .engine import evaluate, start_labels
 from .errors import AssemblyError, ConstructionError
 from .frozen import Frozen
 from .nodes import NO_INTERSECTION
-from .results import BranchEvent, Sweep
+from .results import BranchEvent, Sweep, short_name
 
 __all__ = ["LIMIT_TOLERANCE", "Limit", "Limits", "circuit", "limits"]
 
@@ -95,6 +95,21 @@ class Limits(Frozen):
     def as_values(self) -> list[tuple[float, float]]:
         """Return the intervals as (low, high) pairs of input values."""
         return [(lo.value, hi.value) for lo, hi in self.intervals]
+
+    def __repr__(self) -> str:
+        start = f"<Limits of {short_name(self.input_name)}: "
+        if self.full_turn:
+            return start + "turns fully>"
+        if not self.intervals:
+            return start + "no interval>"
+        low, high = self.intervals[0][0], self.intervals[-1][1]
+        count = len(self.intervals)
+        ends = f"{low.value:.6g} to {high.value:.6g}"
+        if count == 1:
+            stops = [f"{end.kind} at {short_name(end.node)}" for end in (low, high)
+                     if end.node is not None]
+            return start + ends + (f" ({', '.join(stops)})" if stops else "") + ">"
+        return start + f"{count} intervals from {ends}>"
 
 
 def _held(compiled, name, at):
@@ -233,6 +248,8 @@ def limits(construction: Construction | Compiled, input_name: str | None = None,
     [(np.float64(-132.1774), np.float64(132.1774))]
     >>> found.intervals[0][1].node, found.intervals[0][1].kind
     ('C', 'tangent')
+    >>> found
+    <Limits of 'theta2': -2.30693 to 2.30693 (tangent at 'C', tangent at 'C')>
     """
     compiled = as_compiled(construction)
     name = compiled.resolve_input(input_name)

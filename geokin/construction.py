@@ -50,6 +50,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from . import display
 from . import primitives as prim
 from .errors import ConstructionError, did_you_mean, quote, show
 from .expressions import (
@@ -69,6 +70,8 @@ from .nodes import NODE_KINDS, Key, Node
 
 __all__ = [
     "MAX_SAMPLES",
+    "MAX_STEPS_SHOWN",
+    "describe_input",
     "whole_steps",
     "as_compiled",
     "Compiled",
@@ -81,6 +84,9 @@ __all__ = [
 ]
 
 INPUT_KINDS = ("angle", "length")
+
+MAX_STEPS_SHOWN = 40
+"""The most steps a notebook shows of a construction."""
 
 
 @dataclass(frozen=True)
@@ -137,6 +143,27 @@ class Input:
         return np.linspace(lo, hi, samples or self.samples)
 
 
+def describe_input(inp: Input, units: str = "") -> str:
+    """Return an input's declared sweep in words, angles in degrees.
+
+    Examples
+    --------
+    >>> describe_input(Input("theta", range=(0, 10 * np.pi), step=np.radians(16)))
+    'angle, 0 to 1800 deg, every 16 deg, 360 deg/s'
+    >>> describe_input(Input("s", kind="length", range=(0, 5), speed=2), "mm")
+    'length, 0 to 5 mm, 361 samples, 2 mm/s'
+    """
+    unit = "deg" if inp.kind == "angle" else units
+    rate = "deg/s" if inp.kind == "angle" else f"{units or 'units'}/s"
+
+    def value(x: float, what: str = unit) -> str:
+        return display.angle(x, what) if inp.kind == "angle" else display.number(x, what)
+
+    spacing = f"{inp.samples:,} samples" if inp.step is None else f"every {value(inp.step)}"
+    return (f"{inp.kind}, {value(inp.range[0], '')} to {value(inp.range[1])}, {spacing}, "
+            f"{value(inp.speed, rate)}")
+
+
 @dataclass(frozen=True)
 class Link:
     """A rigid link joining two or more points, for drawing and analysis."""
@@ -183,6 +210,8 @@ class Compiled(Frozen):
         The declared links and sliders, for drawing and analysis.
     traced : tuple of str
         The points whose paths are traced.
+    units, description : str
+        The label of the length unit, and free text, as the construction has them.
     ground : frozenset of str
         The points that never move: fixed points that use no input, and
         points built only on those with values that use no input (see
@@ -202,6 +231,8 @@ class Compiled(Frozen):
     links: tuple[Link, ...] = ()
     sliders: tuple[Slider, ...] = ()
     traced: tuple[str, ...] = ()
+    units: str = ""
+    description: str = ""
     ground: frozenset[str] = field(init=False, default=frozenset())
 
     # read-only views of its own copies: a compiled construction is shared by every
@@ -290,6 +321,49 @@ class Compiled(Frozen):
 
     def __repr__(self) -> str:
         return f"<Compiled {self.name!r}: {len(self.steps)} steps>"
+
+    def _repr_html_(self) -> str:
+        """Return a table of the construction, and its steps, for a notebook.
+
+        Angles are shown in degrees, lengths in :attr:`units`; everything
+        from the script is escaped.
+
+        Examples
+        --------
+        >>> c = Construction("crank <1>", units="mm")
+        >>> c.input("theta", range=(0, np.pi), samples=19)
+        >>> c.fixed("O", 0, 0)
+        >>> c.polar("A", "O", 10, "theta")
+        >>> page = c.compile()._repr_html_()
+        >>> "crank &lt;1&gt;" in page, "0 to 180 deg, 19 samples, 360 deg/s" in page
+        (True, True)
+        """
+        ground = [name for name in self.point_names if name in self.ground]
+        moving = [name for name in self.point_names if name not in self.ground]
+        rows = []
+        if self.description:
+            rows.append(("description", self.description))
+        if self.units:
+            rows.append(("lengths in", self.units))
+        rows.append(("ground points", display.names(ground)))
+        rows.append(("moving points", display.names(moving)))
+        if self.parameters:
+            rows.append(("parameters", display.names(
+                f"{name} = {value:.6g}" for name, value in self.parameters.items())))
+        for name, inp in list(self.inputs.items())[:display.MAX_LISTED]:
+            rows.append((f"input {name}", describe_input(inp, self.units)))
+        if len(self.inputs) > display.MAX_LISTED:
+            rows.append(("inputs", f"{len(self.inputs):,} in all"))
+        rows.append(("links", display.names(link.name for link in self.links)))
+        if self.sliders:
+            rows.append(("sliders", display.names(slider.name for slider in self.sliders)))
+        rows.append(("traced", display.names(self.traced)))
+        shown = str(self).splitlines()[1:1 + MAX_STEPS_SHOWN]
+        if len(self.steps) > MAX_STEPS_SHOWN:
+            shown.append(f"  ... and {len(self.steps) - MAX_STEPS_SHOWN:,} more")
+        steps = "\n".join(display.text(line, 400) for line in shown)
+        return (display.table(f"Construction {self.name!r}: {len(self.steps)} steps", rows)
+                + f"\n<details><summary>steps</summary><pre>{steps}</pre></details>")
 
     def resolve_input(self, name: str | None = None, *, purpose: str = "move") -> str:
         """Return the input called ``name``, or the only input when ``name`` is None.
@@ -402,6 +476,26 @@ class Construction:
     def __repr__(self) -> str:
         return (f"<Construction {self.name!r}: {len(self.parameters)} parameters, "
                 f"{len(self.inputs)} inputs, {len(self.nodes)} points>")
+
+    def _repr_html_(self) -> str:
+        """Return the compiled construction as a table for a notebook, or why it cannot compile.
+
+        Examples
+        --------
+        >>> c = Construction("unfinished")
+        >>> c.fixed("O", 0, 0)
+        >>> c.polar("A", "O", 10, "theta")
+        >>> print(c._repr_html_())  # doctest: +ELLIPSIS
+        <table class="geokin">
+        ...<td style="text-align:left">node &#x27;A&#x27;, field &#x27;angle&#x27;: unknown...
+        """
+        try:
+            compiled = self.compile()
+        except ConstructionError as err:
+            return display.table(f"Construction {self.name!r}: {len(self.nodes)} points", [
+                ("parameters", str(len(self.parameters))), ("inputs", str(len(self.inputs))),
+                ("cannot compile", str(err))])
+        return compiled._repr_html_()
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, Construction):
@@ -899,7 +993,9 @@ class Construction:
             name), a cycle (naming its points), or a link, slider or input
             that refers to nothing.
         """
-        if self._compiled is not None:
+        if self._compiled is not None and (
+                (self._compiled.name, self._compiled.units, self._compiled.description)
+                == (self.name, self.units, self.description)):
             return self._compiled
         value_names = {**dict.fromkeys(self.parameters, "parameter"),
                        **dict.fromkeys(self.inputs, "input")}
@@ -932,7 +1028,7 @@ class Construction:
         self._compiled = Compiled(
             self.name, steps, {k: p.value for k, p in self.parameters.items()},
             dict(self.inputs), tuple(self.links.values()), tuple(self.sliders.values()),
-            self.traced)
+            self.traced, self.units, self.description)
         return self._compiled
 
     def _check_constant_values(self):

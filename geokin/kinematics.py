@@ -54,12 +54,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
+from . import display
 from .budgets import check_sweep_memory
 from .compat import renamed_attribute, renamed_keywords
 from .engine import BLOCK_SAMPLES, evaluate
 from .errors import ConstructionError
 from .frozen import Frozen, read_only
-from .results import Sweep
+from .results import Sweep, short_name
 
 __all__ = ["Derivatives", "Motion", "input_derivatives", "link_angles", "motion",
            "slider_positions", "unwrap_valid"]
@@ -141,6 +142,11 @@ class Derivatives(Frozen):
 
     input = renamed_attribute("input", "input_name")
     _read_only = ("first", "second", "stencil", "first_error", "second_error")
+
+    def __repr__(self) -> str:
+        missing = int(np.count_nonzero(self.stencil == 2))
+        return (f"<Derivatives by {short_name(self.input_name)}: {len(self.stencil)} samples, "
+                f"step {self.step:.3g}, {missing} without a stencil>")
 
 
 def _size(sweep: Sweep) -> float:
@@ -467,6 +473,83 @@ class Motion(Frozen):
     _read_only = ("time", "speed", "input_acceleration", "velocity", "acceleration", "angle",
                   "angular_velocity", "angular_acceleration", "flagged", "velocity_error",
                   "acceleration_error")
+
+    def __repr__(self) -> str:
+        return (f"<Motion of {short_name(self.sweep.construction.name)} driven by "
+                f"{short_name(self.input_name)}: {len(self.time)} samples, "
+                f"{int(np.count_nonzero(self.flagged))} flagged>")
+
+    def _repr_html_(self) -> str:
+        """Return a table of the motion for a notebook.
+
+        It gives the samples, how many are flagged and where the first is,
+        the input's speed and the time the motion takes, and the largest
+        speed and acceleration of the traced points (every moving point if
+        none is traced) and of the moving links' angles over the unflagged samples,
+        in the construction's length unit and in degrees. At most
+        :data:`~geokin.display.MAX_LISTED` of each are listed; everything
+        from the script is escaped.
+
+        Examples
+        --------
+        >>> from geokin import Construction, sweep
+        >>> c = Construction("crank", units="mm")
+        >>> c.input("theta")
+        >>> c.fixed("O", 0, 0)
+        >>> c.polar("A", "O", 10, "theta")
+        >>> c.link("crank", "O", "A")
+        >>> page = motion(sweep(c, np.linspace(0, np.pi, 7)), speed=np.pi)._repr_html_()
+        >>> "speed up to 31.4159 mm/s, acceleration up to 98.696 mm/s²" in page
+        True
+        >>> "angular velocity up to 180 deg/s" in page
+        True
+        """
+        s = self.sweep
+        compiled, n = s.construction, len(self.time)
+        units = compiled.units or "units"
+        angle = compiled.inputs[self.input_name].kind == "angle"
+        valid, flagged = int(np.count_nonzero(s.valid)), int(np.count_nonzero(self.flagged))
+        rows = [("samples", f"{n:,}: {valid:,} valid, {flagged:,} flagged" + (
+            f" (the first at sample {int(np.argmax(self.flagged))})" if flagged else ""))]
+        rate = np.abs(self.speed)
+        unit = "deg/s" if angle else f"{units}/s"
+
+        def rate_of(x: float) -> str:
+            return display.angle(x, unit) if angle else display.number(x, unit)
+
+        low, high = (float(rate.min()), float(rate.max())) if n else (np.nan, np.nan)
+        rows.append((f"input {self.input_name}", rate_of(low) if low == high
+                     else f"{rate_of(low).split()[0]} to {rate_of(high)}"))
+        rows.append(("time", display.number(float(self.time[-1]) if n else 0.0, "s")))
+        good = s.valid & ~self.flagged
+
+        def largest(values: np.ndarray) -> float:
+            values = values[good]
+            return float(np.nanmax(values)) if values.size and np.isfinite(values).any() \
+                else float("nan")
+
+        moving = [p for p in compiled.point_names if p not in compiled.ground]
+        shown = list(compiled.traced or moving)
+        for name in shown[:display.MAX_LISTED]:
+            v, a = self.velocity[name], self.acceleration[name]
+            rows.append((name, f"speed up to {display.number(largest(np.hypot(*v.T)), units)}/s"
+                               f", acceleration up to "
+                               f"{display.number(largest(np.hypot(*a.T)), units)}/s²"))
+        # the frame's links do not turn
+        links = [link.name for link in compiled.links
+                 if not set(link.points) <= compiled.ground and link.name in self.angle]
+        for name in links[:display.MAX_LISTED]:
+            omega = largest(np.abs(self.angular_velocity[name]))
+            alpha = largest(np.abs(self.angular_acceleration[name]))
+            rows.append((f"link {name}", f"angular velocity up to "
+                         f"{display.angle(omega, 'deg/s')}, angular acceleration up to "
+                         f"{display.angle(alpha, 'deg/s²')}"))
+        left_out = max(len(shown) - display.MAX_LISTED, 0) + max(
+            len(links) - display.MAX_LISTED, 0)
+        if left_out:
+            rows.append(("not listed", f"{left_out:,} more points and links"))
+        caption = f"Motion of {compiled.name!r} driven by {self.input_name}"
+        return display.table(caption, rows)
 
 
 def _time_step(sweep: Sweep, rates: dict, step: float | None) -> float:

@@ -15,13 +15,28 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from . import display
 from .compat import renamed_attribute
 from .construction import Compiled
 from .errors import AssemblyError, did_you_mean, quote
 from .frozen import Frozen, read_only
 from .nodes import REASONS
+from .terminal import shorten
 
-__all__ = ["BranchEvent", "PointTable", "Sweep"]
+__all__ = ["BranchEvent", "PointTable", "Sweep", "short_name"]
+
+
+def short_name(name: str | None) -> str:
+    """Return a name quoted for a repr, shortened to keep the repr on one short line.
+
+    Examples
+    --------
+    >>> short_name("six-bar"), short_name(None)
+    ("'six-bar'", 'None')
+    >>> len(short_name("x" * 10_000)) < 70
+    True
+    """
+    return "None" if name is None else repr(shorten(str(name), 40))
 
 
 @dataclass(frozen=True)
@@ -105,8 +120,99 @@ class Sweep(Frozen):
         return self.points[name]
 
     def __repr__(self) -> str:
-        return (f"<Sweep of {self.construction.name!r}: {len(self)} samples, "
+        return (f"<Sweep of {short_name(self.construction.name)}: {len(self)} samples, "
                 f"{int(self.valid.sum())} valid, {len(self.events)} branch changes>")
+
+    def _repr_html_(self) -> str:
+        """Return a table of the sweep and a picture of its paths, for a notebook.
+
+        The table gives the samples and how many can be assembled (and
+        where the first that cannot fails), each input's range (degrees for
+        an angle, the construction's units for a length) and the branch
+        changes; the picture draws the traced points' paths (every moving
+        point's if none is traced, at most six) over the mechanism at its
+        first assembled sample, each path decimated to
+        :data:`~geokin.display.POLYLINE_POINTS` samples. Everything from
+        the script is escaped.
+
+        Examples
+        --------
+        >>> from geokin import Construction, sweep
+        >>> c = Construction("crank")
+        >>> c.input("theta")
+        >>> c.fixed("O", 0, 0)
+        >>> c.polar("A", "O", 10, "theta")
+        >>> page = sweep(c, np.linspace(0, np.pi, 7))._repr_html_()
+        >>> "0 to 180 deg" in page, page.count("<polyline")
+        (True, 1)
+        """
+        compiled = self.construction
+        n, valid = len(self), int(np.count_nonzero(self.valid))
+        rows = [("samples", f"{n:,}, all valid" if valid == n else f"{n:,}: {valid:,} valid")]
+        for name, values in list(self.inputs.items())[:display.MAX_LISTED]:
+            low, high = (np.nanmin(values), np.nanmax(values)) if n else (np.nan, np.nan)
+            rows.append((f"input {name}", f"{self._value(name, low, '')} to "
+                                          f"{self._value(name, high)}"))
+        if valid < n:
+            first = int(np.argmin(self.valid))
+            rows.append(("cannot be assembled", (
+                f"{n - valid:,} samples; the first, sample {first} ({self._at(first)}): "
+                f"node {self.failed_node[first]!r}: {self.failure_reason[first]}")))
+        changes = [f"{e.node}: {e.before} to {e.after} at sample {e.index} "
+                   f"({self._at_event(e)})" for e in self.events[:3]]
+        if len(self.events) > 3:
+            changes.append(f"and {len(self.events) - 3:,} more")
+        rows.append(("branch changes", f"{len(self.events):,}" + (
+            f": {'; '.join(changes)}" if changes else "")))
+        moving = [p for p in compiled.point_names if p not in compiled.ground]
+        drawn = list(compiled.traced or moving)[:len(display.PATH_COLORS)]
+        table = display.table(f"Sweep of {compiled.name!r}", rows)
+        picture = self._svg(drawn)
+        if picture:
+            first = int(np.argmax(self.valid))
+            note = (f"grey: the links at sample {first} ({self._at(first)})"
+                    if compiled.links else "")
+            if drawn or note:
+                picture += "\n" + display.legend(drawn, note)
+        return display.side_by_side(table, picture)
+
+    def _value(self, name: str, value: float, unit: str | None = None) -> str:
+        """Return an input's value as a reader reads it: degrees, or the length unit."""
+        if self.construction.inputs[name].kind == "angle":
+            return display.angle(value, "deg" if unit is None else unit)
+        return display.number(value, self.construction.units if unit is None else unit)
+
+    def _at(self, index: int) -> str:
+        return ", ".join(f"{name} = {self._value(name, values[index])}"
+                         for name, values in list(self.inputs.items())[:3])
+
+    def _at_event(self, event: BranchEvent) -> str:
+        at = self.event_inputs(event)
+        return ", ".join(f"{name} = {self._value(name, at[name])}" for name in list(at)[:3])
+
+    def _svg(self, names: list[str]) -> str:
+        """Return an SVG picture of the paths of ``names``, decimated, and one pose."""
+        compiled, n = self.construction, len(self)
+        if not n or not self.valid.any():
+            return ""
+        keep = display.decimate(n)
+        # a path breaks where any sample between two kept ones cannot be assembled
+        failed = np.cumsum(~self.valid)
+        gap = np.flatnonzero(np.diff(failed[keep]) > 0) + 1
+        shown_valid = self.valid[keep]
+        paths = {}
+        for name in names:
+            x, y = self.points.xy(name)
+            x, y = np.where(shown_valid, x[keep], np.nan), np.where(shown_valid, y[keep], np.nan)
+            paths[name] = (np.insert(x, gap, np.nan), np.insert(y, gap, np.nan))
+        first = int(np.argmax(self.valid))
+        pose = {p: (float(self.points.xy(p)[0][first]), float(self.points.xy(p)[1][first]))
+                for p in compiled.point_names}
+        bars = [link.points for link in compiled.links]
+        linked = {p for points in bars for p in points}
+        ground = [p for p in compiled.point_names if p in compiled.ground
+                  and (p in linked or not bars)]
+        return display.svg_paths(paths, pose=pose, bars=bars, ground=ground)
 
     @property
     def input_values(self) -> np.ndarray:

@@ -1,6 +1,7 @@
 """Tests of geokin.plotting: figures, files and animations, headless (Agg)."""
 
 import io
+import re
 import shutil
 import subprocess
 import sys
@@ -647,3 +648,74 @@ def test_the_html_player_plays_steps_and_loops(tmp_path, small_frames):
     assert (result["frames"], result["distinct"], result["interval"]) == (3, 3, 50)
     assert result["seen"] == [[0, "1 / 3"], [1, "2 / 3"], [0, "1 / 3"], [0, "1 / 3"], True,
                               [2, "3 / 3"], [1, "2 / 3"], [0, "1 / 3"]]
+
+
+def test_an_inline_animation_is_html_a_notebook_plays():
+    from IPython.display import HTML
+
+    s = sweep(four_bar(), samples(37))
+    movie = gp.animation_html(s, frames=4, fps=20, dpi=20)
+    assert isinstance(movie, str) and movie._repr_html_() == movie
+    assert repr(movie) == f"<AnimationHTML of 'four-bar': 4 frames at 20 fps, {len(movie):,} " \
+                          "characters>"
+    # every frame, and the first again as the picture a viewer without scripts shows
+    frames = movie.split('"data:image/png;base64,')
+    assert len(frames) == 6 and frames[1].split('"')[0] == frames[2].split('"')[0]
+    assert "<!DOCTYPE" not in movie and "http" not in movie and "var interval = 50;" in movie
+    assert HTML(movie)._repr_html_() == movie
+    other = gp.animation_html(s, frames=2, dpi=20)
+    ids = set(re.findall(r'id="(geokin-\w+-)frame"', movie + other))
+    assert len(ids) == 2  # each animation plays its own elements
+
+
+def test_an_inline_animation_too_large_for_a_notebook_is_refused_up_front():
+    s = sweep(four_bar(), samples(37))
+    with pytest.raises(GeokinError, match=r"more than the 20 MB a notebook is given; ask for "
+                                          r"fewer frames or a lower dpi"):
+        gp.animation_html(s, frames=300, dpi=300)
+    with pytest.raises(GeokinError, match="dpi must be a number from 1 to 1000"):
+        gp.animation_html(s, dpi=float("nan"))
+    with pytest.raises(GeokinError, match="fps must be a number"):
+        gp.animation_html(s, fps=0)
+
+
+INLINE_CHECK = """
+const fs = require("fs");
+const page = fs.readFileSync(process.argv[2], "utf8");
+const scripts = [...page.matchAll(/<script>([\\s\\S]*?)<\\/script>/g)].map(m => m[1]);
+const elements = {};
+const document = { getElementById: id => (elements[id] = elements[id] ||
+  { id: id, value: "0", checked: id.endsWith("loop"), innerHTML: "", textContent: "", src: "" }) };
+const timers = [];
+const setInterval = (f, ms) => { timers.push(f); return timers.length; };
+const clearInterval = () => {};
+for (const script of scripts) {
+  new Function("document", "setInterval", "clearInterval", script)(document, setInterval,
+                                                                    clearInterval);
+}
+timers.forEach(tick => tick());
+const counters = Object.keys(elements).filter(id => id.endsWith("counter")).sort();
+console.log(JSON.stringify({
+  globals: typeof frames, timers: timers.length,
+  counters: counters.map(id => elements[id].textContent),
+  sources: counters.map(id => elements[id.replace(/counter$/, "frame")].src.length > 100)}));
+"""
+
+
+@pytest.mark.skipif(shutil.which("node") is None, reason="node runs the player")
+def test_two_inline_animations_on_one_page_play_each_its_own_frames(tmp_path):
+    import json
+
+    s = sweep(four_bar(), samples(37))
+    page = tmp_path / "notebook.html"
+    page.write_text(gp.animation_html(s, frames=3, dpi=20)
+                    + gp.animation_html(s, frames=5, dpi=20))
+    check = tmp_path / "check.js"
+    check.write_text(INLINE_CHECK)
+    done = subprocess.run(["node", str(check), str(page)], capture_output=True, text=True,
+                          timeout=60)
+    assert done.returncode == 0, done.stderr
+    result = json.loads(done.stdout)
+    assert result["globals"] == "undefined"  # the frames stay inside each player
+    assert result["timers"] == 2 and result["sources"] == [True, True]
+    assert sorted(result["counters"]) == ["2 / 3", "2 / 5"]

@@ -11,6 +11,7 @@ curves, in a :class:`Report`. ``geokin analyze`` prints it;
 
 from __future__ import annotations
 
+import html
 import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -24,7 +25,7 @@ from ..engine import sweep
 from ..errors import AnalysisError
 from ..kinematics import link_angles, slider_positions
 from ..nodes import CircleCircle
-from ..results import Sweep
+from ..results import Sweep, short_name
 from ..terminal import one_line
 from .fourbar import ROLES, grashof, transmission_angles
 from .measures import curve_measures, refine_extreme, stroke
@@ -76,6 +77,9 @@ class LimitReport:
     kind: str
     meaning: str
 
+    def __repr__(self) -> str:
+        return f"<LimitReport: {self.kind} at {self.value:.6g}, node {short_name(self.node)}>"
+
     def to_dict(self) -> dict[str, Any]:
         """Return the limit as plain data: ``value``, ``node``, ``kind``, ``meaning``."""
         return {"value": self.value, "node": self.node, "kind": self.kind,
@@ -104,6 +108,16 @@ class InputReport:
     full_turn: bool
     intervals: tuple[tuple[float, float], ...]
     limits: tuple[LimitReport, ...]
+
+    def __repr__(self) -> str:
+        if self.full_turn:
+            where = "turns fully"
+        elif not self.intervals:
+            where = "no interval"
+        else:
+            where = (f"{len(self.intervals)} interval(s) from {self.intervals[0][0]:.6g} to "
+                     f"{self.intervals[-1][1]:.6g}, {len(self.limits)} limit(s)")
+        return f"<InputReport ({self.kind}): {where}>"
 
     def to_dict(self) -> dict[str, Any]:
         """Return the input as plain data: ``kind``, ``full_turn``, ``intervals``, ``limits``."""
@@ -146,6 +160,11 @@ class FourBarReport:
     grashof: bool
     turning: tuple[str, ...]
 
+    def __repr__(self) -> str:
+        sides = ", ".join(f"{role} {self.lengths[role]:.6g}" for role in ROLES)
+        return (f"<FourBarReport at {short_name(self.node)}: {self.kind}"
+                f"{' (' + self.code + ')' if self.code else ''}; {sides}>")
+
     def to_dict(self) -> dict[str, Any]:
         """Return the four-bar as plain data, each length under its role's name."""
         return {"node": self.node, "points": list(self.points),
@@ -172,6 +191,9 @@ class TransmissionReport:
     maximum: float
     at_minimum: Mapping[str, float]
     at_maximum: Mapping[str, float]
+
+    def __repr__(self) -> str:
+        return f"<TransmissionReport: {self.minimum:.6g} to {self.maximum:.6g}>"
 
     def to_dict(self) -> dict[str, Any]:
         """Return the extremes as plain data: ``min``, ``max``, ``at_min``, ``at_max``."""
@@ -243,6 +265,13 @@ class StrokeReport:
         assert self.time_ratio is not None
         return "min->max" if self.time_ratio > 1 else "max->min"
 
+    def __repr__(self) -> str:
+        if self.turns:
+            return "<StrokeReport: turns fully>"
+        ratio = "" if self.time_ratio is None else f", time ratio {self.time_ratio:.6g}"
+        return (f"<StrokeReport: {self.minimum:.6g} to {self.maximum:.6g}, "
+                f"stroke {self.stroke:.6g}{ratio}>")
+
     def to_dict(self) -> dict[str, Any]:
         """Return the output's extremes as plain data: ``{"turns": True}`` for a turning link.
 
@@ -286,6 +315,12 @@ class CurveReport:
     area: float | None
     bounds: tuple[float, float, float, float]
     double_points: tuple[tuple[float, float], ...]
+
+    def __repr__(self) -> str:
+        area = "" if self.area is None else f", area {self.area:.6g}"
+        return (f"<CurveReport: length {self.length:.6g}, "
+                f"{'closed' if self.closed else 'open'}{area}, "
+                f"{len(self.double_points)} double point(s)>")
 
     def to_dict(self) -> dict[str, Any]:
         """Return the measures as plain data, with ``bounds`` and ``double_points`` as lists."""
@@ -354,6 +389,17 @@ class Report:
                       "report.to_dict() for the old dict; indexing it will be removed",
                       DeprecationWarning, stacklevel=2)
         return self.to_dict()[key]
+
+    def __repr__(self) -> str:
+        kinds = sorted({bar.kind for bar in self.four_bars})
+        bars = f", four-bars: {', '.join(kinds)}" if kinds else ""
+        return (f"<Report of {short_name(self.construction)}: DOF {self.dof}, "
+                f"{len(self.inputs)} input(s){bars}, {len(self.strokes)} stroke(s), "
+                f"{len(self.curves)} curve(s), angles in {self.angle_unit}>")
+
+    def _repr_html_(self) -> str:
+        """Return the report as ``geokin analyze`` prints it, for a notebook."""
+        return f"<pre>{html.escape(self.to_text())}</pre>"
 
     def to_dict(self) -> dict[str, Any]:
         """Return the report as plain data, ready for JSON: what ``geokin analyze --json`` prints.

@@ -11,7 +11,8 @@ networkx's ``draw`` do. matplotlib is imported inside the functions, so
 - :mod:`~geokin.plotting.mechanism`: the mechanism at one sample
   (:func:`plot_mechanism`, :func:`figure_mechanism`) and :func:`save`;
 - :mod:`~geokin.plotting.animation`: :func:`animate` to a GIF, an HTML page
-  or an MP4, and :func:`animation_estimate`;
+  or an MP4, :func:`animation_html` to play in a notebook, and
+  :func:`animation_estimate`;
 - :mod:`~geokin.plotting.charts`: :func:`plot_input_output` and
   :func:`figure_kinematics`.
 """
@@ -21,8 +22,10 @@ from .animation import (
     MAX_FPS,
     MAX_FRAMES,
     MIN_FPS,
+    AnimationHTML,
     animate,
     animation_estimate,
+    animation_html,
 )
 from .charts import figure_kinematics, plot_input_output
 from .mechanism import (
@@ -39,6 +42,7 @@ from .mechanism import (
 
 __all__ = [
     "ANIMATION_FORMATS",
+    "AnimationHTML",
     "FIGSIZE",
     "GROUND_COLOR",
     "INPUT_COLOR",
@@ -50,6 +54,7 @@ __all__ = [
     "TRACE_COLORS",
     "animate",
     "animation_estimate",
+    "animation_html",
     "figure_kinematics",
     "figure_mechanism",
     "plot_input_output",

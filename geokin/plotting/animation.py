@@ -16,31 +16,38 @@ import base64
 import contextlib
 import html
 import io
+import math
 import os
 import pathlib
 import shutil
 import sys
 import time
+import uuid
 
 import numpy as np
 
 from ..atomic import replacing, replacing_path, require_folder
 from ..budgets import check_memory
 from ..errors import GeokinError
-from ..results import Sweep
+from ..results import Sweep, short_name
 from .layout import shown_text
 from .mechanism import FIGSIZE, Scene, setup_axes
 
 __all__ = [
     "ANIMATION_FORMATS",
+    "INLINE_DPI",
+    "INLINE_FRAMES",
     "MAX_FPS",
     "MAX_FRAMES",
+    "MAX_INLINE_BYTES",
     "MIN_FPS",
+    "AnimationHTML",
     "GifWriter",
     "PageWriter",
     "Progress",
     "animate",
     "animation_estimate",
+    "animation_html",
     "frame_indices",
 ]
 
@@ -196,44 +203,33 @@ def _paletted(image):
     return image.convert("P", palette=Image.Palette.ADAPTIVE, colors=256)
 
 
-_PAGE_HEAD = """<!DOCTYPE html>
-<html>
-<head>
-<meta charset="utf-8">
-<title>{title}</title>
-<style>
-body {{ font-family: sans-serif; margin: 1em; }}
-.player img {{ display: block; max-width: 100%; height: auto; border: 1px solid #dddddd; }}
-.player .controls {{ display: flex; gap: 0.3em; align-items: center; margin-top: 0.5em;
-                     max-width: {width}px; }}
-.player button {{ font-size: 1.1em; min-width: 2.4em; }}
-.player input[type=range] {{ flex: 1; }}
-</style>
-</head>
-<body>
-<div class="player">
-<img id="frame" width="{width}" height="{height}" alt="{title}">
-<div class="controls">
-<button id="first" title="first frame">&#x23EE;</button>
-<button id="back" title="one frame back">&#x23F4;&#x2502;</button>
-<button id="play" title="play or pause">&#x23F8;</button>
-<button id="forward" title="one frame forward">&#x2502;&#x23F5;</button>
-<button id="last" title="last frame">&#x23ED;</button>
-<input id="slider" type="range" min="0" max="{last}" value="0">
-<span id="counter"></span>
-<label><input id="loop" type="checkbox" checked> loop</label>
-</div>
-</div>
-<script>
-var frames = [
+_PLAYER_STYLE = """
+.geokin-player img {{ display: block; max-width: 100%; height: auto; border: 1px solid #dddddd; }}
+.geokin-player .controls {{ display: flex; gap: 0.3em; align-items: center; margin-top: 0.5em;
+                            max-width: {width}px; }}
+.geokin-player button {{ font-size: 1.1em; min-width: 2.4em; }}
+.geokin-player input[type=range] {{ flex: 1; }}
 """
 
-_PAGE_TAIL = """];
-</script>
-<script>
-(function () {{
+_PLAYER = """<div class="geokin-player">
+<img id="{prefix}frame" width="{width}" height="{height}" alt="{title}"{src}>
+<div class="controls">
+<button id="{prefix}first" title="first frame">&#x23EE;</button>
+<button id="{prefix}back" title="one frame back">&#x23F4;&#x2502;</button>
+<button id="{prefix}play" title="play or pause">&#x23F8;</button>
+<button id="{prefix}forward" title="one frame forward">&#x2502;&#x23F5;</button>
+<button id="{prefix}last" title="last frame">&#x23ED;</button>
+<input id="{prefix}slider" type="range" min="0" max="{last}" value="0">
+<span id="{prefix}counter"></span>
+<label><input id="{prefix}loop" type="checkbox" checked> loop</label>
+</div>
+</div>
+"""
+
+# plays the array ``frames`` defined before it, in the elements of _PLAYER
+_PLAYER_SCRIPT = """(function () {{
   var interval = {interval};
-  var element = function (id) {{ return document.getElementById(id); }};
+  var element = function (id) {{ return document.getElementById("{prefix}" + id); }};
   var image = element("frame"), slider = element("slider"), counter = element("counter");
   var play = element("play"), loop = element("loop");
   var current = 0, timer = null;
@@ -264,10 +260,40 @@ _PAGE_TAIL = """];
   show(0);
   start();
 }})();
+"""
+
+_PAGE_HEAD = """<!DOCTYPE html>
+<html>
+<head>
+<meta charset="utf-8">
+<title>{title}</title>
+<style>
+body {{ font-family: sans-serif; margin: 1em; }}
+""" + _PLAYER_STYLE + """</style>
+</head>
+<body>
+"""
+
+_PAGE_FRAMES = """<script>
+var frames = [
+"""
+
+_PAGE_TAIL = """];
 </script>
+<script>
+{script}</script>
 </body>
 </html>
 """
+
+
+def _png_data(rgb: np.ndarray) -> bytes:
+    """Return a frame, an (height, width, 3) array of uint8, as a PNG data URL."""
+    from PIL import Image
+
+    png = io.BytesIO()
+    Image.fromarray(rgb).save(png, format="PNG")
+    return b"data:image/png;base64," + base64.b64encode(png.getvalue())
 
 
 class PageWriter:
@@ -295,22 +321,20 @@ class PageWriter:
         self.stream = stream
         self.fps = fps
         width, height = size
-        self.stream.write(_PAGE_HEAD.format(title=html.escape(shown_text(title)), width=width,
-                                            height=height, last=frames - 1).encode("utf-8"))
+        title = html.escape(shown_text(title))
+        self.stream.write((_PAGE_HEAD.format(title=title, width=width)
+                           + _PLAYER.format(prefix="", width=width, height=height, title=title,
+                                            last=frames - 1, src="")
+                           + _PAGE_FRAMES).encode("utf-8"))
 
     def add(self, rgb: np.ndarray) -> None:
         """Encode one frame, an (height, width, 3) array of uint8, as PNG and write it."""
-        from PIL import Image
-
-        png = io.BytesIO()
-        Image.fromarray(rgb).save(png, format="PNG")
-        self.stream.write(b'"data:image/png;base64,' + base64.b64encode(png.getvalue())
-                          + b'",\n')
+        self.stream.write(b'"' + _png_data(rgb) + b'",\n')
 
     def finish(self) -> None:
         """Write the player and the end of the page."""
-        interval = f"{1000.0 / self.fps:.6g}"
-        self.stream.write(_PAGE_TAIL.format(interval=interval).encode("utf-8"))
+        script = _PLAYER_SCRIPT.format(interval=f"{1000.0 / self.fps:.6g}", prefix="")
+        self.stream.write(_PAGE_TAIL.format(script=script).encode("utf-8"))
 
 
 def animation_estimate(frames: int, width: int, height: int, suffix: str, *, samples: int = 0,
@@ -443,9 +467,7 @@ def animate(sweep: Sweep, path: str | os.PathLike[str], *, fps: float = 25,
     suffix = path.suffix.lower()
     if suffix not in ANIMATION_FORMATS:
         raise GeokinError(f"cannot animate to {str(path)!r}: use a .gif, .html or .mp4 file")
-    if (isinstance(fps, bool) or not isinstance(fps, int | float)
-            or not MIN_FPS <= fps <= MAX_FPS):
-        raise GeokinError(f"fps must be a number from {MIN_FPS:g} to {MAX_FPS:g}, got {fps!r}")
+    _check_fps(fps)
     indices = frame_indices(len(sweep), frames)
     from matplotlib import animation
 
@@ -456,24 +478,11 @@ def animate(sweep: Sweep, path: str | os.PathLike[str], *, fps: float = 25,
             "and make sure it is on PATH, or write a .gif or .html file instead")
     require_folder(path)
 
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.figure import Figure
-
-    fig = Figure(figsize=FIGSIZE, layout="constrained")
-    canvas = FigureCanvasAgg(fig)
-    ax = fig.add_subplot()
-    scene = Scene(sweep, ax)
+    fig, canvas, scene = _drawing(sweep)
     width, height = canvas.get_width_height()
     _check_room(path, len(indices), width, height, suffix, len(sweep),
                 len(scene.trace_lines))
-    scene.update(int(indices[0]))
-    setup_axes(ax, scene.layout, None)
-    if scene.trace_lines:
-        ax.legend(handles=scene.trace_lines, loc="upper left", bbox_to_anchor=(1.01, 1.0),
-                  fontsize=9, framealpha=0.9)
-    # lay the figure out once: the frames keep the same axes
-    fig.draw_without_rendering()
-    fig.set_layout_engine("none")
+    _lay_out(fig, scene, int(indices[0]))
 
     def frames_drawn():
         for k, index in enumerate(indices):
@@ -500,6 +509,172 @@ def animate(sweep: Sweep, path: str | os.PathLike[str], *, fps: float = 25,
     finally:
         bar.close()
     return path
+
+
+def _drawing(sweep: Sweep, dpi: float | None = None):
+    """Return a figure of its own (not pyplot's), its canvas and the mechanism's scene."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=FIGSIZE, layout="constrained", dpi=dpi)
+    canvas = FigureCanvasAgg(fig)
+    scene = Scene(sweep, fig.add_subplot())
+    return fig, canvas, scene
+
+
+def _lay_out(fig, scene: Scene, first: int) -> None:
+    """Draw the first frame's axes, title and legend, and fix the layout for every frame."""
+    ax = scene.ax
+    scene.update(first)
+    setup_axes(ax, scene.layout, None)
+    if scene.trace_lines:
+        ax.legend(handles=scene.trace_lines, loc="upper left", bbox_to_anchor=(1.01, 1.0),
+                  fontsize=9, framealpha=0.9)
+    # lay the figure out once: the frames keep the same axes
+    fig.draw_without_rendering()
+    fig.set_layout_engine("none")
+
+
+INLINE_FRAMES = 60
+"""The frames of an inline animation unless more or fewer are asked for."""
+
+INLINE_DPI = 72
+"""The resolution of an inline animation: 576 by 432 pixels."""
+
+MAX_INLINE_BYTES = 20_000_000
+"""The largest inline animation made, in bytes of HTML (matplotlib's own limit for
+an animation embedded in a notebook is the same)."""
+
+
+class AnimationHTML(str):
+    """An animation as self-contained HTML, which a notebook plays where it is shown.
+
+    It is the HTML text itself (a ``str``), so ``IPython.display.HTML(animation)``
+    shows it as any other HTML, and a notebook shows it directly as the last
+    expression of a cell (through ``_repr_html_``); its ``repr`` is one short
+    line, not megabytes of frames.
+
+    Attributes
+    ----------
+    name : str
+        The construction's name.
+    frames : int
+        The number of frames.
+    fps : float
+        Frames per second.
+    """
+
+    name: str
+    frames: int
+    fps: float
+
+    def __new__(cls, text: str, name: str, frames: int, fps: float) -> AnimationHTML:
+        """Return ``text`` as the animation of ``frames`` frames of construction ``name``."""
+        made = super().__new__(cls, text)
+        made.name, made.frames, made.fps = name, frames, fps
+        return made
+
+    def _repr_html_(self) -> str:
+        return str(self)
+
+    def __repr__(self) -> str:
+        return (f"<AnimationHTML of {short_name(self.name)}: {self.frames} frames at "
+                f"{self.fps:g} fps, {len(self):,} characters>")
+
+
+def animation_html(sweep: Sweep, *, frames: int | None = INLINE_FRAMES, fps: float = 25,
+                   dpi: float = INLINE_DPI) -> AnimationHTML:
+    """Return an animation of the motion that plays inline in a notebook.
+
+    The same drawing as :func:`animate`, with its player (play, pause, step,
+    a slider, loop), as one self-contained HTML fragment: every frame is a
+    PNG inside it, nothing is fetched from the web, and several animations
+    in one notebook each play on their own. The first frame is also the
+    picture's source, so a viewer that runs no script still shows it.
+    IPython is not needed to make it.
+
+    Parameters
+    ----------
+    sweep : Sweep
+    frames : int or None
+        The number of frames: that many samples, evenly chosen; None for
+        every sample, at most :data:`MAX_FRAMES`.
+    fps : float
+        Frames per second, from :data:`MIN_FPS` to :data:`MAX_FPS`.
+    dpi : float
+        Pixels per inch of the 8 by 6 inch drawing.
+
+    Returns
+    -------
+    AnimationHTML
+        The HTML, a ``str`` that a notebook displays as an animation.
+
+    Raises
+    ------
+    GeokinError
+        For bad ``fps``, ``frames`` or ``dpi``, or an animation of more than
+        :data:`MAX_INLINE_BYTES` (said before anything is drawn, with
+        advice).
+    BudgetError
+        For a drawing that would need more than the memory budget.
+
+    See Also
+    --------
+    animate : the same animation written to a GIF, an HTML page or an MP4.
+
+    Examples
+    --------
+    >>> from geokin import Construction, sweep
+    >>> c = Construction("crank")
+    >>> c.input("theta", samples=9)
+    >>> c.fixed("O", 0, 0)
+    >>> c.polar("A", "O", 10, "theta")
+    >>> movie = animation_html(sweep(c), frames=3, dpi=20)
+    >>> movie  # doctest: +ELLIPSIS
+    <AnimationHTML of 'crank': 3 frames at 25 fps, ... characters>
+    >>> movie.count("data:image/png;base64,"), "<script>" in movie
+    (4, True)
+    """
+    _check_fps(fps)
+    if (isinstance(dpi, bool) or not isinstance(dpi, int | float)
+            or not (math.isfinite(dpi) and 1 <= dpi <= 1000)):
+        raise GeokinError(f"dpi must be a number from 1 to 1000, got {dpi!r}")
+    indices = frame_indices(len(sweep), frames)
+    fig, canvas, scene = _drawing(sweep, dpi)
+    width, height = canvas.get_width_height()
+    animation = f"an inline animation of {len(indices):,} frames of {width} x {height} pixels"
+    text_bytes, memory_bytes = animation_estimate(len(indices), width, height, ".html",
+                                                  samples=len(sweep),
+                                                  traces=len(scene.trace_lines))
+    if text_bytes > MAX_INLINE_BYTES:
+        raise GeokinError(f"{animation} would take about {_megabytes(text_bytes)}, more than "
+                          f"the {_megabytes(MAX_INLINE_BYTES)} a notebook is given; ask for "
+                          "fewer frames or a lower dpi, or write a file with animate()")
+    check_memory(memory_bytes + text_bytes, what=f"drawing {animation}",
+                 advice="ask for fewer frames or a lower dpi")
+    _lay_out(fig, scene, int(indices[0]))
+    data = []
+    for index in indices:
+        scene.update(int(index), grow=True)
+        canvas.draw()
+        data.append(_png_data(np.asarray(canvas.buffer_rgba())[..., :3]).decode("ascii"))
+    # ids of its own: a notebook holds many animations on one page
+    prefix = f"geokin-{uuid.uuid4().hex}-"
+    title = html.escape(shown_text(sweep.construction.name))
+    player = _PLAYER.format(prefix=prefix, width=width, height=height, title=title,
+                            last=len(data) - 1, src=f' src="{data[0]}"')
+    script = _PLAYER_SCRIPT.format(interval=f"{1000.0 / fps:.6g}", prefix=prefix)
+    frames_js = ",\n".join(f'"{frame}"' for frame in data)
+    text = (f'<div class="geokin-animation">\n<style>{_PLAYER_STYLE.format(width=width)}'
+            f"</style>\n{player}<script>\n(function () {{\nvar frames = [\n{frames_js}\n];\n"
+            f"{script}}})();\n</script>\n</div>\n")
+    return AnimationHTML(text, sweep.construction.name, len(data), float(fps))
+
+
+def _check_fps(fps) -> None:
+    if (isinstance(fps, bool) or not isinstance(fps, int | float)
+            or not MIN_FPS <= fps <= MAX_FPS):
+        raise GeokinError(f"fps must be a number from {MIN_FPS:g} to {MAX_FPS:g}, got {fps!r}")
 
 
 def _write_movie(fig, path, fps, drawn, count, bar):
