@@ -215,6 +215,12 @@ arrays then stay in the processor's cache and are reused, and memory beyond
 the results does not grow with the number of samples."""
 
 
+BLOCKED_ABOVE = 4 * BLOCK_SAMPLES
+"""A tracked sweep of more samples than this computes each step's candidates
+:data:`BLOCK_SAMPLES` at a time; below it the arrays fit the cache as they are,
+and blocks would only add their own cost."""
+
+
 @dataclass
 class _Evaluated:
     """What evaluating every step gives, before it is made a Sweep."""
@@ -274,7 +280,8 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         parts = _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track)
 
     def per_sample(array, dtype=float):
-        return read_only(np.broadcast_to(np.asarray(array, dtype=dtype), (n,)))
+        array = np.asarray(array, dtype=dtype)
+        return read_only(array if array.shape == (n,) else np.broadcast_to(array, (n,)))
 
     return Sweep(
         construction=compiled,
@@ -305,7 +312,7 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track) -> _E
         for position, step in enumerate(plan):
             node = step.node
             values = _step_values(step, env)
-            cand = (_candidates(step, coords, values, origin) if n <= BLOCK_SAMPLES
+            cand = (_candidates(step, coords, values, origin) if n <= BLOCKED_ABOVE
                     else _candidates_in_blocks(step, coords, values, origin, n))
             if node.roots == 1:
                 x, y = cand.x[0], cand.y[0]
@@ -329,8 +336,9 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track) -> _E
                     parameters[node.name] = (cand.t[label] if np.ndim(label) == 0
                                              else np.where(label, cand.t[1], cand.t[0]))
             coords[node.name] = (x, y)
-            failing = valid & ~np.broadcast_to(np.isfinite(x) & np.isfinite(y), (n,))
-            if failing.any():
+            finite = np.isfinite(x) & np.isfinite(y)
+            failing = valid & ~finite if np.ndim(finite) else (None if finite else valid.copy())
+            if failing is not None and failing.any():
                 # the first step that fails at a sample is its reason: recorded now, so
                 # that no step's candidates are kept for later
                 _record_failures(step, cand, values, label, failing, failed_step, reason_code)
