@@ -171,6 +171,25 @@ def _patch(outputs, mask, shape, redo, *args):
     return tuple(patched)
 
 
+def _guarded(kernel, rescaled, windows, *args):
+    """Run ``kernel``, and redo with ``rescaled`` the elements it cannot be trusted on.
+
+    The kernel returns its outputs and the quantities to check, one per
+    window, in the order given: the elements where one leaves its window are
+    computed again by ``rescaled`` (the same computation on inputs scaled by
+    a power of two). The common case, everything within, costs a reduction
+    or two.
+    """
+    outputs, *checked = kernel(*args)
+    if all(_within(q, w) for q, w in zip(checked, windows, strict=True)):
+        return outputs
+    shape = np.shape(outputs[0])
+    mask = np.zeros(shape, dtype=bool)
+    for q, w in zip(checked, windows, strict=True):
+        mask |= _outside(q, w, shape)
+    return _patch(outputs, mask, shape, rescaled, *args)
+
+
 def _circle_circle(x1, y1, dx, dy, r1, r2):
     """Compute :func:`circle_circle_xy`; also return the scale to check the result on."""
     d2 = dx * dx + dy * dy
@@ -242,12 +261,8 @@ def circle_circle_xy(x1, y1, r1, x2, y2, r2):
     dy = y2 - y1
     if type(dx) in _PLAIN:
         dx = np.float64(dx)
-    outputs, scale = _circle_circle(x1, y1, dx, dy, r1, r2)
-    if _within(scale, _CC_WINDOW):
-        return outputs
-    shape = np.shape(outputs[0])
-    return _patch(outputs, _outside(scale, _CC_WINDOW, shape), shape,
-                  _circle_circle_rescaled, x1, y1, dx, dy, r1, r2)
+    return _guarded(_circle_circle, _circle_circle_rescaled, (_CC_WINDOW,),
+                    x1, y1, dx, dy, r1, r2)
 
 
 def _nonnegative(r) -> bool:
@@ -312,15 +327,10 @@ def line_circle_xy(x1, y1, x2, y2, cx, cy, r):
         dx = np.float64(dx)
     wx = cx - x1
     wy = cy - y1
-    outputs, length_sq, scale_sq = _line_circle(x1, y1, dx, dy, wx, wy, r)
     # the scale is at least the length: within the window, nothing underflows; a
     # length that overflows or vanishes can make the scale NaN, so it is checked first
-    below = (None, _LC_WINDOW[1])
-    if _within(length_sq, _LC_WINDOW) and _within(scale_sq, below):
-        return outputs
-    shape = np.shape(outputs[0])
-    mask = _outside(length_sq, _LC_WINDOW, shape) | _outside(scale_sq, below, shape)
-    return _patch(outputs, mask, shape, _line_circle_rescaled, x1, y1, dx, dy, wx, wy, r)
+    return _guarded(_line_circle, _line_circle_rescaled, (_LC_WINDOW, (None, _LC_WINDOW[1])),
+                    x1, y1, dx, dy, wx, wy, r)
 
 
 def _line_line(x1, y1, ax, ay, bx, by, wx, wy):
@@ -372,13 +382,8 @@ def line_line_xy(x1, y1, x2, y2, x3, y3, x4, y4):
     by = y4 - y3
     if type(ax) in _PLAIN:
         ax = np.float64(ax)
-    outputs, a_sq, b_sq = _line_line(x1, y1, ax, ay, bx, by, x3 - x1, y3 - y1)
-    if _within(a_sq, _LL_WINDOW) and _within(b_sq, _LL_WINDOW):
-        return outputs
-    shape = np.shape(outputs[0])
-    mask = _outside(a_sq, _LL_WINDOW, shape) | _outside(b_sq, _LL_WINDOW, shape)
-    return _patch(outputs, mask, shape, _line_line_rescaled, x1, y1, ax, ay, bx, by,
-                  x3 - x1, y3 - y1)
+    return _guarded(_line_line, _line_line_rescaled, (_LL_WINDOW, _LL_WINDOW),
+                    x1, y1, ax, ay, bx, by, x3 - x1, y3 - y1)
 
 
 # -- public primitives --------------------------------------------------------
@@ -626,12 +631,8 @@ def relative_point_xy(ox, oy, x1, y1, x2, y2, distance, angle):
     dy = y2 - y1
     if type(dx) in _PLAIN:
         dx = np.float64(dx)
-    outputs, length_sq = _relative_point(ox, oy, dx, dy, distance, angle)
-    if _within(length_sq, _RP_WINDOW):
-        return outputs
-    shape = np.shape(outputs[0])
-    return _patch(outputs, _outside(length_sq, _RP_WINDOW, shape), shape,
-                  _relative_point_rescaled, ox, oy, dx, dy, distance, angle)
+    return _guarded(_relative_point, _relative_point_rescaled, (_RP_WINDOW,),
+                    ox, oy, dx, dy, distance, angle)
 
 
 def local_point(origin, toward, u, v):
@@ -703,12 +704,7 @@ def local_point_xy(ox, oy, tx, ty, u, v):
     dy = ty - oy
     if type(dx) in _PLAIN:
         dx = np.float64(dx)
-    outputs, length_sq = _local_point(ox, oy, dx, dy, u, v)
-    if _within(length_sq, _RP_WINDOW):
-        return outputs
-    shape = np.shape(outputs[0])
-    return _patch(outputs, _outside(length_sq, _RP_WINDOW, shape), shape,
-                  _local_point_rescaled, ox, oy, dx, dy, u, v)
+    return _guarded(_local_point, _local_point_rescaled, (_RP_WINDOW,), ox, oy, dx, dy, u, v)
 
 
 def point_along(start, through, distance):
