@@ -217,6 +217,12 @@ def _iterate(system, unknowns, known, lengths, z, scale, iterations):
     else:
         f, jac = _residual_jacobian(system, unknowns, known, lengths, z)
         done = np.all(np.abs(f) <= tolerance, axis=1)
+        step = _solve(jac, f)
+    # one more step where converged: Newton's last step takes the solution to rounding,
+    # which finite differences of the positions need
+    if done.any():
+        polish = done & np.isfinite(step).all(axis=1)
+        z = np.where(polish[:, None], z + step, z)
     assert first is not None
     return z, done, first
 
