@@ -371,25 +371,59 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
             chunk = min(2 * chunk, MAX_CHUNK) if bad.size == 0 else max(chunk // 2, 1)
             continue
         chunk = 1
-        # the step from the last solution to sample j, cut into pieces
-        solved, stop_margin = _substeps(system, unknowns, known, lengths, last, j, z[last], scale)
-        if solved is not None:
-            z[j] = solved
-            data_j, length_j = _rows(known, lengths, [j])
-            _, jac_j = _residual_jacobian(system, unknowns, data_j, length_j, solved[None])
-            margin[j] = margins(jac_j)[0]
-            last = j
-        else:
-            # as a resumed branch after a gap: Newton from the last solution alone
-            data_j, length_j = _rows(known, lengths, [j])
-            again, ok_j, m_j = newton(system, unknowns, data_j, length_j, z[last][None])
-            if ok_j[0] and m_j[0] >= SINGULAR_MARGIN and j != last + 1:
-                z[j], margin[j] = again[0], m_j[0]
+        if j == last + 1:
+            # the step from the last solution to sample j, cut into pieces
+            solved, stop_margin = _substeps(system, unknowns, known, lengths, last, j, z[last],
+                                            scale)
+            if solved is not None:
+                z[j] = solved
+                data_j, length_j = _rows(known, lengths, [j])
+                _, jac_j = _residual_jacobian(system, unknowns, data_j, length_j, solved[None])
+                margin[j] = margins(jac_j)[0]
                 last = j
+                j += 1
+                continue
+            singular[j] = stop_margin < NEAR_SINGULAR
+            j += 1
+        # a gap: the samples after it resume the assembly where Newton from the last
+        # solution converges, as a two-root node resumes its branch; tried a block at a time
+        resumed = False
+        while j < n and not resumed:
+            rows = np.arange(j, min(j + MAX_CHUNK, n))
+            data, length = _rows(known, lengths, rows)
+            again, ok, m = newton(system, unknowns, data, length,
+                                  np.repeat(z[last][None], rows.size, axis=0))
+            ok &= m >= SINGULAR_MARGIN
+            if ok.any():
+                at = int(np.argmax(ok))
+                singular[rows[:at]] = singular_rows(system, unknowns, data, length, z[last],
+                                                    at)
+                z[rows[at]], margin[rows[at]] = again[at], m[at]
+                last = int(rows[at])
+                j = last + 1
+                resumed = True
             else:
-                singular[j] = stop_margin < NEAR_SINGULAR
-        j += 1
+                singular[rows] = singular_rows(system, unknowns, data, length, z[last],
+                                               rows.size)
+                j = int(rows[-1]) + 1
     return z, margin, singular
+
+
+def singular_rows(system, unknowns, known, lengths, z_last, count):
+    """Say which of the first ``count`` unsolved samples lie beyond a singular position.
+
+    Newton from the last solution there ends where the Jacobian is nearly
+    singular: the equations have no real solution nearby (as two circles
+    past tangency).
+    """
+    if count == 0:
+        return np.zeros(0, dtype=bool)
+    data, length = _rows(known, lengths, np.arange(count))
+    z, _, _ = _iterate(system, unknowns, data, length,
+                       np.repeat(np.asarray(z_last)[None], count, axis=0),
+                       _scale(length, data), MAX_ITERATIONS)
+    _, jac = _residual_jacobian(system, unknowns, data, length, z)
+    return ~(margins(jac) >= NEAR_SINGULAR)
 
 
 def _substeps(system, unknowns, known, lengths, i, j, z_i, scale):

@@ -68,6 +68,20 @@ Point kinds (``op``)
 ``ray_circle``      the same on the ray from P through Q only.
 ``circle_circle``   ``centers = [P, Q]``, ``radii = [r, s]``.
 
+Closure groups
+--------------
+Points no construction reaches one at a time (the triad of a Stephenson III
+six-bar) are one group in the ``[groups]`` table, two equations per point::
+
+    [groups.triad]
+    points = ["D", "E", "A", "B"]                   # the unknown points
+    distances = [["F", "D", "FD"], ["D", "A", 2.6]]  # ... [P, Q, length], 2k in all
+    lines = [["B", "C", "G"]]                       # optional: B on the line C-G
+    near = { D = [1, 2.9], E = [2.8, 1.5] }         # ... a sketch for every point
+
+They are solved together by Newton's method, on the assembly nearest the
+sketch (see :meth:`geokin.construction.Construction.closure`).
+
 The two-root kinds take ``branch`` or ``near = [x, y]``: ``"left"`` or
 ``"right"`` of the directed line from the first centre to the second for
 ``circle_circle``; ``"first"`` or ``"second"`` along the direction P -> Q
