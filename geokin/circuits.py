@@ -28,7 +28,7 @@ from .construction import Compiled, Construction, as_compiled
 from .engine import evaluate, start_labels
 from .errors import AssemblyError, ConstructionError
 from .frozen import Frozen
-from .nodes import NO_INTERSECTION
+from .nodes import NO_INTERSECTION, SINGULAR
 from .results import BranchEvent, Sweep, short_name
 
 __all__ = ["LIMIT_TOLERANCE", "Limit", "Limits", "circuit", "limits"]
@@ -160,7 +160,9 @@ def _what_stops(result: Sweep, i: int) -> tuple[str, str, tuple[str, ...]]:
     for step in result.construction.steps:
         node = step.node.name
         if not result.valid[i] and result.failed_step[i] == step.index:
-            kind = "tangent" if result.reason_code[i] == NO_INTERSECTION else "end"
+            # two roots that meet, or a closure group at a singular position: a toggle
+            kind = ("tangent" if result.reason_code[i] in (NO_INTERSECTION, SINGULAR)
+                    else "end")
             return node, kind, _first(node, tangent) if kind == "tangent" else ()
         margin = result.margins.get(node)
         if margin is not None and np.broadcast_to(margin, n)[i] < 0:

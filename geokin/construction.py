@@ -66,7 +66,7 @@ from .expressions import (
     skeleton,
 )
 from .frozen import Frozen
-from .nodes import NODE_KINDS, Key, Node
+from .nodes import NODE_KINDS, Closure, Key, Node
 
 __all__ = [
     "MAX_SAMPLES",
@@ -468,6 +468,7 @@ class Construction:
         self.nodes: dict[str, Node] = {}
         self.links: dict[str, Link] = {}
         self.sliders: dict[str, Slider] = {}
+        self.groups: dict[str, tuple[str, ...]] = {}
         self.traced: tuple[str, ...] = ()
         self._compiled: Compiled | None = None
         # names that are not plain ASCII, by their skeleton (see expressions.skeleton)
@@ -519,7 +520,7 @@ class Construction:
 
     def _tables(self):
         return (("parameter", self.parameters), ("input", self.inputs), ("point", self.nodes),
-                ("link", self.links), ("slider", self.sliders))
+                ("link", self.links), ("slider", self.sliders), ("group", self.groups))
 
     def _kind_of(self, name: str) -> str | None:
         """Return what ``name`` is declared as ("parameter", "point", ...), or None."""
@@ -864,6 +865,130 @@ class Construction:
             fields["branch"], fields["near"] = self._branch(
                 cls, name, fields.pop("branch", None), fields.pop("near", None))
         self._add(cls(name, **fields))
+
+    def closure(self, group: str, points: Sequence[str],
+                distances: Sequence[Sequence[object]],
+                near: Mapping[str, Sequence[float]] | Sequence[Sequence[float]],
+                lines: Sequence[Sequence[str]] = ()) -> None:
+        """Declare a closure group: points found together from equations between them.
+
+        Use it where no construction reaches a point from points already
+        known, as in the triad of a Stephenson III six-bar, whose four
+        joints each depend on the others. Each point of the group becomes a
+        point of the construction; the group is solved by Newton's method
+        on its equations and followed along the sweep by continuation (see
+        :mod:`geokin.closure`).
+
+        Parameters
+        ----------
+        group : str
+            The group's name, for messages and the step list.
+        points : sequence of str
+            The k unknown points, new names.
+        distances : sequence of (str, str, value)
+            Each a distance between two points, at least one of the group.
+        near : mapping of str to (float, float), or sequence of (x, y)
+            A sketch position for every point of the group (in the order of
+            ``points`` for a sequence): the assembly nearest them, found by
+            Newton's method from them at the first sample, is followed.
+        lines : sequence of (str, str, str), optional
+            Each a point (of the group) on the line through two others.
+
+        Raises
+        ------
+        ConstructionError
+            Naming the group, when the equations are not 2k (under- or
+            over-constrained), a sketch position is missing, or an equation
+            ties no point of the group.
+
+        Examples
+        --------
+        A four-bar's coupler-rocker joint B as a group of one point:
+
+        >>> c = Construction()
+        >>> c.input("theta")
+        >>> c.fixed("O2", 0, 0)
+        >>> c.fixed("O4", 40, 0)
+        >>> c.polar("A", "O2", 10, "theta")
+        >>> c.closure("dyad", ["B"], [("A", "B", 35), ("O4", "B", 30)], near={"B": (30, 30)})
+        >>> print(c.compile().steps[3].node.describe())
+        closure dyad(B): |A-B| = 35, |O4-B| = 30  [near B (30, 30)]
+        """
+        group = self._claim(group, "group")
+        if isinstance(points, str) or not isinstance(points, Iterable):
+            raise ConstructionError(f"expected a list of point names, got {show(points)}",
+                                    node=group, field="points")
+        names = tuple(self._point(p, group, f"points[{i}]") for i, p in enumerate(points))
+        if not names:
+            raise ConstructionError("a group needs at least one point", node=group,
+                                    field="points")
+        if len(set(names)) != len(names):
+            raise ConstructionError("a point is listed twice", node=group, field="points")
+        k = len(names)
+        found: list[tuple[str, str, Expr]] = []
+        if isinstance(distances, str) or not isinstance(distances, Iterable):
+            raise ConstructionError(f"expected a list of [P, Q, length], got {show(distances)}",
+                                    node=group, field="distances")
+        for i, entry in enumerate(distances):
+            where = f"distances[{i}]"
+            if isinstance(entry, str) or not isinstance(entry, Sequence) or len(entry) != 3:
+                raise ConstructionError(f"expected [P, Q, length], got {show(entry)}",
+                                        node=group, field=where)
+            p, q = (self._point(x, group, where) for x in entry[:2])
+            if p == q:
+                raise ConstructionError(f"a distance from {quote(p)} to itself", node=group,
+                                        field=where)
+            if p not in names and q not in names:
+                raise ConstructionError(f"|{p}-{q}| ties no point of the group", node=group,
+                                        field=where)
+            found.append((p, q, self._value(entry[2], group, where)))
+        on_lines: list[tuple[str, str, str]] = []
+        if isinstance(lines, str) or not isinstance(lines, Iterable):
+            raise ConstructionError(f"expected a list of [P, Q, R], got {show(lines)}",
+                                    node=group, field="lines")
+        for i, entry in enumerate(lines):
+            where = f"lines[{i}]"
+            if isinstance(entry, str) or not isinstance(entry, Sequence) or len(entry) != 3:
+                raise ConstructionError(f"expected [P, Q, R] (P on the line Q-R), got "
+                                        f"{show(entry)}", node=group, field=where)
+            p, q, r = (self._point(x, group, where) for x in entry)
+            if not {p, q, r} & set(names):
+                raise ConstructionError(f"{p} on {q}-{r} ties no point of the group",
+                                        node=group, field=where)
+            on_lines.append((p, q, r))
+        equations = len(found) + len(on_lines)
+        if equations != 2 * k:
+            what = "under-constrained" if equations < 2 * k else "over-constrained"
+            raise ConstructionError(
+                f"group {quote(group)} is {what}: {k} points need {2 * k} equations "
+                f"(two each), got {equations} ({len(found)} distances, {len(on_lines)} "
+                f"on lines)", node=group, field="distances")
+        if isinstance(near, Mapping):
+            for p in near:
+                if p not in names:
+                    raise ConstructionError(f"{quote(str(p))} is not a point of the group"
+                                            f"{did_you_mean(str(p), names)}", node=group,
+                                            field="near")
+            missing = [p for p in names if p not in near]
+            if missing:
+                raise ConstructionError(f"no sketch position for {', '.join(map(quote, missing))}"
+                                        ": every point of the group needs one", node=group,
+                                        field="near")
+            sketches = [near[p] for p in names]
+        else:
+            sketches = list(near)
+            if len(sketches) != k:
+                raise ConstructionError(f"expected {k} sketch positions, got {len(sketches)}",
+                                        node=group, field="near")
+        sketch = tuple(_pair_of_numbers(v, node=group, field=f"near.{p}")
+                       for p, v in zip(names, sketches, strict=True))
+        for p in names:
+            self._claim(p, "point")
+        for p in names:
+            self.nodes[p] = Closure(p, group=group, points=names, near=sketch,
+                                    distances=tuple(found), lines=tuple(on_lines))
+        self.groups[group] = names
+        self._compiled = None
 
     def _key_fields(self, key: Key, given: object, node: str) -> dict[str, object]:
         """Check one key's value and return the node fields it fills."""

@@ -58,7 +58,7 @@ from .frozen import read_only
 from .nodes import Node, failure_reasons
 from .results import BranchEvent, PointTable, Sweep
 
-__all__ = ["evaluate", "input_arrays", "start_labels", "sweep"]
+__all__ = ["assembly_guesses", "evaluate", "input_arrays", "start_labels", "sweep"]
 
 MEET_RTOL = 1e-7
 """Roots closer than this times the node's scale meet (a graze or a toggle).
@@ -199,7 +199,18 @@ def _step_values(step: _PlannedStep, env) -> Mapping:
     return values
 
 
-def _candidates(step: _PlannedStep, coords, values, origin):
+def _candidates(step: _PlannedStep, coords, values, origin, guess=None):
+    if step.node.continued:
+        # followed along the samples, or solved from a guess per sample (held): its
+        # guesses and sketch are absolute positions, shifted like the points
+        if guess is not None and origin is not None:
+            guess = np.asarray(guess, dtype=float) - np.tile(origin, np.shape(guess)[1] // 2)
+        # mypy: candidates of a continued node take the guess and the origin
+        cand = step.node.candidates(coords, values, guess=guess,  # type: ignore[call-arg]
+                                    origin=origin)
+        if cand.also:
+            coords.update(cand.also)
+        return cand
     cand = step.node.candidates(coords, values)
     # a ground kind's values are absolute coordinates; every other node is found
     # from points already relative to the origin
@@ -274,7 +285,8 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
     chosen = {**(start or {}), **(held or {})}
     if (not track and n > BLOCK_SAMPLES
             and all(step.node.name in chosen or not step.node.chosen_by_position
-                    for step in plan if step.node.roots == 2)):
+                    for step in plan if step.node.roots == 2)
+            and all(step.node.name in (held or {}) for step in plan if step.node.continued)):
         parts = _evaluate_in_blocks(compiled, plan, inputs, n, held, start, origin)
     else:
         parts = _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track)
@@ -312,8 +324,18 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track) -> _E
         for position, step in enumerate(plan):
             node = step.node
             values = _step_values(step, env)
-            cand = (_candidates(step, coords, values, origin) if n <= BLOCKED_ABOVE
-                    else _candidates_in_blocks(step, coords, values, origin, n))
+            if node.continued:  # all samples at once: it follows them as a path
+                cand = _candidates(step, coords, values, origin,
+                                   None if held is None else held.get(node.name))
+                if tracker is not None:
+                    found = {**(cand.also or {}), node.name: (cand.x[0], cand.y[0])}
+                    tracker.solutions[node.name] = np.column_stack([
+                        np.broadcast_to(c, (n,)) for p in node.defines for c in found[p]])
+            else:
+                cand = (_candidates(step, coords, values, origin) if n <= BLOCKED_ABOVE
+                        else _candidates_in_blocks(step, coords, values, origin, n))
+            if cand.margin is not None and node.roots == 1:
+                margins[node.name] = cand.margin
             if node.roots == 1:
                 x, y = cand.x[0], cand.y[0]
                 label = None
@@ -450,11 +472,43 @@ def _record_failures(step, cand, values, label, failing, failed_step, reason_cod
 
     local = type(cand)(tuple(pick(a) for a in cand.x), tuple(pick(a) for a in cand.y),
                        pick(cand.margin),
-                       None if cand.on_line is None else tuple(map(pick, cand.on_line)))
+                       None if cand.on_line is None else tuple(map(pick, cand.on_line)),
+                       reason=pick(cand.reason))
     root = 0 if label is None else pick(np.asarray(label))
     failed_step[at] = step.index
     reason_code[at] = failure_reasons(local, {k: pick(v) for k, v in values.items()}, root,
                                       step.node.nonnegative_fields())
+
+
+def assembly_guesses(sweep: Sweep, at: slice | np.ndarray | None = None,
+                     repeat: int = 1) -> dict[str, np.ndarray]:
+    """Return a sweep's solutions of its continued nodes, to hold in :func:`evaluate`.
+
+    A closure group evaluated at isolated inputs near the sweep's samples
+    (finite differences, bisections) starts each from the solution of its
+    own sample, as a two-root node keeps the sample's branch.
+
+    Parameters
+    ----------
+    sweep : Sweep
+    at : slice or ndarray, optional
+        The samples; all by default.
+    repeat : int
+        How many times the samples are repeated, one after the other.
+
+    Returns
+    -------
+    dict of str to ndarray, shape (M * repeat, 2k)
+        By node name: the positions of the points it finds, (x, y) each.
+    """
+    guesses = {}
+    for step in sweep.construction.steps:
+        node = step.node
+        if node.continued:
+            columns = [c[slice(None) if at is None else at]
+                       for p in node.defines for c in sweep.points.xy(p)]
+            guesses[node.name] = np.tile(np.column_stack(columns), (repeat, 1))
+    return guesses
 
 
 @renamed_keywords(branches="start_branches")
@@ -587,6 +641,9 @@ class _Tracker:
         self.labels: dict[str, object] = {}
         self.flip_after: dict[str, np.ndarray] = {}  # a meeting at the sample itself
         self.meetings: dict[str, np.ndarray] = {}    # step + fraction, sorted
+        # a continued node's solution at the samples, (N, 2k): between two samples it
+        # starts from their solutions interpolated
+        self.solutions: dict[str, np.ndarray] = {}
         self.angle_steps = self.length_steps = None
         # how far the path moves in each step, all inputs together, and where it turns
         travel = None
@@ -899,7 +956,14 @@ class _Tracker:
         size = step.size
         for planned in self.plan[:position + 1]:
             node = planned.node
-            cand = _candidates(planned, coords, _step_values(planned, env), self.origin)
+            guess = None
+            if node.continued:
+                solution = self.solutions[node.name]
+                guess = (solution[step] + fraction[:, None] * (solution[step + 1]
+                                                               - solution[step]))
+                if self.origin is not None:  # shifted back in _candidates
+                    guess = guess + np.tile(self.origin, guess.shape[1] // 2)
+            cand = _candidates(planned, coords, _step_values(planned, env), self.origin, guess)
             if planned is self.plan[position]:
                 present = np.isfinite(np.broadcast_to(cand.x[0], (size,)))
                 margin = np.broadcast_to(cand.margin, (size,))

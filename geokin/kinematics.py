@@ -57,7 +57,7 @@ from numpy.typing import ArrayLike
 from . import display
 from .budgets import check_sweep_memory
 from .compat import renamed_attribute, renamed_keywords
-from .engine import BLOCK_SAMPLES, evaluate
+from .engine import BLOCK_SAMPLES, assembly_guesses, evaluate
 from .errors import ConstructionError
 from .frozen import Frozen, read_only
 from .results import Sweep, short_name
@@ -301,6 +301,8 @@ class _Block:
         # a branch that never changes (a broadcast view) stays one number
         held = {name: (int(b[0]) if b.strides == (0,) else np.tile(b[at], k))
                 for name, b in sweep.branches.items()}
+        # a closure group, untracked here, starts at each sample from its own solution
+        held.update(assembly_guesses(sweep, at, k))
         self.evaluated = evaluate(sweep.construction, inputs, m * k, held, track=False,
                                   origin=origin)
         self.okay = self.evaluated.valid.reshape(k, m)

@@ -36,6 +36,7 @@ from typing import ClassVar, TypeAlias
 import numpy as np
 from numpy.typing import ArrayLike
 
+from . import closure as solver  # the module: Newton and continuation
 from . import primitives as prim
 from .expressions import Expr
 
@@ -47,6 +48,7 @@ __all__ = [
     "Along",
     "Candidates",
     "CircleCircle",
+    "Closure",
     "Fixed",
     "Key",
     "LineCircle",
@@ -66,8 +68,10 @@ REASONS = (
     "degenerate input: coincident centres, zero-length line or parallel lines",
     "the chosen root lies off the ray or segment",
     "a value is not finite, or a radius is negative",
+    "the group reaches a singular position",
+    "Newton did not converge",
 )
-NO_INTERSECTION, DEGENERATE, OFF_LINE, NOT_FINITE = 1, 2, 3, 4
+NO_INTERSECTION, DEGENERATE, OFF_LINE, NOT_FINITE, SINGULAR, NOT_CONVERGED = 1, 2, 3, 4, 5, 6
 
 HOLDS = ("point", "point pair", "value", "value pair", "branch", "sketch")
 """What a script key may hold: a point name, two point names, a value
@@ -149,6 +153,12 @@ class Candidates:
     t : tuple of ndarray or None
         For a ray or a segment: each root's parameter along it, which lies
         within the node's ``low``..``high`` exactly on it.
+    also : mapping of str to (x, y), or None
+        Further points the node found at once (the other points of a
+        closure group), known to the steps after it.
+    reason : ndarray or None
+        Why the root does not exist where it is NaN, as codes into
+        :data:`REASONS`, for a node that knows it itself (a closure group).
     """
 
     x: tuple
@@ -156,6 +166,8 @@ class Candidates:
     margin: np.ndarray | None = None
     on_line: tuple | None = None
     t: tuple | None = None
+    also: Mapping[str, tuple[np.ndarray, np.ndarray]] | None = None
+    reason: np.ndarray | None = None
 
 
 def failure_reasons(cand: Candidates, values: Mapping[str, ArrayLike],
@@ -182,7 +194,9 @@ def failure_reasons(cand: Candidates, values: Mapping[str, ArrayLike],
             with np.errstate(invalid="ignore"):
                 finite &= ~(np.asarray(value) < 0)
     reason = np.full(shape, DEGENERATE, dtype=np.int8)
-    if cand.margin is not None:
+    if cand.reason is not None:
+        reason[...] = np.broadcast_to(cand.reason, shape)
+    elif cand.margin is not None:
         with np.errstate(invalid="ignore"):
             reason[np.broadcast_to(cand.margin < 0, shape)] = NO_INTERSECTION
         if cand.on_line is not None:
@@ -223,6 +237,23 @@ class Node:
     ground_kind: ClassVar[bool] = False
     low: ClassVar[float] = -np.inf
     high: ClassVar[float] = np.inf
+
+    @property
+    def continued(self) -> bool:
+        """Whether the node follows its solution along the samples (a closure group).
+
+        Such a node takes a ``guess`` and an ``origin`` in
+        :meth:`candidates`: without a guess it continues from sample to
+        sample, so it needs the samples of a path all at once; with one (an
+        (N, 2k) array of positions, as held from a sweep) it solves each
+        sample from its own guess.
+        """
+        return False
+
+    @property
+    def defines(self) -> tuple[str, ...]:
+        """Return the points this node's evaluation finds: itself, or its whole group."""
+        return (self.name,)
 
     @property
     def roots(self) -> int:
@@ -588,12 +619,144 @@ class SegmentCircle(_LineCircle):
     high: ClassVar[float] = 1.0
 
 
+@dataclass(frozen=True)
+class Closure(Node):
+    """A point of a closure group: unknown points found together by Newton's method.
+
+    The group's ``points`` (k of them) are tied to each other and to known
+    points by ``distances`` (``(P, Q, length)``) and ``lines`` (``(P, Q,
+    R)``: P on the line through Q and R), 2k equations in all. Every point
+    of the group is a node of this kind holding the whole group; the first
+    solves it (see :mod:`geokin.closure`) and hands the others their
+    positions. The assembly is the one nearest the sketch positions
+    ``near`` (one per point, in the order of ``points``) at the first
+    sample where Newton converges from them, followed along the samples by
+    continuation. Samples where the group's Jacobian is singular cannot be
+    assembled ("the group reaches a singular position"): the limits of the
+    motion, as a toggle is for two circles.
+
+    Examples
+    --------
+    >>> from geokin.expressions import as_expr
+    >>> node = Closure("B", group="g", points=("B",), near=((3.0, 3.0),),
+    ...                distances=(("A", "B", as_expr(5)), ("C", "B", as_expr(5))))
+    >>> node.depends_on(), node.describe()
+    (('A', 'C'), 'closure g(B): |A-B| = 5, |C-B| = 5  [near B (3, 3)]')
+    >>> cand = node.candidates({"A": (0.0, 0.0), "C": (6.0, 0.0)},
+    ...                        {"distances[0]": 5.0, "distances[1]": 5.0})
+    >>> cand.x[0].round(12).tolist(), cand.y[0].round(12).tolist()
+    ([3.0], [4.0])
+    """
+
+    group: str = field(kw_only=True)
+    points: tuple[str, ...] = field(kw_only=True)
+    near: tuple[tuple[float, float], ...] = field(kw_only=True)
+    distances: tuple[tuple[str, str, Expr], ...] = field(kw_only=True)
+    lines: tuple[tuple[str, str, str], ...] = field(kw_only=True, default=())
+    kind: ClassVar[str] = "closure"
+
+    @property
+    def solves(self) -> bool:
+        """Whether this point solves the group (its first point)."""
+        return self.name == self.points[0]
+
+    @property
+    def continued(self) -> bool:
+        return self.solves
+
+    @property
+    def defines(self) -> tuple[str, ...]:
+        return self.points if self.solves else (self.name,)
+
+    def point_fields(self) -> dict[str, tuple[str, ...]]:
+        fields = {"points": self.points}
+        fields.update({f"distances[{i}]": (p, q) for i, (p, q, _) in enumerate(self.distances)})
+        fields.update({f"lines[{i}]": line for i, line in enumerate(self.lines)})
+        return fields
+
+    def known_points(self) -> tuple[str, ...]:
+        """Return the points the group is built on: those of its equations not in it."""
+        seen: dict[str, None] = {}
+        for p, q, _ in self.distances:
+            seen.update(dict.fromkeys(x for x in (p, q) if x not in self.points))
+        for line in self.lines:
+            seen.update(dict.fromkeys(x for x in line if x not in self.points))
+        return tuple(seen)
+
+    def depends_on(self) -> tuple[str, ...]:
+        """Return the group's known points; after the first point, that point too."""
+        first = () if self.solves else (self.points[0],)
+        return (*self.known_points(), *first)
+
+    def value_fields(self) -> dict[str, Expr]:
+        return {f"distances[{i}]": d for i, (_, _, d) in enumerate(self.distances)}
+
+    def nonnegative_fields(self) -> frozenset[str]:
+        return frozenset(self.value_fields())
+
+    def equations(self) -> str:
+        """Return the group's equations as text: ``|F-D| = FD, ..., D on E-B``."""
+        terms = [f"|{p}-{q}| = {d}" for p, q, d in self.distances]
+        terms += [f"{p} on {q}-{r}" for p, q, r in self.lines]
+        return ", ".join(terms)
+
+    def choice(self) -> str | None:
+        return "near " + ", ".join(f"{p} ({x:g}, {y:g})"
+                                   for p, (x, y) in zip(self.points, self.near, strict=True))
+
+    def describe(self) -> str:
+        if not self.solves:
+            return f"closure {self.group}: found with {self.points[0]}"
+        return (f"closure {self.group}({', '.join(self.points)}): {self.equations()}  "
+                f"[{self.choice()}]")
+
+    def system(self) -> solver.System:
+        """Return the group's equations for the solver."""
+        return solver.System(len(self.points), tuple((p, q) for p, q, _ in self.distances),
+                             self.lines)
+
+    def candidates(self, coords: Coords, values: Values, guess: np.ndarray | None = None,
+                   origin: tuple[float, float] | None = None) -> Candidates:
+        if not self.solves:
+            x, y = coords[self.name]
+            return Candidates((x,), (y,))
+        known = {p: coords[p] for p in self.known_points()}
+        lengths = [values[f"distances[{i}]"] for i in range(len(self.distances))]
+        sizes = [np.size(a) for a in (*lengths, *(c for xy in known.values() for c in xy))]
+        if guess is not None:
+            sizes.append(len(guess))
+        n = max(sizes, default=1)
+        table = np.column_stack([np.broadcast_to(np.asarray(v, dtype=float), (n,))
+                                 for v in lengths])
+        system = self.system()
+        with np.errstate(all="ignore"):
+            if guess is None:
+                sketch = np.asarray(self.near, dtype=float).ravel()
+                if origin is not None:
+                    sketch = sketch - np.tile(origin, len(self.points))
+                z, margin, singular = solver.continue_along(system, self.points, known, table,
+                                                            sketch)
+            else:
+                z, _, margin = solver.newton(system, self.points, known, table,
+                                             np.asarray(guess, dtype=float))
+                singular = np.zeros(n, dtype=bool)
+        solved = np.isfinite(z).all(axis=1)
+        reason = np.where(singular, SINGULAR, NOT_CONVERGED).astype(np.int8)
+        reason[solved] = 0
+        also = {p: (z[:, 2 * i], z[:, 2 * i + 1]) for i, p in enumerate(self.points)}
+        x, y = also.pop(self.name)
+        return Candidates((x,), (y,), margin, also=also, reason=reason)
+
+
 NODE_KINDS: Mapping[str, type[Node]] = MappingProxyType({
     cls.kind: cls
     for cls in (Fixed, Polar, Local, Along, LineLine, LineCircle, SegmentCircle, RayCircle,
                 CircleCircle)
 })
-"""Every point node kind by its name in scripts (read-only)."""
+"""Every point node kind a script's ``[points]`` table takes, by its ``op`` (read-only).
+
+A :class:`Closure` point is declared with its group, in a script's
+``[groups]`` table or with :meth:`~geokin.construction.Construction.closure`."""
 
 BRANCHES: Mapping[str, tuple[str, ...]] = MappingProxyType({
     kind: cls.branch_names for kind, cls in NODE_KINDS.items() if cls.branch_names})

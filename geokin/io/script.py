@@ -68,6 +68,20 @@ Point kinds (``op``)
 ``ray_circle``      the same on the ray from P through Q only.
 ``circle_circle``   ``centers = [P, Q]``, ``radii = [r, s]``.
 
+Closure groups
+--------------
+Points no construction reaches one at a time (the triad of a Stephenson III
+six-bar) are one group in the ``[groups]`` table, two equations per point::
+
+    [groups.triad]
+    points = ["D", "E", "A", "B"]                   # the unknown points
+    distances = [["F", "D", "FD"], ["D", "A", 2.6]]  # ... [P, Q, length], 2k in all
+    lines = [["B", "C", "G"]]                       # optional: B on the line C-G
+    near = { D = [1, 2.9], E = [2.8, 1.5] }         # ... a sketch for every point
+
+They are solved together by Newton's method, on the assembly nearest the
+sketch (see :meth:`geokin.construction.Construction.closure`).
+
 The two-root kinds take ``branch`` or ``near = [x, y]``: ``"left"`` or
 ``"right"`` of the directed line from the first centre to the second for
 ``circle_circle``; ``"first"`` or ``"second"`` along the direction P -> Q
@@ -130,7 +144,7 @@ from ..budgets import MAX_SCRIPT_BYTES
 from ..construction import MAX_SAMPLES, Construction
 from ..errors import ConstructionError, ScriptError, did_you_mean
 from ..expressions import BinOp, Call, Expr, Name, Neg, Number
-from ..nodes import NODE_KINDS, Key, Node
+from ..nodes import NODE_KINDS, Closure, Key, Node
 from ..terminal import clip_message, escape, shorten
 from ..units import script_degrees, to_script
 
@@ -150,7 +164,8 @@ OPS: dict[str, tuple[tuple[str, ...], tuple[str, ...]]] = {
 """Required and optional keys of each point kind, besides ``op``; made from
 the node kinds' declarations (:attr:`geokin.nodes.Node.keys`)."""
 
-TABLES = ("construction", "parameters", "inputs", "points", "links", "sliders")
+TABLES = ("construction", "parameters", "inputs", "points", "groups", "links", "sliders")
+GROUP_KEYS = ("points", "distances", "near", "lines")
 CONSTRUCTION_KEYS = ("name", "description", "units", "trace")
 INPUT_KEYS = ("kind", "range", "samples", "step", "speed")
 SLIDER_KEYS = ("point", "along")
@@ -440,7 +455,8 @@ class _Reader:
         if node == "trace" and (field or "").startswith("points[") and node not in c.links:
             return "construction", "trace"
         for table, names in (("parameters", c.parameters), ("inputs", c.inputs),
-                             ("points", c.nodes), ("links", c.links), ("sliders", c.sliders)):
+                             ("groups", c.groups), ("points", c.nodes), ("links", c.links),
+                             ("sliders", c.sliders)):
             if node in names:
                 return table, node
         return "construction", node
@@ -485,7 +501,7 @@ class _Reader:
                                 f"(tables: {', '.join(TABLES)})")
             if not isinstance(data[table], dict):
                 raise self.fail(table, None, f"expected a table, got {_kind_of(data[table])}")
-        if not data.get("points"):
+        if not data.get("points") and not data.get("groups"):
             raise self.fail("points", None, "the script declares no points: a construction "
                             "needs at least a [points] table with one point")
         meta = data.get("construction", {})
@@ -502,6 +518,8 @@ class _Reader:
             self.declare(c, "inputs", name, self.input, value)
         for name, value in data.get("points", {}).items():
             self.declare(c, "points", name, self.point, value)
+        for name, value in data.get("groups", {}).items():
+            self.declare(c, "groups", name, self.group, value)
         for name, value in data.get("links", {}).items():
             self.declare(c, "links", name, self.link, value)
         for name, value in data.get("sliders", {}).items():
@@ -665,6 +683,17 @@ class _Reader:
                                 f"expected a point name (a string), got {_kind_of(p)}")
         c.link(name, *points)
 
+    def group(self, c, name, spec):
+        spec = self.table_value("groups", name, spec,
+                                '{ points = ["D"], distances = [["F", "D", 2.9], ...], '
+                                'near = { D = [1, 2.9] } }')
+        self.check_keys("groups", name, spec, GROUP_KEYS[:3], GROUP_KEYS[3:])
+        near = spec["near"]
+        if not isinstance(near, dict):
+            raise self.fail("groups", name, "expected a table of sketch positions such as "
+                            f"{{ D = [1, 2.9] }}, got {_kind_of(near)}", sub="near")
+        c.closure(name, spec["points"], spec["distances"], near, spec.get("lines", ()))
+
     def slider(self, c, name, spec):
         spec = self.table_value("sliders", name, spec, '{ point = "C", along = ["A", "B"] }')
         self.check_keys("sliders", name, spec, SLIDER_KEYS, ())
@@ -752,10 +781,24 @@ def dump(construction: Construction) -> str:
         else:
             out.append(f"samples = {i.samples}")
         out.append(f"speed = {_toml_number(to_script(i, i.speed))}")
-    if c.nodes:
+    points = [node for node in c.nodes.values() if not isinstance(node, Closure)]
+    if points:
         out += ["", "[points]"]
-        for node in c.nodes.values():
+        for node in points:
             out.append(f"{_toml_key(node.name)} = {_inline_table(_node_entries(node, convert))}")
+    for group, names in c.groups.items():
+        node = c.nodes[names[0]]
+        assert isinstance(node, Closure)
+        out += ["", f"[groups.{_toml_key(group)}]", f"points = {_toml_list(names)}",
+                "distances = ["]
+        out += [f"    [{_toml_string(p)}, {_toml_string(q)}, {_toml_expr(convert.plain(d))}],"
+                for p, q, d in node.distances]
+        out.append("]")
+        if node.lines:
+            out.append("lines = [" + ", ".join(_toml_list(line) for line in node.lines) + "]")
+        out.append("near = " + _inline_table([
+            (_toml_key(p), f"[{_toml_number(x)}, {_toml_number(y)}]")
+            for p, (x, y) in zip(names, node.near, strict=True)]))
     if c.links:
         out += ["", "[links]"]
         for link in c.links.values():
@@ -947,7 +990,9 @@ class _AngleRewriter:
 
     def node(self, node: Node) -> Node:
         """Return ``node`` with every value field rewritten."""
-        changes: dict[str, Expr | tuple[Expr, ...]] = {}
+        changes: dict[str, object] = {}
+        if isinstance(node, Closure):  # a group's distances: lengths
+            changes["distances"] = tuple((p, q, self.plain(d)) for p, q, d in node.distances)
         # the node's value keys say which of its fields hold values and which are angles
         for key in node.keys:
             if key.holds not in ("value", "value pair"):

@@ -1,0 +1,257 @@
+"""Closure groups: points solved together by Newton's method along the sweep.
+
+Checked against an independent solver written here (plain numpy Newton on
+the same distance equations, one sample at a time from the previous
+sample's solution), against the circle-circle node where a group of one
+point is also constructible, and on input that cannot be solved.
+"""
+
+import time
+
+import numpy as np
+import pytest
+
+import geokin
+from geokin.errors import ConstructionError
+
+ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
+SKETCH = {"F": (1, 0), "D": (1, 2.9), "E": (2.8, 1.5), "A": (3.3, 1.6), "B": (3.7, -1.2),
+          "C": (4.7, 0), "G": (0, 0)}
+PAIRS = [("F", "D"), ("F", "E"), ("D", "E"), ("C", "A"), ("C", "B"), ("A", "B"), ("D", "A"),
+         ("E", "B")]
+UNKNOWN = ["D", "E", "A", "B"]
+
+
+def lengths():
+    return [float(np.hypot(*np.subtract(SKETCH[p], SKETCH[q]))) for p, q in PAIRS]
+
+
+def reference_positions(theta):
+    """Solve the triad sample by sample with plain Newton, from the previous solution."""
+    d = lengths()
+    z = np.array([c for p in UNKNOWN for c in SKETCH[p]], dtype=float)
+    out = np.empty((len(theta), 8))
+    for s, t in enumerate(theta):
+        pts = {"C": np.array([4.7, 0.0]), "F": np.array([np.cos(t), np.sin(t)])}
+        for _ in range(100):
+            pos = {**pts, **{p: z[2 * i:2 * i + 2] for i, p in enumerate(UNKNOWN)}}
+            f = np.empty(8)
+            jac = np.zeros((8, 8))
+            for e, (p, q) in enumerate(PAIRS):
+                diff = pos[p] - pos[q]
+                f[e] = diff @ diff - d[e] ** 2
+                for name, sign in ((p, 2), (q, -2)):
+                    if name in UNKNOWN:
+                        i = UNKNOWN.index(name)
+                        jac[e, 2 * i:2 * i + 2] += sign * diff
+            step = np.linalg.solve(jac, -f)
+            z = z + step
+            if np.max(np.abs(step)) < 1e-15:
+                break
+        out[s] = z
+    return out
+
+
+def reference_motion(theta, z, omega):
+    """Velocities and accelerations from the differentiated loop equations."""
+    d = np.empty((len(theta), 8))
+    a = np.empty((len(theta), 8))
+    for s, t in enumerate(theta):
+        pos = {"C": np.array([4.7, 0.0]), "F": np.array([np.cos(t), np.sin(t)])}
+        vel = {"C": np.zeros(2), "F": omega * np.array([-np.sin(t), np.cos(t)])}
+        acc = {"C": np.zeros(2), "F": -omega**2 * np.array([np.cos(t), np.sin(t)])}
+        pos.update({p: z[s, 2 * i:2 * i + 2] for i, p in enumerate(UNKNOWN)})
+        jac = np.zeros((8, 8))
+        rhs_v = np.zeros(8)
+        for e, (p, q) in enumerate(PAIRS):
+            diff = pos[p] - pos[q]
+            for name, sign in ((p, 1), (q, -1)):
+                if name in UNKNOWN:
+                    i = UNKNOWN.index(name)
+                    jac[e, 2 * i:2 * i + 2] += sign * diff
+                else:
+                    rhs_v[e] -= sign * diff @ vel[name]
+        v = np.linalg.solve(jac, rhs_v)
+        vel.update({p: v[2 * i:2 * i + 2] for i, p in enumerate(UNKNOWN)})
+        rhs_a = np.zeros(8)
+        for e, (p, q) in enumerate(PAIRS):
+            diff = pos[p] - pos[q]
+            dv = vel[p] - vel[q]
+            rhs_a[e] = -dv @ dv
+            for name, sign in ((p, 1), (q, -1)):
+                if name not in UNKNOWN:
+                    rhs_a[e] -= sign * diff @ acc[name]
+        d[s], a[s] = v, np.linalg.solve(jac, rhs_a)
+    return d, a
+
+
+@pytest.fixture(scope="module")
+def stephenson():
+    return geokin.load(ROOT / "constructions" / "stephenson3.toml")
+
+
+def test_stephenson_positions_match_independent_newton(stephenson):
+    theta = np.linspace(0, 2 * np.pi, 721)
+    s = geokin.sweep(stephenson, theta)
+    assert s.valid.all()
+    expected = reference_positions(theta)
+    for i, p in enumerate(UNKNOWN):
+        assert np.max(np.abs(s[p] - expected[:, 2 * i:2 * i + 2])) < 1e-9, p
+    # the sketch's assembly at theta = 0, and the same assembly after the full turn
+    assert np.allclose(s["E"][0], SKETCH["E"], atol=1e-12)
+    assert np.allclose(s["E"][-1], SKETCH["E"], atol=1e-9)
+
+
+def test_stephenson_coarse_steps_keep_the_assembly(stephenson):
+    """Steps of 30 degrees are crossed in pieces, never jumping to another assembly."""
+    theta = np.linspace(0, 2 * np.pi, 13)
+    s = geokin.sweep(stephenson, theta)
+    expected = reference_positions(np.linspace(0, 2 * np.pi, 361))[::30]
+    assert s.valid.all()
+    assert np.max(np.abs(s["B"] - expected[:, 6:8])) < 1e-9
+
+
+def test_stephenson_motion_matches_loop_equations(stephenson):
+    theta = np.linspace(0, 2 * np.pi, 361)
+    s = geokin.sweep(stephenson, theta)
+    m = geokin.motion(s, speed=2 * np.pi)
+    z = np.column_stack([s[p] for p in UNKNOWN])
+    v, a = reference_motion(theta, z, 2 * np.pi)
+    ok = ~m.flagged & s.valid
+    assert ok.mean() > 0.95
+    speed = max(np.max(np.abs(v)), 1.0)
+    accel = max(np.max(np.abs(a)), 1.0)
+    for i, p in enumerate(UNKNOWN):
+        assert np.max(np.abs(m.velocity[p][ok] - v[ok, 2 * i:2 * i + 2])) < 1e-7 * speed
+        assert np.max(np.abs(m.acceleration[p][ok] - a[ok, 2 * i:2 * i + 2])) < 1e-5 * accel
+
+
+def fourbar(closure: bool):
+    c = geokin.Construction("four-bar")
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 40, 0)
+    c.polar("A", "O2", 10, "theta")
+    if closure:
+        c.closure("dyad", ["B"], [("A", "B", 35), ("B", "O4", 30)], near={"B": (35, 25)})
+    else:
+        c.circle_circle("B", ("A", "O4"), (35, 30), branch="left")
+    c.polar("P", "A", 20, np.radians(30), reference=("A", "B"))
+    return c
+
+
+def test_one_point_group_equals_circle_circle():
+    theta = np.linspace(0, 4 * np.pi, 2001)
+    by_circles = geokin.sweep(fourbar(False), theta)
+    by_newton = geokin.sweep(fourbar(True), theta)
+    assert by_newton.valid.all()
+    for p in ("B", "P"):
+        assert np.max(np.abs(by_newton[p] - by_circles[p])) < 1e-12
+
+
+def test_one_point_group_limits_of_a_triple_rocker():
+    """The singular positions are the limits, found by bisection as toggles are."""
+    c = geokin.Construction()
+    c.input("theta2", range=(-np.pi, np.pi))
+    c.fixed("A", 0, 0)
+    c.fixed("D", 7, 0)
+    c.polar("B", "A", 5, "theta2")
+    c.closure("dyad", ["C"], [("B", "C", 6), ("D", "C", 5)], near={"C": (6, 4)})
+    s = geokin.sweep(c, np.linspace(-np.pi, np.pi, 361))
+    assert not s.valid.all() and s.valid.any()
+    bad = np.flatnonzero(~s.valid)
+    assert {s.failure_reason[i] for i in bad} <= {"the group reaches a singular position",
+                                                   "Newton did not converge"}
+    assert "the group reaches a singular position" in {s.failure_reason[i] for i in bad}
+    found = geokin.limits(c)
+    low, high = found.as_values()[0]
+    assert abs(np.degrees(high) - 132.177419) < 1e-5
+    assert abs(np.degrees(low) + 132.177419) < 1e-5
+
+
+@pytest.mark.parametrize("count, word", [(1, "under-constrained"), (3, "over-constrained")])
+def test_group_equation_count_is_checked(count, word):
+    c = geokin.Construction()
+    c.fixed("O", 0, 0)
+    c.fixed("Q", 3, 0)
+    c.fixed("R", 0, 3)
+    distances = [("O", "P", 2), ("Q", "P", 2), ("R", "P", 2)][:count]
+    with pytest.raises(ConstructionError, match=f"group 'g' is {word}"):
+        c.closure("g", ["P"], distances, near={"P": (1, 1)})
+
+
+def test_group_needs_every_sketch_position():
+    c = geokin.Construction()
+    c.fixed("O", 0, 0)
+    c.fixed("Q", 3, 0)
+    with pytest.raises(ConstructionError, match="every point of the group needs one"):
+        c.closure("g", ["P", "S"], [("O", "P", 2), ("Q", "P", 2), ("P", "S", 1),
+                                    ("O", "S", 1)], near={"P": (1, 1)})
+
+
+def test_group_that_never_assembles_gives_reasons_quickly():
+    c = geokin.Construction()
+    c.input("t")
+    c.fixed("O", 0, 0)
+    c.polar("Q", "O", 3, "t")
+    c.closure("g", ["P"], [("O", "P", 1), ("Q", "P", 1)], near={"P": (1.5, 0.5)})
+    start = time.perf_counter()
+    s = geokin.sweep(c, np.linspace(0, 2 * np.pi, 2001))
+    assert time.perf_counter() - start < 5
+    assert not s.valid.any()
+    assert s.failed_node[0] == "P"
+    assert s.failure_reason[0] == "Newton did not converge"
+    with pytest.raises(geokin.AssemblyError, match="node 'P'"):
+        s.require_assembled()
+
+
+def test_sketch_far_from_any_assembly_still_ends():
+    """A sketch far off: Newton's steps are cut to the group's size, and bounded."""
+    c = fourbar(True)
+    node = c.nodes["B"]
+    c.nodes["B"] = type(node)("B", group="dyad", points=("B",), near=((1e6, -1e6),),
+                              distances=node.distances)
+    start = time.perf_counter()
+    s = geokin.sweep(c, np.linspace(0, 2 * np.pi, 361))
+    assert time.perf_counter() - start < 5
+    # either an assembly (every sample on it, continuous) or reasons for each sample
+    if s.valid.any():
+        assert s.valid.all()
+        assert np.max(np.abs(np.diff(s["B"], axis=0))) < 2
+    else:
+        assert set(s.failure_reason) == {"Newton did not converge"}
+
+
+def test_script_round_trip_and_listing(stephenson):
+    text = geokin.dump(stephenson)
+    assert "[groups.triad]" in text
+    again = geokin.io.loads(text)
+    assert again == stephenson
+    listing = str(stephenson.compile())
+    assert "D = closure triad(D, E, A, B): |F-D| = FD" in listing
+    assert "|E-B| = EB" in listing
+
+
+def test_script_group_errors_name_the_group():
+    text = (ROOT / "constructions" / "stephenson3.toml").read_text()
+    broken = text.replace('["E", "B", "EB"],', "")
+    with pytest.raises(geokin.errors.ScriptError,
+                       match=r"\[groups\] triad.*under-constrained: 4 points need 8"):
+        geokin.io.loads(broken, "s3.toml")
+
+
+def test_point_on_line_constraint():
+    """A slider-crank's block as a group: on the guide, at the rod's length from the pin."""
+    c = geokin.Construction()
+    c.input("theta")
+    c.fixed("O", 0, 0)
+    c.fixed("G", 10, 0)
+    c.polar("A", "O", 1, "theta")
+    c.closure("block", ["B"], [("A", "B", 3)], near={"B": (4, 0.5)}, lines=[("B", "O", "G")])
+    theta = np.linspace(0, 2 * np.pi, 181)
+    s = geokin.sweep(c, theta)
+    assert s.valid.all()
+    x = np.cos(theta) + np.sqrt(9 - np.sin(theta) ** 2)
+    assert np.max(np.abs(s["B"][:, 0] - x)) < 1e-12
+    assert np.max(np.abs(s["B"][:, 1])) < 1e-12
+    assert geokin.io.loads(geokin.dump(c)) == c
