@@ -255,3 +255,52 @@ def test_point_on_line_constraint():
     assert np.max(np.abs(s["B"][:, 0] - x)) < 1e-12
     assert np.max(np.abs(s["B"][:, 1])) < 1e-12
     assert geokin.io.loads(geokin.dump(c)) == c
+
+
+TRIAD = {"A": None, "O4": (6.9, 0.9), "O6": (3.8, 4.8), "B": (1.1, 3.3), "C": (3.1, 2.7),
+         "D": (4.1, 3.7)}
+TRIAD_PAIRS = [("A", "B"), ("O4", "C"), ("O6", "D"), ("B", "C"), ("C", "D"), ("B", "D")]
+
+
+def triad_reference(theta):
+    """The triad B, C, D solved sample by sample by plain Newton, from the previous sample."""
+    sketch = {**TRIAD, "A": (1.0, 0.0)}
+    d = [float(np.hypot(*np.subtract(sketch[p], sketch[q]))) for p, q in TRIAD_PAIRS]
+    unknown = ["B", "C", "D"]
+    z = np.array([c for p in unknown for c in sketch[p]], dtype=float)
+    out = np.empty((len(theta), 6))
+    for s, t in enumerate(theta):
+        known = {"A": np.array([np.cos(t), np.sin(t)]), "O4": np.array(TRIAD["O4"]),
+                 "O6": np.array(TRIAD["O6"])}
+        for _ in range(100):
+            pos = {**known, **{p: z[2 * i:2 * i + 2] for i, p in enumerate(unknown)}}
+            f = np.empty(6)
+            jac = np.zeros((6, 6))
+            for e, (p, q) in enumerate(TRIAD_PAIRS):
+                diff = pos[p] - pos[q]
+                f[e] = diff @ diff - d[e] ** 2
+                for name, sign in ((p, 2), (q, -2)):
+                    if name in unknown:
+                        i = unknown.index(name)
+                        jac[e, 2 * i:2 * i + 2] += sign * diff
+            step = np.linalg.solve(jac, -f)
+            z = z + step
+            if np.max(np.abs(step)) < 1e-15:
+                break
+        out[s] = z
+    return out
+
+
+def test_triad_sixbar_matches_independent_newton():
+    """The second shipped group: three points on one ternary link, six equations."""
+    c = geokin.load(ROOT / "constructions" / "triad_sixbar.toml")
+    theta = np.linspace(0, 2 * np.pi, 721)
+    s = geokin.sweep(c, theta)
+    assert s.valid.all()
+    expected = triad_reference(theta)
+    for i, p in enumerate(["B", "C", "D"]):
+        assert np.max(np.abs(s[p] - expected[:, 2 * i:2 * i + 2])) < 1e-9, p
+    assert np.allclose(s["B"][0], TRIAD["B"], atol=1e-12)
+    # the ternary link and its rockers are a four-bar: B goes to and fro on one curve
+    assert geokin.limits(c).full_turn
+    assert np.hypot(*np.diff(s["B"], axis=0).T).sum() == pytest.approx(4.0728, abs=1e-4)
