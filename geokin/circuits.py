@@ -25,7 +25,7 @@ import numpy as np
 
 from .compat import renamed_attribute, renamed_keywords
 from .construction import Compiled, Construction, as_compiled
-from .engine import evaluate, start_labels
+from .engine import assembly_guesses, evaluate, start_labels
 from .errors import AssemblyError, ConstructionError
 from .frozen import Frozen
 from .nodes import NO_INTERSECTION, SINGULAR
@@ -179,13 +179,20 @@ def _first(node: str, nodes: tuple[str, ...]) -> tuple[str, ...]:
     return (node, *(other for other in nodes if other != node))
 
 
-def _refine(compiled, name, held, branches, inside, outside):
+def _refine(compiled, name, held, branches, inside, outside, guesses=None):
     """Bisect brackets [inside, outside] (arrays) down to LIMIT_TOLERANCE.
+
+    ``guesses`` holds each continued node's solution at the inside ends
+    (:func:`~geokin.engine.assembly_guesses` of the sweep that found the
+    brackets): every middle is solved from the solution at its inside end,
+    as a two-root node keeps its branch, so a closure group stays on its
+    assembly and its fold is found where Newton from that assembly stops.
 
     Returns the refined inside ends and the sweep at the outside ends.
     """
     inside = np.array(inside, dtype=float)
     outside = np.array(outside, dtype=float)
+    guesses = {k: np.array(v, dtype=float) for k, v in (guesses or {}).items()}
     while True:
         middle = 0.5 * (inside + outside)
         # stop at the tolerance, or where no float lies between the ends
@@ -193,10 +200,13 @@ def _refine(compiled, name, held, branches, inside, outside):
             middle != outside)
         if not open_.any():
             break
-        ok = _strictly_valid(_evaluate_at(compiled, name, middle, held, branches))
+        result = _evaluate_at(compiled, name, middle, held, {**branches, **guesses})
+        ok = _strictly_valid(result)
         inside = np.where(ok, middle, inside)
         outside = np.where(ok, outside, middle)
-    return inside, _evaluate_at(compiled, name, outside, held, branches)
+        for node, found in assembly_guesses(result).items():
+            guesses[node] = np.where(ok[:, None], found, guesses[node])
+    return inside, _evaluate_at(compiled, name, outside, held, {**branches, **guesses})
 
 
 @renamed_keywords(input="input_name", range="search_range", branches="start_branches")
@@ -292,7 +302,9 @@ def limits(construction: Construction | Compiled, input_name: str | None = None,
     change = np.flatnonzero(ok[1:] != ok[:-1])
     inside = np.where(ok[change], grid[change], grid[change + 1])
     outside = np.where(ok[change], grid[change + 1], grid[change])
-    refined, beyond = _refine(compiled, name, held, held_branches, inside, outside)
+    start_at = np.where(ok[change], change, change + 1)
+    refined, beyond = _refine(compiled, name, held, held_branches, inside, outside,
+                              assembly_guesses(probe, start_at))
     found = [Limit(float(value), *_what_stops(beyond, i)) for i, value in enumerate(refined)]
     # pair the limits into intervals, with the range ends where the motion reaches them
     bounds = list(found)

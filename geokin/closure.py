@@ -40,7 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["MAX_ITERATIONS", "MAX_SUBSTEPS", "SINGULAR_MARGIN", "System", "continue_along",
-           "margins", "newton"]
+           "margins", "newton", "stalls_singular"]
 
 MAX_ITERATIONS = 30
 """The most Newton iterations for one solve from a guess."""
@@ -407,6 +407,49 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
                                                rows.size)
                 j = int(rows[-1]) + 1
     return z, margin, singular
+
+
+def stalls_singular(system: System, unknowns: Sequence[str], known: Mapping,
+                    lengths: np.ndarray, guess: np.ndarray) -> np.ndarray:
+    """Say which samples, unsolved from their guesses, lie at or beyond a singular position.
+
+    A guess there is a solution of a nearby sample (a bisection's inside
+    end, a finite difference's centre): where the group folds back between
+    the two, the Jacobian is nearly singular at the guess already (its
+    margin falls to zero linearly as the input nears the fold), or where
+    Newton from it ends (the equations have no real solution nearby, as two
+    circles past tangency).
+
+    Parameters
+    ----------
+    system, unknowns, known, lengths
+        As for :func:`newton`.
+    guess : ndarray, shape (N, 2k)
+
+    Returns
+    -------
+    ndarray of bool, shape (N,)
+
+    Examples
+    --------
+    Two circles of radius 5 about (0, 0) and (10 + 1e-9, 0), from their
+    tangent point: no solution, at a fold.
+
+    >>> system = System(1, (("B", "A"), ("B", "C")), ())
+    >>> known = {"A": (np.zeros(1), np.zeros(1)), "C": (np.full(1, 10 + 1e-9), np.zeros(1))}
+    >>> stalls_singular(system, ["B"], known, np.array([[5.0, 5.0]]),
+    ...                 np.array([[5.0, 0.0]])).tolist()
+    [True]
+    """
+    guess = np.asarray(guess, dtype=float)
+    with np.errstate(all="ignore"):
+        _, jac = _residual_jacobian(system, unknowns, known, lengths, guess)
+        at_guess = margins(jac)
+        z, _, _ = _iterate(system, unknowns, known, lengths, guess, _scale(lengths, known),
+                           MAX_ITERATIONS)
+        _, jac = _residual_jacobian(system, unknowns, known, lengths, z)
+        at_end = margins(jac)
+    return (at_guess < NEAR_SINGULAR) | (at_end < NEAR_SINGULAR)
 
 
 def singular_rows(system, unknowns, known, lengths, z_last, count):

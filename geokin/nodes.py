@@ -737,9 +737,17 @@ class Closure(Node):
                 z, margin, singular = solver.continue_along(system, self.points, known, table,
                                                             sketch)
             else:
-                z, _, margin = solver.newton(system, self.points, known, table,
-                                             np.asarray(guess, dtype=float))
+                guess = np.asarray(guess, dtype=float)
+                z, _, margin = solver.newton(system, self.points, known, table, guess)
                 singular = np.zeros(n, dtype=bool)
+                # a guess beside a fold that the sample lies beyond: a singular position
+                failed = np.flatnonzero(~np.isfinite(z).all(axis=1)
+                                        & np.isfinite(guess).all(axis=1))
+                if failed.size:
+                    picked = {p: tuple(c[failed] if np.ndim(c) else c for c in xy)
+                              for p, xy in known.items()}
+                    singular[failed] = solver.stalls_singular(system, self.points, picked,
+                                                              table[failed], guess[failed])
         solved = np.isfinite(z).all(axis=1)
         reason = np.where(singular, SINGULAR, NOT_CONVERGED).astype(np.int8)
         reason[solved] = 0

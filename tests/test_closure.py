@@ -149,14 +149,23 @@ def test_one_point_group_equals_circle_circle():
         assert np.max(np.abs(by_newton[p] - by_circles[p])) < 1e-12
 
 
-def test_one_point_group_limits_of_a_triple_rocker():
-    """The singular positions are the limits, found by bisection as toggles are."""
-    c = geokin.Construction()
+def triple_rocker(group: bool):
+    """Seed 000's triple rocker (ground 7, crank 5, coupler 6, follower 5)."""
+    c = geokin.Construction("triple rocker")
     c.input("theta2", range=(-np.pi, np.pi))
     c.fixed("A", 0, 0)
     c.fixed("D", 7, 0)
     c.polar("B", "A", 5, "theta2")
-    c.closure("dyad", ["C"], [("B", "C", 6), ("D", "C", 5)], near={"C": (6, 4)})
+    if group:
+        c.closure("dyad", ["C"], [("B", "C", 6), ("D", "C", 5)], near={"C": (6, 4)})
+    else:
+        c.circle_circle("C", ("B", "D"), (6, 5), branch="left")
+    return c
+
+
+def test_one_point_group_limits_of_a_triple_rocker():
+    """The singular positions are the limits, found by bisection as toggles are."""
+    c = triple_rocker(True)
     s = geokin.sweep(c, np.linspace(-np.pi, np.pi, 361))
     assert not s.valid.all() and s.valid.any()
     bad = np.flatnonzero(~s.valid)
@@ -164,9 +173,31 @@ def test_one_point_group_limits_of_a_triple_rocker():
                                                    "Newton did not converge"}
     assert "the group reaches a singular position" in {s.failure_reason[i] for i in bad}
     found = geokin.limits(c)
-    low, high = found.as_values()[0]
-    assert abs(np.degrees(high) - 132.177419) < 1e-5
-    assert abs(np.degrees(low) + 132.177419) < 1e-5
+    [(low, high)] = found.intervals
+    exact = np.degrees(np.arccos(-47 / 70))  # B, C and D in line: |BD| = 6 + 5
+    assert abs(np.degrees(high.value) - exact) < 1e-6
+    assert abs(np.degrees(low.value) + exact) < 1e-6
+    assert abs(exact - 132.177419) < 1e-6
+    # the group's Jacobian is singular there: a toggle of the group, named by its node
+    for end in (low, high):
+        assert (end.node, end.kind, end.nodes) == ("C", "tangent", ("C",))
+    assert repr(found) == ("<Limits of 'theta2': -2.30693 to 2.30693 "
+                           "(tangent at 'C', tangent at 'C')>")
+    # the same values as the circle-circle node's, whose tangency is exact
+    by_circles = geokin.limits(triple_rocker(False)).as_values()[0]
+    assert np.allclose(found.as_values()[0], by_circles, rtol=0, atol=1e-10)
+
+
+def test_group_limit_beyond_a_fold_is_a_singular_position():
+    """Solved from the inside end's solution, a sample just past the fold is singular."""
+    c = triple_rocker(True)
+    inside = np.arccos(-47 / 70) - 1e-7
+    s = geokin.sweep(c, [inside])
+    held = geokin.engine.assembly_guesses(s)
+    beyond = geokin.engine.evaluate(c, {"theta2": np.array([inside + 2e-7])}, 1, held,
+                                    track=False)
+    assert not beyond.valid[0]
+    assert beyond.failure_reason[0] == "the group reaches a singular position"
 
 
 @pytest.mark.parametrize("count, word", [(1, "under-constrained"), (3, "over-constrained")])
