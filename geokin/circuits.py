@@ -398,20 +398,42 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
     lo, hi, shift = interval
     start = start + shift
     labels = dict(found.held_branches)
-    passes = []
-    def run(values, labels):
-        """One pass from its first value to its last, tracked from the given branches.
+    groups = [step.node.name for step in compiled.steps if step.node.continued]
+    passes: list[tuple[np.ndarray, dict[str, np.ndarray], dict[str, np.ndarray]]] = []
 
-        Returns the pass's values, its branches at every sample, and the
-        branches it ends on (a graze on the way changes them).
+    def along(values, labels, across):
+        """Evaluate the motion along ``values`` (tracked) from the given branches.
+
+        With ``across`` (a pass after the first, in a construction with
+        closure groups), each group continues from the positions
+        ``across(values[1])`` gives at the second sample, instead of its
+        sketch; the first sample, where the last pass ended, is that pass's.
+        Returns the sweep from the sample where it starts, and that index.
         """
         inputs = {k: np.full(len(values), v) for k, v in held.items()}
         inputs[name] = values
-        part = evaluate(compiled, inputs, len(values), start=labels)
-        branches = part.branches
-        passes.append((values, branches))
+        if across is None or len(values) < 2:
+            return evaluate(compiled, inputs, len(values), start=labels), 0
+        inputs = {k: v[1:] for k, v in inputs.items()}
+        return evaluate(compiled, inputs, len(values) - 1, start=labels,
+                        sketches=across(values[1])), 1
+
+    def run(values, labels, across=None):
+        """One pass from its first value to its last, tracked from the given branches.
+
+        Returns the branches it ends on (a graze on the way changes them);
+        the pass's values, branches and groups' solutions are kept in ``passes``.
+        """
+        part, skip = along(values, labels, across)
+        branches = {k: np.concatenate([np.full(skip, labels[k], dtype=np.int8), b])
+                    for k, b in part.branches.items()}
+        solved = assembly_guesses(part)
+        if skip:
+            solved = {k: np.vstack([passes[-1][2][k][-1:], v]) for k, v in solved.items()}
+        passes.append((values, branches, solved))
         return {k: int(b[-1]) for k, b in branches.items()}
 
+    sheets = dict.fromkeys(groups, 0)
     if found.full_turn:
         run(np.linspace(start, start + 2 * np.pi, samples_per_pass), labels)
     else:
@@ -420,15 +442,15 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
         # where the motion runs fastest; then resampled to equal steps of the motion
         centre, radius = 0.5 * (lo.value + hi.value), 0.5 * (hi.value - lo.value)
 
-        def stretch(a, b, labels):
+        def stretch(a, b, labels, across):
             pa, pb = (np.arcsin(np.clip((v - centre) / radius, -1, 1)) for v in (a, b))
             count = max(2, int(np.ceil(abs(pb - pa) / np.pi * samples_per_pass)) + 1)
             fine = centre + radius * np.sin(np.linspace(pa, pb, 8 * count))
             fine[[0, -1]] = a, b
-            motion = _evaluate_at(compiled, name, fine, held, labels)
+            motion, skip = along(fine, labels, across)
             steps = sum(np.nan_to_num(np.hypot(*np.diff(motion.points[p], axis=0).T))
                         for p in compiled.point_names)
-            travelled = np.concatenate([[0.0], np.cumsum(steps)])
+            travelled = np.concatenate([np.zeros(1 + skip), np.cumsum(steps)])
             if travelled[-1] == 0:
                 return np.linspace(a, b, count)
             values = np.interp(np.linspace(0, travelled[-1], count), travelled, fine)
@@ -437,24 +459,33 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
 
         initial = dict(labels)
         position, target = start, hi
+        across = None
         for count in range(1, 9):  # four toggles at most bring any branches back
-            labels = run(stretch(position, target.value, labels), labels)
+            labels = run(stretch(position, target.value, labels, across), labels, across)
+            if groups:
+                across = _continuing(compiled, name, held, passes[-1], target)
             if target.kind == "tangent":
-                labels = _through_toggle(compiled, name, held, labels, target)
+                ends = {k: v[-1:] for k, v in passes[-1][2].items()}
+                labels = _through_toggle(compiled, name, held, labels, target, ends)
+                for node in set(target.nodes or (target.node,)) & set(groups):
+                    sheets[node] ^= 1
+                    across = _continuing(compiled, name, held, passes[-1], target, node)
             position, target = target.value, (lo if target is hi else hi)
             # a circuit reaches both ends: at an end that is no toggle (of the searched
             # range, or of a ray) the branches stay, and the other end is still to come
-            if count >= 2 and labels == initial:
+            if count >= 2 and labels == initial and not any(sheets.values()):
                 # back on the starting branches: run on to the start and stop
-                run(stretch(position, start, labels), labels)
+                run(stretch(position, start, labels, across), labels, across)
                 break
     # each pass starts where the one before ended: drop the repeated sample
     values = np.concatenate([p[0] if i == 0 else p[0][1:] for i, p in enumerate(passes)])
     per_sample = {k: np.concatenate([p[1][k] if i == 0 else p[1][k][1:]
                                      for i, p in enumerate(passes)]) for k in labels}
+    solved = {k: np.concatenate([p[2][k] if i == 0 else p[2][k][1:]
+                                 for i, p in enumerate(passes)]) for k in groups}
     inputs = {k: np.full(len(values), v) for k, v in held.items()}
     inputs[name] = values
-    result = evaluate(compiled, inputs, len(values), per_sample, track=False)
+    result = evaluate(compiled, inputs, len(values), {**per_sample, **solved}, track=False)
     events = []
     for node, label in per_sample.items():
         names = compiled.step_named(node).node.branch_names
@@ -464,19 +495,53 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
     return replace(result, events=tuple(events))
 
 
-def _through_toggle(compiled, name, held, labels, limit: Limit) -> dict:
+def _continuing(compiled, name, held, last_pass, limit: Limit, folded: str | None = None):
+    """Return where the closure groups start the pass after ``last_pass``, as a function.
+
+    The function takes the pass's second input value and gives each group's
+    positions to start its continuation from there: where the last pass
+    ended, except for the group ``folded`` that passes its fold at
+    ``limit``. Near a fold at z_L the two solutions at an input just inside
+    it are z_L +- s v + O(s**2) (v the Jacobian's null vector), so the
+    reflection 2 z_L - z of the solution z the last pass arrived on, at
+    that input, starts Newton on the other side of the fold.
+    """
+    values, branches, solved = last_pass
+    ends = {k: v[-1] for k, v in solved.items()}
+    labels = {k: int(b[-1]) for k, b in branches.items()}
+    if folded is None or len(values) < 2:
+        return lambda value: ends
+    arrived = solved[folded][-2]
+
+    def across(value):
+        here = _evaluate_at(compiled, name, [value], held,
+                            {**labels, **{k: v[None] for k, v in ends.items()},
+                             folded: arrived[None]})
+        z = assembly_guesses(here)[folded][0]
+        if not np.isfinite(z).all():
+            return ends
+        return {**ends, folded: 2 * ends[folded] - z}
+
+    return across
+
+
+def _through_toggle(compiled, name, held, labels, limit: Limit, ends=None) -> dict:
     """Return the branches that carry the motion through a toggle at ``limit``.
 
-    Every node whose roots meet there changes branch, as the mechanism does
-    passing the toggle; every other two-root node then takes the root that
-    continues its position at the limit, since a node built on nodes that
-    changed branch may see its own roots in the other order.
+    Every two-root node whose roots meet there changes branch, as the
+    mechanism does passing the toggle (a closure group at its fold passes
+    it by continuation, :func:`_continuing`); every other two-root node then
+    takes the root that continues its position at the limit, since a node
+    built on nodes that changed branch may see its own roots in the other
+    order. ``ends`` holds the closure groups' solutions at the limit.
     """
-    before = _evaluate_at(compiled, name, [limit.value], held, labels)
+    ends = ends or {}
+    before = _evaluate_at(compiled, name, [limit.value], held, {**labels, **ends})
     after = dict(labels)
     toggled = limit.nodes or (limit.node,)
     for node in toggled:
-        after[node] ^= 1
+        if node in after:
+            after[node] ^= 1
     for step in compiled.steps:
         node = step.node.name
         if step.node.roots != 2 or node in toggled or not np.isfinite(
@@ -484,7 +549,8 @@ def _through_toggle(compiled, name, held, labels, limit: Limit) -> dict:
             continue
         choices = []
         for label in (after[node], after[node] ^ 1):
-            trial = _evaluate_at(compiled, name, [limit.value], held, {**after, node: label})
+            trial = _evaluate_at(compiled, name, [limit.value], held,
+                                 {**after, node: label, **ends})
             choices.append(np.hypot(*(trial[node][0] - before[node][0])))
         if choices[1] < choices[0]:
             after[node] ^= 1

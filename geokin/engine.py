@@ -199,7 +199,7 @@ def _step_values(step: _PlannedStep, env) -> Mapping:
     return values
 
 
-def _candidates(step: _PlannedStep, coords, values, origin, guess=None):
+def _candidates(step: _PlannedStep, coords, values, origin, guess=None, sketch=None):
     if step.node.continued:
         # followed along the samples, or solved from a guess per sample (held): its
         # guesses and sketch are absolute positions, shifted like the points
@@ -207,7 +207,7 @@ def _candidates(step: _PlannedStep, coords, values, origin, guess=None):
             guess = np.asarray(guess, dtype=float) - np.tile(origin, np.shape(guess)[1] // 2)
         # mypy: candidates of a continued node take the guess and the origin
         cand = step.node.candidates(coords, values, guess=guess,  # type: ignore[call-arg]
-                                    origin=origin)
+                                    origin=origin, sketch=sketch)
         if cand.also:
             coords.update(cand.also)
         return cand
@@ -250,7 +250,8 @@ class _Evaluated:
 def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndarray], n: int,
              held: Mapping[str, np.ndarray | int] | None = None, *, track: bool = True,
              start: Mapping[str, int] | None = None,
-             origin: tuple[float, float] | None = None) -> Sweep:
+             origin: tuple[float, float] | None = None,
+             sketches: Mapping[str, np.ndarray] | None = None) -> Sweep:
     """Evaluate every step for all samples.
 
     Parameters
@@ -275,6 +276,11 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         relative to it (constructions move with their fixed points), which
         keeps digits for a mechanism far from (0, 0). Positions in the result
         are then relative to ``origin``.
+    sketches : mapping of str to ndarray, optional
+        For some continued nodes (closure groups), the positions (x, y of
+        each point it finds, absolute) to start the continuation from at the
+        first sample, instead of the group's sketch: a circuit continues a
+        group from where its last pass ended, or across a fold.
 
     Returns
     -------
@@ -289,7 +295,7 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
             and all(step.node.name in (held or {}) for step in plan if step.node.continued)):
         parts = _evaluate_in_blocks(compiled, plan, inputs, n, held, start, origin)
     else:
-        parts = _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track)
+        parts = _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track, sketches)
 
     def per_sample(array, dtype=float):
         array = np.asarray(array, dtype=dtype)
@@ -307,7 +313,8 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         line_parameters={name: per_sample(t) for name, t in parts.parameters.items()})
 
 
-def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track) -> _Evaluated:
+def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
+                    sketches=None) -> _Evaluated:
     """Evaluate every step for all N samples at once, tracking branches if asked."""
     env = _environment(compiled, inputs)
     coords: dict[str, tuple[np.ndarray, np.ndarray]] = {}
@@ -326,7 +333,8 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track) -> _E
             values = _step_values(step, env)
             if node.continued:  # all samples at once: it follows them as a path
                 cand = _candidates(step, coords, values, origin,
-                                   None if held is None else held.get(node.name))
+                                   None if held is None else held.get(node.name),
+                                   None if sketches is None else sketches.get(node.name))
                 if tracker is not None:
                     found = {**(cand.also or {}), node.name: (cand.x[0], cand.y[0])}
                     tracker.solutions[node.name] = np.column_stack([

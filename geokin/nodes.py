@@ -716,7 +716,15 @@ class Closure(Node):
                              self.lines)
 
     def candidates(self, coords: Coords, values: Values, guess: np.ndarray | None = None,
-                   origin: tuple[float, float] | None = None) -> Candidates:
+                   origin: tuple[float, float] | None = None,
+                   sketch: np.ndarray | None = None) -> Candidates:
+        """Return the point's position; the first point solves the whole group.
+
+        Without ``guess`` the group is followed along the samples from its
+        sketch ``near`` (or from ``sketch``: absolute positions, x and y of
+        every point of the group, as a circuit passes them); with
+        ``guess`` (N, 2k) each sample is solved from its own.
+        """
         if not self.solves:
             x, y = coords[self.name]
             return Candidates((x,), (y,))
@@ -731,7 +739,7 @@ class Closure(Node):
         system = self.system()
         with np.errstate(all="ignore"):
             if guess is None:
-                sketch = np.asarray(self.near, dtype=float).ravel()
+                sketch = np.asarray(self.near if sketch is None else sketch, dtype=float).ravel()
                 if origin is not None:
                     sketch = sketch - np.tile(origin, len(self.points))
                 z, margin, singular = solver.continue_along(system, self.points, known, table,

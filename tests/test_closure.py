@@ -335,3 +335,32 @@ def test_triad_sixbar_matches_independent_newton():
     # the ternary link and its rockers are a four-bar: B goes to and fro on one curve
     assert geokin.limits(c).full_turn
     assert np.hypot(*np.diff(s["B"], axis=0).T).sum() == pytest.approx(4.0728, abs=1e-4)
+
+
+def test_circuit_passes_a_group_through_its_folds():
+    """The triple rocker as a group: both toggles passed, back to the start.
+
+    The circle-circle version's circuit is the reference: at the group
+    circuit's input values, with that circuit's branch at each sample, C is
+    the same to 1e-9; at the two limit samples themselves, within 1e-12 of
+    the fold where the two roots are 1e-6 apart, to 1e-6.
+    """
+    by_group = geokin.circuit(triple_rocker(True), start=0.0)
+    by_circles = geokin.circuit(triple_rocker(False), start=0.0)
+    assert by_group.valid.all()
+    assert len(by_group) == len(by_circles)
+    values = np.asarray(by_group.inputs["theta2"])
+    assert np.max(np.abs(values - by_circles.inputs["theta2"])) < 1e-2
+    label = np.asarray(by_circles.branches["C"])
+    expected = geokin.engine.evaluate(triple_rocker(False), {"theta2": values}, len(values),
+                                      {"C": label}, track=False)
+    miss = np.max(np.abs(by_group["C"] - expected["C"]), axis=1)
+    toggles = np.flatnonzero(np.diff(label))
+    assert toggles.size == 2
+    assert np.max(np.delete(miss, toggles)) < 1e-9
+    assert np.max(miss[toggles]) < 1e-6
+    # both branches of the coupler curve, and the start again at the end
+    assert (by_group["C"][:, 1] > 0).any() and (by_group["C"][:, 1] < 0).any()
+    assert np.allclose(by_group["C"][0], by_group["C"][-1], atol=1e-12)
+    assert np.allclose(values[[0, -1]], 0.0)
+
