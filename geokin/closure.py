@@ -54,6 +54,9 @@ MAX_SUBSTEPS = 4096
 RESIDUAL_RTOL = 1e-13
 """Converged: every equation's residual within this times the group's size."""
 
+POLISH_RTOL = 1e-6
+"""The longest last step taken after convergence, times the group's size."""
+
 SINGULAR_MARGIN = 1e-14
 """A solution whose margin (:func:`margins`) is below this is a singular position."""
 
@@ -219,10 +222,18 @@ def _iterate(system, unknowns, known, lengths, z, scale, iterations):
         done = np.all(np.abs(f) <= tolerance, axis=1)
         step = _solve(jac, f)
     # one more step where converged: Newton's last step takes the solution to rounding,
-    # which finite differences of the positions need
+    # which finite differences of the positions need. Where the Jacobian is (nearly)
+    # singular that step is rounding divided by nearly zero, and may fly to another
+    # solution: it is kept only if it is short and leaves the residual as small
     if done.any():
-        polish = done & np.isfinite(step).all(axis=1)
-        z = np.where(polish[:, None], z + step, z)
+        polish = (done & np.isfinite(step).all(axis=1)
+                  & (np.max(np.abs(step), axis=1, initial=0.0) <= POLISH_RTOL * scale))
+        if polish.any():
+            f_now, _ = _residual_jacobian(system, unknowns, known, lengths, z)
+            f_new, _ = _residual_jacobian(system, unknowns, known, lengths, z + step)
+            polish &= (np.max(np.abs(f_new), axis=1)
+                       <= np.maximum(np.max(np.abs(f_now), axis=1), tolerance))
+            z = np.where(polish[:, None], z + step, z)
     assert first is not None
     return z, done, first
 

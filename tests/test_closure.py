@@ -10,6 +10,8 @@ import time
 
 import numpy as np
 import pytest
+from hypothesis import assume, given
+from hypothesis import strategies as st
 
 import geokin
 from geokin.errors import ConstructionError
@@ -364,3 +366,96 @@ def test_circuit_passes_a_group_through_its_folds():
     assert np.allclose(by_group["C"][0], by_group["C"][-1], atol=1e-12)
     assert np.allclose(values[[0, -1]], 0.0)
 
+
+
+
+def test_newton_from_a_singular_solution_stays_there():
+    """The step that polishes a converged solution is not taken where it flies off.
+
+    At this assembly F, D and C are in line and the triad's Jacobian is
+    singular: rounding divided by its zero pivot once moved D by a whole
+    length, to another solution.
+    """
+    pts = {"F": (1.0, 0.0), "C": (0.0, 0.0), "D": (1.5, 0.0), "E": (1.5, 1.0),
+           "A": (0.0, 1.0), "B": (1.5, 1.3780281786354962)}
+    table = np.array([[np.hypot(*np.subtract(pts[p], pts[q])) for p, q in PAIRS]])
+    known = {p: (np.full(1, pts[p][0]), np.full(1, pts[p][1])) for p in ("F", "C")}
+    exact = np.array([[c for p in UNKNOWN for c in pts[p]]])
+    z, ok, margin = geokin.closure.newton(geokin.closure.System(4, tuple(PAIRS)), UNKNOWN,
+                                          known, table, exact)
+    assert ok[0] and margin[0] < 1e-20
+    assert np.max(np.abs(z - exact)) < 1e-12
+
+
+# -- properties on random linkages ---------------------------------------------------
+
+@given(st.floats(1.0, 3.0), st.floats(0.0, 1.0), st.floats(0.0, 1.0), st.floats(0.0, 1.0),
+       st.permutations(range(3)), st.floats(-0.3, 0.3), st.floats(-0.3, 0.3))
+def test_random_crank_rocker_as_a_group_equals_circle_circle(crank, u, w, frac, order, dx, dy):
+    """A four-bar's joint B as a group of one point is the circle-circle node's root.
+
+    Random crank-rockers (Grashof, the crank shortest, at least 0.1 of the
+    crank from the Grashof boundary), over two turns, the sketch off the true
+    position by up to 0.3 of the crank.
+    """
+    p, q = crank + 1 + u * (9 - crank), crank + 1 + w * (9 - crank)
+    longest = max(p, q) + frac * (p + q - 1.1 * crank - max(p, q))
+    ground, coupler, rocker = (p, q, longest)[order[0]], (p, q, longest)[order[1]], \
+        (p, q, longest)[order[2]]
+
+    def build(group):
+        c = geokin.Construction()
+        c.input("theta")
+        c.fixed("O2", 0, 0)
+        c.fixed("O4", ground, 0)
+        c.polar("A", "O2", crank, "theta")
+        if group:
+            at = geokin.sweep(build(False), [0.0])["B"][0]
+            c.closure("dyad", ["B"], [("A", "B", coupler), ("B", "O4", rocker)],
+                      near={"B": (at[0] + dx * crank, at[1] + dy * crank)})
+        else:
+            c.circle_circle("B", ("A", "O4"), (coupler, rocker), branch="left")
+        return c
+
+    theta = np.linspace(0, 4 * np.pi, 721)
+    by_circles = geokin.sweep(build(False), theta)
+    by_newton = geokin.sweep(build(True), theta)
+    assert by_circles.valid.all() and by_newton.valid.all()
+    assert np.max(np.abs(by_newton["B"] - by_circles["B"])) < 1e-10
+
+
+POINT = st.tuples(st.floats(-5, 5), st.floats(-5, 5))
+
+
+@given(POINT, POINT, POINT, POINT, POINT, st.floats(0.2, 1.5))
+def test_random_triad_reproduces_its_assembly(d, e, a, b, c, crank):
+    """A Stephenson-like triad built from a random assembly solves to that assembly.
+
+    Every length comes from the assembly at theta = 0, as the shipped
+    scripts take theirs: the sketch sample gives back the assembly, and
+    every sample solved on the way keeps every length.
+    """
+    pts = {"G": (0.0, 0.0), "F": (crank, 0.0), "D": d, "E": e, "A": a, "B": b, "C": c}
+    lengths = {pair: float(np.hypot(*np.subtract(pts[pair[0]], pts[pair[1]])))
+               for pair in PAIRS}
+    assume(min(lengths.values()) > 0.3)
+    system = geokin.closure.System(4, tuple(PAIRS))
+    known = {"F": (np.full(1, crank), np.zeros(1)), "C": (np.full(1, c[0]), np.full(1, c[1]))}
+    exact = np.array([[*d, *e, *a, *b]])
+    table = np.array([[lengths[pair] for pair in PAIRS]])
+    _, ok, margin = geokin.closure.newton(system, UNKNOWN, known, table, exact)
+    assume(ok[0] and margin[0] > 1e-4)
+    con = geokin.Construction()
+    con.input("theta")
+    con.fixed("G", 0, 0)
+    con.fixed("C", *c)
+    con.polar("F", "G", crank, "theta")
+    con.closure("triad", UNKNOWN, [(p, q, lengths[(p, q)]) for p, q in PAIRS],
+                near={p: pts[p] for p in UNKNOWN})
+    s = geokin.sweep(con, np.linspace(0, 0.5, 11))
+    assert s.valid[0]
+    for p in UNKNOWN:
+        assert np.max(np.abs(s[p][0] - pts[p])) < 1e-9, p
+    for (p, q), length in lengths.items():
+        got = np.hypot(*(s[p][s.valid] - s[q][s.valid]).T)
+        assert np.max(np.abs(got - length)) < 1e-9 * max(length, 1.0)
