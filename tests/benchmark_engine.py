@@ -1,6 +1,7 @@
 """Benchmark the engine against a hand-written numpy four-bar, in the same run.
 
-Run with ``python tests/benchmark_engine.py``; it prints a table of times,
+Run with ``python tests/benchmark_engine.py`` (``... closure`` for the
+closure group's lines only); it prints a table of times,
 the engine-to-hand-written ratios and the peak memory per sample. The test
 suite does not run it: figures here are measured, never asserted.
 """
@@ -18,7 +19,7 @@ sys.path.insert(0, str(Path(__file__).parent))
 from mechanisms import coupler_fourbar, sixbar  # noqa: E402
 from mechanisms import fourbar as four_bar  # noqa: E402
 
-from geokin import motion, sweep  # noqa: E402
+from geokin import load, motion, sweep  # noqa: E402
 from geokin.engine import evaluate  # noqa: E402
 
 
@@ -177,5 +178,34 @@ def main():
         print(f"{n:>9} samples: {peak / 2**20:7.1f} MiB, {peak / n:6.0f} bytes per sample")
 
 
+def closure_groups():
+    """Print the Stephenson III (a closure group, continued) against the seed six-bar.
+
+    Both at 36,000 samples of one turn, CPU time, interleaved: the sweep, and
+    the sweep with its motion. Measured, not asserted.
+    """
+    stephenson = load(Path(__file__).resolve().parents[1] / "constructions" / "stephenson3.toml")
+    six = sixbar()
+    n = 36_000
+    theta = np.linspace(0, 2 * np.pi, n)
+    assert sweep(stephenson, theta).valid.all()
+    times = interleaved_cpu({
+        "stephenson": lambda: sweep(stephenson, theta),
+        "sixbar": lambda: sweep(six, theta)}, rounds=5)
+    print(f"closure group: Stephenson III sweep, {n:,} samples: "
+          f"{times['stephenson'] * 1e3:.1f} ms vs the seed six-bar's "
+          f"{times['sixbar'] * 1e3:.1f} ms ({times['stephenson'] / times['sixbar']:.0f}x)")
+    swept = {"stephenson": sweep(stephenson, theta), "sixbar": sweep(six, theta)}
+    times = interleaved_cpu({
+        name: lambda s=s: motion(s, speed=2 * np.pi) for name, s in swept.items()}, rounds=3)
+    print(f"closure group: Stephenson III motion, {n:,} samples: "
+          f"{times['stephenson'] * 1e3:.0f} ms vs the seed six-bar's "
+          f"{times['sixbar'] * 1e3:.0f} ms ({times['stephenson'] / times['sixbar']:.0f}x)")
+
+
 if __name__ == "__main__":
-    main()
+    if sys.argv[1:] == ["closure"]:
+        closure_groups()
+    else:
+        main()
+        closure_groups()
