@@ -395,9 +395,30 @@ def test_plot_input_output():
     (line,) = ax.get_lines()
     np.testing.assert_allclose(line.get_xdata(), np.degrees(s.input_values))
     assert np.isnan(line.get_ydata()[~s.valid]).all()
-    assert ax.get_xlabel() == "theta (°)"
+    assert ax.get_xlabel() == "theta (deg)"
     with pytest.raises(GeokinError, match="one value per sample"):
         gp.plot_input_output(s, angle[:5], ax=ax)
+
+
+def test_axes_carry_the_construction_units():
+    """Lengths in the script's unit on the mechanism's axes; none named without one."""
+    c = four_bar()
+    c.units = "mm"
+    ax = gp.plot_mechanism(sweep(c, samples(9)))
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("x (mm)", "y (mm)")
+    fig, ax = plt.subplots()
+    ax = gp.plot_mechanism(sweep(four_bar(), samples(9)), ax=ax)
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("x", "y")
+
+
+def test_a_length_input_is_plotted_in_the_construction_units():
+    c = Construction("pushed", units="in")
+    c.input("s", kind="length", range=(0, 5), samples=6)
+    c.fixed("O", 0, 0)
+    c.polar("A", "O", "10 + s", 0.5)
+    s = sweep(c)
+    ax = gp.plot_input_output(s, {"x of A": s["A"][:, 0]})
+    assert ax.get_xlabel() == "s (in)"
 
 
 def test_import_geokin_does_not_import_matplotlib():
@@ -429,8 +450,10 @@ def test_kinematics_figure_has_angle_velocity_and_acceleration_against_time():
     m = motion(sweep(c))
     fig, axes = figure_kinematics(m)
     assert len(axes) == 3 and axes[-1].get_xlabel() == "time (s)"
+    # degrees throughout, as geokin trace --derivatives writes them
+    assert [ax.get_ylabel() for ax in axes] == ["angle (deg)", "ω (deg/s)", "α (deg/s²)"]
     assert all(len(ax.get_lines()) == 3 for ax in axes)
-    np.testing.assert_allclose(axes[1].get_lines()[0].get_ydata(), 2 * np.pi)
+    np.testing.assert_allclose(axes[1].get_lines()[0].get_ydata(), 360.0)  # deg/s
     plt.close(fig)
     with pytest.raises(GeokinError, match="did you mean 'rocker'"):
         figure_kinematics(m, links=["roker"])

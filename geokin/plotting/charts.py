@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike
 from ..errors import GeokinError, did_you_mean
 from ..kinematics import Motion
 from ..results import Sweep
-from .layout import shown_text
+from .layout import length_unit, shown_text
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -28,6 +28,9 @@ __all__ = ["figure_kinematics", "plot_input_output"]
 def plot_input_output(sweep: Sweep, outputs: Mapping[str, ArrayLike] | ArrayLike, *,
                       ax: Axes | None = None) -> Axes:
     """Plot quantities of a sweep against its input, in degrees for an angle.
+
+    The x axis is labelled with the input's unit: "theta (deg)" for an
+    angle, the construction's length unit for a length input.
 
     Parameters
     ----------
@@ -57,7 +60,7 @@ def plot_input_output(sweep: Sweep, outputs: Mapping[str, ArrayLike] | ArrayLike
     >>> fig, ax = plt.subplots()
     >>> ax = plot_input_output(s, {"x of A": s["A"][:, 0]}, ax=ax)
     >>> ax.get_xlabel(), len(ax.get_lines())
-    ('theta (°)', 1)
+    ('theta (deg)', 1)
     >>> plt.close(fig)
     """
     if ax is None:
@@ -67,10 +70,11 @@ def plot_input_output(sweep: Sweep, outputs: Mapping[str, ArrayLike] | ArrayLike
     n = len(sweep)
     if sweep.inputs:
         name, x = next(iter(sweep.inputs.items()))
+        unit = length_unit(sweep)
         if sweep.construction.inputs[name].kind == "angle":
-            x, xlabel = np.degrees(x), f"{name} (°)"
+            x, xlabel = np.degrees(x), f"{name} (deg)"
         else:
-            xlabel = name
+            xlabel = f"{name} ({unit})" if unit else name
     else:
         x, xlabel = np.arange(n), "sample"
     # anything with items() (a dict, a pandas DataFrame) holds labelled curves
@@ -83,7 +87,7 @@ def plot_input_output(sweep: Sweep, outputs: Mapping[str, ArrayLike] | ArrayLike
                               "one value per sample")
         y = np.where(sweep.valid, y, np.nan)
         ax.plot(x, y, label=label)
-    ax.set_xlabel(xlabel)
+    ax.set_xlabel(shown_text(xlabel), parse_math=False)
     ax.grid(True, color="#dddddd", lw=0.8)
     if any(label is not None for label in curves):
         ax.legend(fontsize=9)
@@ -119,9 +123,9 @@ def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
                       title: str | None = None) -> tuple[Figure, np.ndarray]:
     """Plot link angles, angular velocities and accelerations against time.
 
-    Three stacked axes, as a course report draws them: angle (degrees), angular
-    velocity (rad/s) and angular acceleration (rad/s²) of each declared link
-    against time (s). Samples flagged near a singular position are left out,
+    Three stacked axes, as a course report draws them: angle (deg), angular
+    velocity (deg/s) and angular acceleration (deg/s²) of each declared link
+    against time (s), in the units of ``geokin trace --derivatives``. Samples flagged near a singular position are left out,
     and each axis shows the 1st to 99th percentile of its values where a few
     samples near a toggle would otherwise flatten the rest.
 
@@ -153,7 +157,7 @@ def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
     >>> c.link("crank", "O", "A")
     >>> fig, axes = figure_kinematics(motion(sweep(c)))
     >>> [ax.get_ylabel() for ax in axes]
-    ['angle (°)', 'ω (rad/s)', 'α (rad/s²)']
+    ['angle (deg)', 'ω (deg/s)', 'α (deg/s²)']
     >>> plt.close(fig)
     """
     if links is None:
@@ -175,19 +179,19 @@ def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
 
     fig, axes = plt.subplots(3, 1, sharex=True, figsize=(8.0, 8.0), layout="constrained")
     keep = motion.sweep.valid & ~motion.flagged
-    quantities = [(motion.angle, np.degrees, "angle (°)"),
-                  (motion.angular_velocity, None, "ω (rad/s)"),
-                  (motion.angular_acceleration, None, "α (rad/s²)")]
-    # the size a rate of each kind has in this motion, for telling noise from motion
+    # degrees throughout, as geokin trace writes them
+    quantities = [(motion.angle, "angle (deg)"),
+                  (motion.angular_velocity, "ω (deg/s)"),
+                  (motion.angular_acceleration, "α (deg/s²)")]
+    # the size a rate of each kind has in this motion (radians), for telling noise from motion
     rates = np.concatenate([np.abs(motion.angular_velocity[n][keep]) for n in names]
                            + [np.abs(motion.speed[keep])])
     omega = float(np.nanmax(rates, initial=0.0)) or 1.0
-    for ax, (values, convert, label), reference in zip(axes, quantities,
-                                                       (360.0, omega, omega**2), strict=True):
+    references = (360.0, np.degrees(omega), np.degrees(omega**2))
+    for ax, (values, label), reference in zip(axes, quantities, references, strict=True):
         shown = []
         for name in names:
-            y = values[name] if convert is None else convert(values[name])
-            y = np.where(keep, y, np.nan)
+            y = np.where(keep, np.degrees(values[name]), np.nan)
             ax.plot(motion.time, y, label=name)
             shown.append(y[np.isfinite(y)])
         ax.set_ylim(*_robust_limits(np.concatenate(shown), reference))

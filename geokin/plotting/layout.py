@@ -35,7 +35,7 @@ from ..errors import ConstructionError, show
 from ..results import Sweep
 from ..terminal import escape, shorten
 
-__all__ = ["Layout", "input_text", "shown_text"]
+__all__ = ["Layout", "input_text", "length_unit", "shown_text"]
 
 _GREEK = {"theta": "θ", "phi": "φ", "psi": "ψ", "alpha": "α", "beta": "β", "gamma": "γ",
           "omega": "ω"}
@@ -235,3 +235,20 @@ def shown_text(text: object) -> str:
     'four-bar\\x1b[2J'
     """
     return escape(shorten(str(text), 200))
+
+
+def length_unit(sweep: Sweep) -> str:
+    """Return the construction's length unit as a figure shows it, or ``""`` without one.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from geokin import Construction, sweep
+    >>> c = Construction(units="mm")
+    >>> c.input("theta")
+    >>> c.fixed("O", 0, 0)
+    >>> c.polar("A", "O", 10, "theta")
+    >>> length_unit(sweep(c, np.zeros(1)))
+    'mm'
+    """
+    return shown_text(sweep.construction.units.strip()) if sweep.construction.units else ""

@@ -55,7 +55,7 @@ import numpy as np
 from ..atomic import replacing, require_folder
 from ..errors import GeokinError
 from ..results import Sweep
-from .layout import Layout, input_text, shown_text
+from .layout import Layout, input_text, length_unit, shown_text
 
 if TYPE_CHECKING:
     from matplotlib.artist import Artist
@@ -362,6 +362,9 @@ class Scene:
 def setup_axes(ax: Axes, layout: Layout, title: str | None) -> None:
     """Fit the view to the whole motion, equal in x and y, with a grid and a title.
 
+    The axes are labelled with the construction's length unit
+    (:attr:`~geokin.construction.Compiled.units`), "x (mm)", or "x" without one.
+
     Parameters
     ----------
     ax : matplotlib.axes.Axes
@@ -375,8 +378,10 @@ def setup_axes(ax: Axes, layout: Layout, title: str | None) -> None:
     ax.autoscale_view()
     ax.grid(True, color="#dddddd", lw=0.8)
     ax.set_axisbelow(True)
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
+    # in the construction's length unit, as the script gives it
+    unit = length_unit(layout.sweep)
+    ax.set_xlabel(f"x ({unit})" if unit else "x", parse_math=False)
+    ax.set_ylabel(f"y ({unit})" if unit else "y", parse_math=False)
     if title is None:
         title = layout.sweep.construction.name
     if title:
