@@ -459,6 +459,47 @@ def test_kinematics_figure_has_angle_velocity_and_acceleration_against_time():
         figure_kinematics(m, links=["roker"])
 
 
+def test_a_link_that_turns_fully_is_wrapped_and_broken_at_each_wrap():
+    """The six-bar's crank runs 0..1792 deg; drawn within ±180, with no line across the axes."""
+    from geokin import load
+    from geokin.kinematics import motion
+
+    m = motion(sweep(load("constructions/sixbar.toml")))
+    fig, axes = gp.figure_kinematics(m)
+    lines = {line.get_label(): line for line in axes[0].get_lines()}
+    assert set(lines) == {"crank (wrapped to ±180°)", "coupler", "rocker", "output"}
+    crank = lines["crank (wrapped to ±180°)"]
+    x, y = crank.get_xdata(), crank.get_ydata()
+    finite = np.isfinite(y)
+    assert np.all((y[finite] >= -180) & (y[finite] <= 180))
+    # the samples themselves lie in (-180, 180]; -180 only where a wrap starts again
+    on_samples = np.isin(x, m.time)
+    assert np.all(y[on_samples & finite] > -180)
+    # five wraps in 1792 deg (at 180, 540, ..., 1620), each a gap, never a jump across
+    assert np.isnan(y).sum() == 5
+    step = np.abs(np.diff(y))
+    assert np.nanmax(step) < 20  # 16 deg a sample
+    np.testing.assert_allclose(np.degrees(m.angle["crank"]) % 360, y[on_samples] % 360,
+                               atol=1e-9)
+    # the rocker does not turn fully: drawn as it runs, not wrapped
+    np.testing.assert_array_equal(lines["rocker"].get_ydata(), np.degrees(m.angle["rocker"]))
+    lo, hi = axes[0].get_ylim()
+    assert hi - lo < 500  # the rockers are not flattened by five turns of the crank
+
+
+def test_wrap_degrees_breaks_both_ways_and_keeps_gaps():
+    from geokin.plotting.charts import wrap_degrees
+
+    x, y = wrap_degrees(np.arange(5.0), [170.0, 190.0, np.nan, 170.0, -200.0])
+    assert x.tolist() == [0.0, 0.5, 0.5, 0.5, 1.0, 2.0, 3.0, 3.0 + 350 / 370,
+                          3.0 + 350 / 370, 3.0 + 350 / 370, 4.0]
+    # up through 180 at x = 0.5; down from 170 through -180 (and on as 160) at x = 3.95
+    np.testing.assert_array_equal(y, [170.0, 180.0, np.nan, -180.0, -170.0, np.nan, 170.0,
+                                      -180.0, np.nan, 180.0, 160.0])
+    for edge in (-540.0, -180.0, 180.0, 540.0):  # on the edge: 180, the interval's end
+        assert wrap_degrees([0.0], [edge])[1].tolist() == [180.0]
+
+
 # -- streamed, whole or nothing -------------------------------------------------------
 
 
