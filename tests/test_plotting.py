@@ -364,6 +364,56 @@ def test_length_input_and_turning_guide():
                                np.hypot(*(corners[1] - corners[0])))
 
 
+def guide_segments(s, index):
+    """The guide line drawn for each slider at sample ``index``: its two ends, by slider name."""
+    fig, ax = plt.subplots()
+    scene = Scene(s, ax)
+    scene.update(index)
+    ends = {}
+    for slider, _, guide, _, _ in scene.blocks:
+        ends[slider.name] = np.column_stack(guide.get_data())
+    return scene.layout, ends
+
+
+@pytest.mark.parametrize("index", [0, 45, 90, 135, 200, 300])
+def test_a_guide_in_a_lever_covers_the_blocks_travel_not_the_mechanism(index):
+    """The quick return's slot: from the lever's pivot O1 to past the blocks, never behind O1."""
+    from geokin import load
+    from geokin.kinematics import slider_positions
+
+    s = sweep(load("constructions/quick_return.toml"))
+    layout, ends = guide_segments(s, index)
+    margin = 2.5 * layout.size
+    travel = slider_positions(s)
+    o1, lever = s["O1"][index], s["L"][index] - s["O1"][index]
+    u = lever / np.hypot(*lever)
+    for name in ("pin_block", "ram_block"):
+        a, b = (ends[name] - o1) @ u  # where the drawn guide starts and ends along the lever
+        lo, hi = np.nanmin(travel[name]), np.nanmax(travel[name])
+        assert a >= -1e-9 and b <= max(170.0, hi + margin) + 1e-9  # on the lever O1-L
+        assert a <= lo and b >= hi  # the whole travel of the block
+        assert b - a <= hi - lo + 2 * margin + 1e-9
+        # on the lever's line, not across the mechanism
+        np.testing.assert_allclose((ends[name] - o1) @ [-u[1], u[0]], 0, atol=1e-9)
+    # the ram's fixed guide reaches back to its first point C, and over the ram's stroke
+    a, b = ends["ram"][:, 0]
+    lo, hi = np.nanmin(travel["ram"]), np.nanmax(travel["ram"])
+    np.testing.assert_allclose([a, b], [lo - margin, hi + margin])
+
+
+def test_a_block_that_keeps_its_place_on_a_moving_guide_gets_a_short_guide():
+    """The six-bar's block C stays 70 from Ap along Ap-M: its guide is about the block."""
+    from geokin import load
+
+    s = sweep(load("constructions/sixbar.toml"))
+    for index in (0, 12, 40, 80):
+        layout, ends = guide_segments(s, index)
+        a, b = ends["block"]
+        np.testing.assert_allclose(np.hypot(*(b - a)), 5 * layout.size, rtol=1e-6)
+        np.testing.assert_allclose((a + b) / 2, s["C"][index], atol=1e-6)
+        assert np.hypot(*(b - a)) < 0.2 * np.ptp(layout.bounds(), axis=0).max()
+
+
 @pytest.mark.parametrize("values, sense", [(samples(9), 1.0), (samples(9)[::-1], -1.0)])
 def test_input_arrow_turns_with_the_crank(values, sense):
     s = sweep(four_bar(), values)

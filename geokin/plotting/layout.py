@@ -32,6 +32,7 @@ import numpy as np
 
 from ..analysis import Crank, cranks
 from ..errors import ConstructionError, show
+from ..kinematics import slider_positions
 from ..results import Sweep
 from ..terminal import escape, shorten
 
@@ -81,6 +82,14 @@ class Layout:
     neighbours : dict of str to set of str
         For every point, the points sharing a bar or plate with it.
     sliders : list of Slider
+    guide_spans : dict of str to (float, float)
+        For every slider, by name, the stretch of its guide drawn: from and
+        to this far along the guide from its first point (as
+        :func:`geokin.kinematics.slider_positions` measures). It holds the
+        block's travel over the sweep and a margin; a fixed guide also
+        reaches its first point, and a moving one stays on the link that
+        carries it (the lever of a slotted lever), unless the block goes
+        further.
     traces : list of str
     crank : Crank or None
         The crank the input turns, where the arc arrow is drawn: the first
@@ -136,6 +145,7 @@ class Layout:
         self.lower, self.upper = lo, hi
         extent = float(np.max(hi - lo))
         self.size = 0.035 * extent if extent > 0 else 1.0
+        self.guide_spans = self._guide_spans()
 
     def bar_ends(self, points: Sequence[str]) -> tuple[str, ...]:
         """Return a link's points, or just its two ends if they all lie on one line.
@@ -168,6 +178,36 @@ class Layout:
             except KeyError as err:
                 raise ConstructionError(f"cannot trace: {err.args[0]}") from None
         return names
+
+    def _guide_spans(self) -> dict[str, tuple[float, float]]:
+        sweep, margin = self.sweep, 2.5 * self.size
+        travel = slider_positions(sweep)
+        spans = {}
+        for slider in self.sliders:
+            first, second = slider.along
+            t = travel[slider.name][self.valid_indices]
+            t = t[np.isfinite(t)]
+            if not t.size:
+                spans[slider.name] = (-margin, margin)
+                continue
+            lo, hi = float(t.min()) - margin, float(t.max()) + margin
+            if first in self.ground and second in self.ground:
+                lo = min(lo, -margin)  # the guide reaches back to its first point
+            else:
+                # no further than the link the guide is on, unless the block goes further
+                carrier = next((points for points in self.links
+                                if first in points and second in points), (first, second))
+                d = sweep.points[second] - sweep.points[first]
+                with np.errstate(all="ignore"):
+                    u = d / np.hypot(d[:, :1], d[:, 1:])
+                    along = np.array([np.einsum("ij,ij->i", sweep.points[q] - sweep.points[first],
+                                                u)[self.valid_indices] for q in carrier])
+                ok = along[np.isfinite(along)]
+                if ok.size:
+                    lo = max(lo, min(float(ok.min()), float(t.min())))
+                    hi = min(hi, max(float(ok.max()), float(t.max())))
+            spans[slider.name] = (lo, hi)
+        return spans
 
     def pose_index(self, index: int) -> int | None:
         """Return the sample whose pose is drawn for ``index``: itself or the nearest valid."""

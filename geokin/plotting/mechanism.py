@@ -14,7 +14,9 @@ What a mechanism drawing shows:
 - links as bars, a link of three or more points as a translucent plate;
   a construction without links gets a bar from each point to the points
   it is built on;
-- sliders as blocks on their guide line, on hatched ground when the guide is ground;
+- sliders as blocks on their guide, drawn over the block's travel along it
+  (a moving guide within the link that carries it), on hatched ground when
+  the guide is ground;
 - the driving input: an arc arrow at the driven crank's pivot and the input
   value (degrees for an angle) in the corner;
 - point labels, and the paths of the traced points over the whole sweep,
@@ -318,11 +320,8 @@ class Scene:
         self._on_blocks[slider.point] = (centre + half_h * n, n)
         block.set_xy([centre - half_l * u - half_h * n, centre + half_l * u - half_h * n,
                       centre + half_l * u + half_h * n, centre - half_l * u + half_h * n])
-        with np.errstate(invalid="ignore"):
-            t = (self.sweep.points[slider.point] - p) @ u
-        t_lo = min(np.nanmin(t, initial=np.inf), 0.0 if surface is not None else np.inf)
-        t_hi = np.nanmax(t, initial=-np.inf)
-        t_lo, t_hi = t_lo - 2.5 * s, t_hi + 2.5 * s
+        # the block's travel along its guide, not the whole line across the mechanism
+        t_lo, t_hi = self.layout.guide_spans[slider.name]
         a, b = p + t_lo * u, p + t_hi * u
         guide.set_data([a[0], b[0]], [a[1], b[1]])
         if surface is not None:
