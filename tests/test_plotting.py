@@ -1,12 +1,15 @@
 """Tests of geokin.plotting: figures, files and animations, headless (Agg)."""
 
 import io
+import itertools
 import re
 import shutil
 import subprocess
 import sys
 
 import matplotlib
+import matplotlib.backends.backend_agg
+import matplotlib.figure
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
@@ -412,6 +415,83 @@ def test_a_block_that_keeps_its_place_on_a_moving_guide_gets_a_short_guide():
         np.testing.assert_allclose(np.hypot(*(b - a)), 5 * layout.size, rtol=1e-6)
         np.testing.assert_allclose((a + b) / 2, s["C"][index], atol=1e-6)
         assert np.hypot(*(b - a)) < 0.2 * np.ptp(layout.bounds(), axis=0).max()
+
+
+def drawn(s, index):
+    """The mechanism at sample ``index`` on a figure of the command's size, drawn."""
+    fig = matplotlib.figure.Figure(figsize=gp.FIGSIZE, layout="constrained")
+    matplotlib.backends.backend_agg.FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    gp.plot_mechanism(s, index, ax=ax)
+    fig.canvas.draw()
+    return ax
+
+
+@pytest.mark.parametrize("index", [0, 2, 10, 20, 40, 61, 85, 106])
+def test_labels_of_points_close_together_do_not_hide_each_other(index):
+    """The six-bar's D, mid and A0 are 10 and 20 apart in a drawing 200 across."""
+    import shapely
+
+    from geokin import load
+
+    s = sweep(load("constructions/sixbar.toml"))
+    ax = drawn(s, index)
+    renderer = ax.figure.canvas.get_renderer()
+    boxes = {t.get_text(): t.get_window_extent(renderer) for t in ax.texts
+             if t.get_text() in s.points}
+    assert {"D", "mid", "A0"} <= set(boxes)
+    for a, b in itertools.combinations(boxes, 2):
+        assert not boxes[a].overlaps(boxes[b]), (a, b)
+    for a in ("D", "mid", "A0"):  # in display units, a few pixels apart at least
+        for b in ("D", "mid", "A0"):
+            if a < b:
+                gap = shapely.box(*boxes[a].extents).distance(shapely.box(*boxes[b].extents))
+                assert gap >= 2.0, (a, b, gap)
+    # and no label on another point
+    for name, box in boxes.items():
+        for other in boxes:
+            xy = ax.transData.transform(s[other][index])
+            assert other == name or not box.contains(*xy), (name, other)
+
+
+def ground_symbols(ax):
+    """The triangles and the hatched strips of the ground pivots, as shapely polygons."""
+    import shapely
+
+    grey = matplotlib.colors.to_rgba("#d9d9d9")
+    return [shapely.Polygon(p.get_xy()) for p in ax.patches
+            if p.get_hatch() or p.get_facecolor() == grey]
+
+
+def test_ground_symbols_of_pivots_close_together_do_not_overlap():
+    from geokin import load
+
+    s = sweep(load("constructions/sixbar.toml"))
+    ax = drawn(s, 0)
+    symbols = ground_symbols(ax)
+    assert len(symbols) == 8  # D, mid, A0, B0: a triangle and a strip each
+    biggest = max(p.area for p in symbols)
+    for a, b in itertools.combinations(symbols, 2):
+        assert a.intersection(b).area <= 0.02 * biggest  # a triangle's base on its strip
+    layout = Layout(s)
+    # D keeps its symbol below; mid and A0, with the frame running through them, do not
+    down = 1.5 * np.pi
+    assert layout.ground_directions["D"] == layout.ground_directions["B0"] == pytest.approx(down)
+    assert layout.ground_directions["mid"] != pytest.approx(down)
+    # smaller where pivots are 10 apart, as large as the others' where there is room
+    assert layout.ground_sizes["D"] == layout.ground_sizes["B0"] == layout.size
+    assert 0.6 * layout.size <= layout.ground_sizes["mid"] < layout.size
+
+
+def test_a_pivot_with_room_keeps_its_ground_symbol_below():
+    s = sweep(four_bar(), samples(37))
+    layout = Layout(s)
+    assert layout.ground_directions == pytest.approx({"O2": 1.5 * np.pi, "O4": 1.5 * np.pi})
+    assert layout.ground_sizes == {"O2": layout.size, "O4": layout.size}
+    ax = gp.plot_mechanism(s, 3)
+    o2 = pivot_triangles(ax)[0].get_xy()
+    np.testing.assert_allclose(o2[0], s["O2"][3])
+    assert np.all(o2[1:3, 1] < s["O2"][3][1])  # the base below the pivot
 
 
 @pytest.mark.parametrize("values, sense", [(samples(9), 1.0), (samples(9)[::-1], -1.0)])
