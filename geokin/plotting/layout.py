@@ -29,6 +29,7 @@ import math
 from collections.abc import Iterable, Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..analysis import Crank, cranks
 from ..errors import ConstructionError, show
@@ -394,18 +395,32 @@ def signed_turn(a, b):
     return (np.asarray(a) - b + np.pi) % (2 * np.pi) - np.pi
 
 
-def distance_to_segment(point, a, b) -> float:
-    """Return the distance from a point to the segment a-b.
+def distance_to_segment(point: ArrayLike, a: ArrayLike, b: ArrayLike) -> np.ndarray:
+    """Return the distance from a point to the segment a-b, elementwise.
+
+    Parameters
+    ----------
+    point, a, b : array_like, shape (..., 2)
+        Broadcast against each other.
+
+    Returns
+    -------
+    ndarray, shape (...)
 
     Examples
     --------
-    >>> distance_to_segment(np.array([3.0, 4.0]), np.zeros(2), np.array([1.0, 0.0]))
+    >>> float(distance_to_segment([3.0, 4.0], [0.0, 0.0], [1.0, 0.0]))
     4.47213595499958
+    >>> distance_to_segment([[0.5, 1.0], [-1.0, 0.0]], [0.0, 0.0], [1.0, 0.0]).tolist()
+    [1.0, 1.0]
     """
-    ab = b - a
-    length2 = float(ab @ ab)
-    t = 0.0 if length2 == 0 else min(max(float((point - a) @ ab) / length2, 0.0), 1.0)
-    return float(np.hypot(*(point - a - t * ab)))
+    point, a, b = (np.asarray(v, dtype=float) for v in (point, a, b))
+    ab, ap = b - a, point - a
+    length2 = np.sum(ab * ab, axis=-1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = np.where(length2 > 0, np.sum(ap * ab, axis=-1) / length2, 0.0)
+    t = np.clip(t, 0.0, 1.0)
+    return np.hypot(*np.moveaxis(ap - t[..., None] * ab, -1, 0))
 
 
 def _bars_from_construction(compiled):

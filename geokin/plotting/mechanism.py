@@ -344,25 +344,33 @@ class Scene:
             away = here - centre
             norm = np.hypot(*away)
             return away / norm if norm > 1e-9 else np.array([0.7071, 0.7071])
-        best, best_score = np.array([0.7071, 0.7071]), -math.inf
-        for angle in np.radians(np.arange(45, 405, 22.5)):
-            c = np.array([math.cos(angle), math.sin(angle)])
-            gap = min((abs(signed_turn(angle, p)) for p in pulls), default=math.pi)
-            label = here + _LABEL_REACH * s * c
-            crowding = 0.0
-            for point in others:  # a label on another point's marker
-                crowding += max(0.0, 1.0 - np.hypot(*(label - point)) / (1.2 * s))
-            for placed in self._placed:  # a label on another label
-                crowding += 1.5 * max(0.0, 1.0 - np.hypot(*(label - placed)) / (2.4 * s))
-            for axis in symbols:  # a label on a ground symbol or a guide's hatched ground
-                crowding += max(0.0, 1.0 - distance_to_segment(label, *axis) / (1.1 * s))
-            if len(self._arrow_points):  # a label on the input's arrow
-                near = np.min(np.hypot(*(self._arrow_points - label).T))
-                crowding += 1.5 * max(0.0, 1.0 - near / (1.5 * s))
-            score = gap - 2.5 * crowding
-            if score > best_score + 1e-9:
-                best, best_score = c, score
-        return best
+        # every candidate at once: 16 directions, from up-right round
+        angles = np.radians(np.arange(45, 405, 22.5))
+        c = np.column_stack([np.cos(angles), np.sin(angles)])
+        if pulls:
+            gap = np.min(np.abs(signed_turn(angles[:, None], np.array(pulls)[None, :])), axis=1)
+        else:
+            gap = np.full(len(angles), math.pi)
+        labels = here + _LABEL_REACH * s * c
+
+        def crowding(distances, reach):
+            """How far into the reach of each obstacle each candidate comes, summed."""
+            return np.sum(np.maximum(0.0, 1.0 - distances / reach), axis=-1)
+
+        def to_points(points):
+            points = np.asarray(points, dtype=float).reshape(-1, 2)
+            return np.hypot(*(labels[:, None, :] - points[None, :, :]).transpose(2, 0, 1))
+
+        crowded = crowding(to_points(others), 1.2 * s)  # on another point's marker
+        crowded += 1.5 * crowding(to_points(self._placed), 2.4 * s)  # on another label
+        if symbols:  # on a ground symbol or a guide's hatched ground
+            ends = np.array(symbols, dtype=float)  # (m, 2, 2)
+            crowded += crowding(distance_to_segment(labels[:, None, :], ends[None, :, 0],
+                                                    ends[None, :, 1]), 1.1 * s)
+        if len(self._arrow_points):  # on the input's arrow
+            near = np.min(to_points(self._arrow_points), axis=1)
+            crowded += 1.5 * np.maximum(0.0, 1.0 - near / (1.5 * s))
+        return c[int(np.argmax(gap - 2.5 * crowded))]
 
     def _draw_slider(self, at, slider, block, guide, surface, hatch):
         """Draw a block centred on its point, along the guide's current direction."""
