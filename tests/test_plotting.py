@@ -241,12 +241,13 @@ def test_save_unknown_extension(tmp_path):
 
 @pytest.fixture
 def small_frames():
+    """Figures at 25 dpi; the animations below ask for it too (200 x 150 pixels)."""
     with matplotlib.rc_context({"figure.dpi": 25}):
         yield
 
 
 def test_animate_gif_frame_count(tmp_path, small_frames):
-    path = gp.animate(sweep(four_bar(), samples(37)), tmp_path / "four-bar.gif", frames=5,
+    path = gp.animate(sweep(four_bar(), samples(37)), tmp_path / "four-bar.gif", dpi=25, frames=5,
                       progress=False)
     assert path == tmp_path / "four-bar.gif"
     with Image.open(path) as gif:
@@ -254,8 +255,8 @@ def test_animate_gif_frame_count(tmp_path, small_frames):
 
 
 def test_animate_html_embeds_its_frames(tmp_path, small_frames):
-    path = gp.animate(sweep(slider_crank(), samples(37)), tmp_path / "slider.html", frames=4,
-                      progress=False)
+    path = gp.animate(sweep(slider_crank(), samples(37)), tmp_path / "slider.html", dpi=25,
+                      frames=4, progress=False)
     page = path.read_text()
     assert "<html" in page or "<script" in page
     assert page.count("data:image/png;base64") == 4
@@ -295,7 +296,7 @@ def test_invalid_samples_plot_and_animate(tmp_path, small_frames):
     assert "cannot be assembled at 'B'" in status
     faded = [a for a in ax.patches if a.get_alpha() is not None and a.get_alpha() < 0.5]
     assert faded  # the last assembled pose, faded
-    path = gp.animate(s, tmp_path / "partial.gif", frames=12, progress=False)
+    path = gp.animate(s, tmp_path / "partial.gif", dpi=25, frames=12, progress=False)
     with Image.open(path) as gif:
         assert gif.n_frames == 12
 
@@ -306,7 +307,7 @@ def test_sweep_that_never_assembles(tmp_path, small_frames):
     ax = gp.plot_mechanism(s)
     assert "cannot be assembled" in ax.texts[-1].get_text()
     assert not any(p.get_visible() for p in ax.patches)
-    path = gp.animate(s, tmp_path / "never.gif", frames=3, progress=False)
+    path = gp.animate(s, tmp_path / "never.gif", dpi=25, frames=3, progress=False)
     with Image.open(path) as gif:  # a whole animation of the message, every frame
         assert gif.n_frames == 3
 
@@ -558,6 +559,42 @@ def test_import_geokin_does_not_import_matplotlib():
     assert out.stdout.strip() == "False"
 
 
+def test_an_animation_by_default_has_60_frames_at_72_dpi(tmp_path, monkeypatch):
+    """A few seconds' work: not every sample of a long sweep, nor 800 x 600 pixels."""
+    import inspect
+
+    defaults = inspect.signature(gp.animate).parameters
+    assert defaults["frames"].default == gp.DEFAULT_FRAMES == 60
+    assert defaults["dpi"].default == gp.DEFAULT_DPI == 72
+    frames = []
+    monkeypatch.setattr(ga.GifWriter, "add", lambda self, rgb: frames.append(rgb.shape))
+    gp.animate(sweep(four_bar(), samples(361)), tmp_path / "a.gif", progress=False)
+    assert frames == [(432, 576, 3)] * 60
+    # the inline animation of a notebook has the same defaults
+    inline = inspect.signature(gp.animation_html).parameters
+    assert (inline["frames"].default, inline["dpi"].default) == (60, 72)
+
+
+def test_blitted_frames_are_the_drawing():
+    """The frames draw the mechanism over a background drawn once: the same picture."""
+    s = sweep(four_bar(), samples(37))
+    fig, canvas, scene = ga._drawing(s, 30)
+    ga._lay_out(fig, scene, 0)
+    draw = ga._blitter(canvas, scene)
+    other, other_canvas, other_scene = ga._drawing(s, 30)
+    ga._lay_out(other, other_scene, 0)
+    for index in (5, 20):
+        scene.update(index, grow=True)
+        other_scene.update(index, grow=True)
+        other_canvas.draw()
+        whole = np.asarray(other_canvas.buffer_rgba())[..., :3]
+        frame = draw()
+        differ = np.any(frame != whole, axis=2)
+        # the same but for the rims of a few joint markers, rounded a little apart
+        assert differ.mean() < 0.01
+        assert np.abs(frame.astype(int) - whole).mean() < 0.5
+
+
 def test_frame_choice_is_even_and_capped():
     assert ga.frame_indices(5, 10).tolist() == [0, 1, 2, 3, 4]
     assert ga.frame_indices(361, None).size == 300
@@ -638,7 +675,7 @@ def test_gif_frames_are_what_was_drawn(tmp_path, small_frames, monkeypatch):
     add = ga.GifWriter.add
     monkeypatch.setattr(ga.GifWriter, "add", lambda self, rgb: (drawn.append(rgb.copy()),
                                                                  add(self, rgb)))
-    path = gp.animate(sweep(four_bar(), samples(37)), tmp_path / "f.gif", frames=8, fps=20,
+    path = gp.animate(sweep(four_bar(), samples(37)), tmp_path / "f.gif", dpi=25, frames=8, fps=20,
                       progress=False)
     with Image.open(path) as gif:
         assert (gif.n_frames, gif.info["loop"]) == (8, 0)
@@ -695,7 +732,8 @@ def test_an_animation_that_would_not_fit_on_the_disk_is_refused_up_front(
     drawn = []
     monkeypatch.setattr(Scene, "update", lambda self, *a, **k: drawn.append(a))
     with pytest.raises(GeokinError) as error:
-        gp.animate(sweep(four_bar(), samples(3000)), tmp_path / f"big{suffix}", frames=3000)
+        gp.animate(sweep(four_bar(), samples(3000)), tmp_path / f"big{suffix}", frames=3000,
+                   dpi=100)
     message = str(error.value)
     assert "an animation of 3,000 frames of 800 x 600 pixels needs about" in message
     assert "but only 1 MB are free there; ask for fewer frames" in message
@@ -707,7 +745,7 @@ def test_an_animation_that_would_not_fit_in_memory_is_refused_up_front(tmp_path,
     with pytest.raises(BudgetError, match=r"cannot write '.*a\.gif': drawing an animation of 3 "
                        r"frames of 800 x 600 pixels needs about \d+ MB, more than the 5 MB "
                        r"budget \(.* memory\); ask for fewer samples") as error:
-        gp.animate(sweep(four_bar(), samples(30)), tmp_path / "a.gif", frames=3)
+        gp.animate(sweep(four_bar(), samples(30)), tmp_path / "a.gif", frames=3, dpi=100)
     assert error.value.budget == 5_000_000 < error.value.needed
     assert list(tmp_path.iterdir()) == []
     file_bytes, memory_bytes = gp.animation_estimate(10, 800, 600, ".gif", samples=10**6,
@@ -729,7 +767,7 @@ def test_an_interrupted_animation_leaves_the_old_file(tmp_path, small_frames, mo
 
     monkeypatch.setattr(Scene, "update", update)
     with pytest.raises(KeyboardInterrupt):
-        gp.animate(sweep(four_bar(), samples(37)), path, frames=10, progress=False)
+        gp.animate(sweep(four_bar(), samples(37)), path, dpi=25, frames=10, progress=False)
     assert path.read_bytes() == b"the old animation"
     assert [p.name for p in tmp_path.iterdir()] == [path.name]
 
@@ -783,7 +821,7 @@ def test_mp4_frames_go_to_ffmpeg_and_its_file_into_place(tmp_path, small_frames,
     fake_ffmpeg('for last; do :; done\ncat > "$last"\n')
     path = tmp_path / "old.mp4"
     path.write_bytes(b"the old movie")
-    gp.animate(sweep(four_bar(), samples(37)), path, frames=5, progress=False)
+    gp.animate(sweep(four_bar(), samples(37)), path, dpi=25, frames=5, progress=False)
     width, height = 200, 150  # 8 x 6 inches at 25 dpi
     assert path.stat().st_size == 5 * width * height * 4  # five RGBA frames
     assert [p.name for p in tmp_path.iterdir() if p.is_file()] == ["old.mp4"]
@@ -796,7 +834,7 @@ def test_a_failing_ffmpeg_is_an_error_and_leaves_the_old_file(tmp_path, small_fr
     path = tmp_path / "old.mp4"
     path.write_bytes(b"the old movie")
     with pytest.raises(GeokinError, match=r"ffmpeg stopped with status 1: Unknown encoder"):
-        gp.animate(sweep(four_bar(), samples(37)), path, frames=5, progress=False)
+        gp.animate(sweep(four_bar(), samples(37)), path, dpi=25, frames=5, progress=False)
     assert path.read_bytes() == b"the old movie"
     assert [p.name for p in tmp_path.iterdir() if p.is_file()] == ["old.mp4"]
 
@@ -829,7 +867,7 @@ def test_the_html_player_plays_steps_and_loops(tmp_path, small_frames):
     import base64
     import json
 
-    path = gp.animate(sweep(four_bar(), samples(37)), tmp_path / "p.html", frames=3, fps=20,
+    path = gp.animate(sweep(four_bar(), samples(37)), tmp_path / "p.html", dpi=25, frames=3, fps=20,
                       progress=False)
     check = tmp_path / "check.js"
     check.write_text(PLAYER_CHECK)
