@@ -519,6 +519,38 @@ def test_animate_gif_has_the_frames_asked_for(capsys, tmp_path):
         assert image.n_frames == 6
 
 
+def test_animate_by_default_makes_60_frames_at_72_dpi_and_says_how_to_ask_for_more(
+        capsys, tmp_path, monkeypatch):
+    from geokin import plotting
+
+    asked = {}
+
+    def animate(sweep, path, **options):
+        asked.update(options, samples=len(sweep))
+        return pathlib.Path(path)
+
+    monkeypatch.setattr(plotting, "animate", animate)
+    path = tmp_path / "six.gif"
+    status, _, err = run(capsys, "animate", SIXBAR, "-o", path, "--no-progress")
+    assert status == 0
+    assert (asked["frames"], asked["dpi"], asked["samples"]) == (60, 72, 113)
+    assert err == (f"wrote {path}: 60 frames of 113 samples at 72 dpi; --frames 113 for "
+                   "every sample\n")
+    status, _, err = run(capsys, "animate", SIXBAR, "-o", path, "--frames", 200, "--dpi", 100)
+    assert (asked["frames"], asked["dpi"]) == (200, 100)
+    assert err == f"wrote {path}: 113 frames of 113 samples at 100 dpi\n"
+    status, _, err = run(capsys, "animate", SIXBAR, "-o", path, "--dpi", 0)
+    assert (status, err) == (2, "geokin: error: --dpi must be from 1 to 1000, got 0\n")
+
+
+def test_animate_help_says_how_to_ask_for_more_frames(capsys):
+    status, out, _ = run(capsys, "animate", "--help")
+    text = " ".join(out.split())
+    assert status == 0
+    assert "(default 60, a few seconds' work; more for a smoother animation" in text
+    assert "--dpi" in text
+
+
 def test_animate_html_is_one_page(capsys, tmp_path):
     path = tmp_path / "crank.html"
     status, _, _ = run(capsys, "animate", CRANK, "-o", path, "--frames", 3, "--samples", 10)

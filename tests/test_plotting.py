@@ -1,12 +1,15 @@
 """Tests of geokin.plotting: figures, files and animations, headless (Agg)."""
 
 import io
+import itertools
 import re
 import shutil
 import subprocess
 import sys
 
 import matplotlib
+import matplotlib.backends.backend_agg
+import matplotlib.figure
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
@@ -238,12 +241,13 @@ def test_save_unknown_extension(tmp_path):
 
 @pytest.fixture
 def small_frames():
+    """Figures at 25 dpi; the animations below ask for it too (200 x 150 pixels)."""
     with matplotlib.rc_context({"figure.dpi": 25}):
         yield
 
 
 def test_animate_gif_frame_count(tmp_path, small_frames):
-    path = gp.animate(sweep(four_bar(), samples(37)), tmp_path / "four-bar.gif", frames=5,
+    path = gp.animate(sweep(four_bar(), samples(37)), tmp_path / "four-bar.gif", dpi=25, frames=5,
                       progress=False)
     assert path == tmp_path / "four-bar.gif"
     with Image.open(path) as gif:
@@ -251,8 +255,8 @@ def test_animate_gif_frame_count(tmp_path, small_frames):
 
 
 def test_animate_html_embeds_its_frames(tmp_path, small_frames):
-    path = gp.animate(sweep(slider_crank(), samples(37)), tmp_path / "slider.html", frames=4,
-                      progress=False)
+    path = gp.animate(sweep(slider_crank(), samples(37)), tmp_path / "slider.html", dpi=25,
+                      frames=4, progress=False)
     page = path.read_text()
     assert "<html" in page or "<script" in page
     assert page.count("data:image/png;base64") == 4
@@ -292,7 +296,7 @@ def test_invalid_samples_plot_and_animate(tmp_path, small_frames):
     assert "cannot be assembled at 'B'" in status
     faded = [a for a in ax.patches if a.get_alpha() is not None and a.get_alpha() < 0.5]
     assert faded  # the last assembled pose, faded
-    path = gp.animate(s, tmp_path / "partial.gif", frames=12, progress=False)
+    path = gp.animate(s, tmp_path / "partial.gif", dpi=25, frames=12, progress=False)
     with Image.open(path) as gif:
         assert gif.n_frames == 12
 
@@ -303,7 +307,7 @@ def test_sweep_that_never_assembles(tmp_path, small_frames):
     ax = gp.plot_mechanism(s)
     assert "cannot be assembled" in ax.texts[-1].get_text()
     assert not any(p.get_visible() for p in ax.patches)
-    path = gp.animate(s, tmp_path / "never.gif", frames=3, progress=False)
+    path = gp.animate(s, tmp_path / "never.gif", dpi=25, frames=3, progress=False)
     with Image.open(path) as gif:  # a whole animation of the message, every frame
         assert gif.n_frames == 3
 
@@ -364,6 +368,133 @@ def test_length_input_and_turning_guide():
                                np.hypot(*(corners[1] - corners[0])))
 
 
+def guide_segments(s, index):
+    """The guide line drawn for each slider at sample ``index``: its two ends, by slider name."""
+    fig, ax = plt.subplots()
+    scene = Scene(s, ax)
+    scene.update(index)
+    ends = {}
+    for slider, _, guide, _, _ in scene.blocks:
+        ends[slider.name] = np.column_stack(guide.get_data())
+    return scene.layout, ends
+
+
+@pytest.mark.parametrize("index", [0, 45, 90, 135, 200, 300])
+def test_a_guide_in_a_lever_covers_the_blocks_travel_not_the_mechanism(index):
+    """The quick return's slot: from the lever's pivot O1 to past the blocks, never behind O1."""
+    from geokin import load
+    from geokin.kinematics import slider_positions
+
+    s = sweep(load("constructions/quick_return.toml"))
+    layout, ends = guide_segments(s, index)
+    margin = 2.5 * layout.size
+    travel = slider_positions(s)
+    o1, lever = s["O1"][index], s["L"][index] - s["O1"][index]
+    u = lever / np.hypot(*lever)
+    for name in ("pin_block", "ram_block"):
+        a, b = (ends[name] - o1) @ u  # where the drawn guide starts and ends along the lever
+        lo, hi = np.nanmin(travel[name]), np.nanmax(travel[name])
+        assert a >= -1e-9 and b <= max(170.0, hi + margin) + 1e-9  # on the lever O1-L
+        assert a <= lo and b >= hi  # the whole travel of the block
+        assert b - a <= hi - lo + 2 * margin + 1e-9
+        # on the lever's line, not across the mechanism
+        np.testing.assert_allclose((ends[name] - o1) @ [-u[1], u[0]], 0, atol=1e-9)
+    # the ram's fixed guide reaches back to its first point C, and over the ram's stroke
+    a, b = ends["ram"][:, 0]
+    lo, hi = np.nanmin(travel["ram"]), np.nanmax(travel["ram"])
+    np.testing.assert_allclose([a, b], [lo - margin, hi + margin])
+
+
+def test_a_block_that_keeps_its_place_on_a_moving_guide_gets_a_short_guide():
+    """The six-bar's block C stays 70 from Ap along Ap-M: its guide is about the block."""
+    from geokin import load
+
+    s = sweep(load("constructions/sixbar.toml"))
+    for index in (0, 12, 40, 80):
+        layout, ends = guide_segments(s, index)
+        a, b = ends["block"]
+        np.testing.assert_allclose(np.hypot(*(b - a)), 5 * layout.size, rtol=1e-6)
+        np.testing.assert_allclose((a + b) / 2, s["C"][index], atol=1e-6)
+        assert np.hypot(*(b - a)) < 0.2 * np.ptp(layout.bounds(), axis=0).max()
+
+
+def drawn(s, index):
+    """The mechanism at sample ``index`` on a figure of the command's size, drawn."""
+    fig = matplotlib.figure.Figure(figsize=gp.FIGSIZE, layout="constrained")
+    matplotlib.backends.backend_agg.FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    gp.plot_mechanism(s, index, ax=ax)
+    fig.canvas.draw()
+    return ax
+
+
+@pytest.mark.parametrize("index", [0, 2, 10, 20, 40, 61, 85, 106])
+def test_labels_of_points_close_together_do_not_hide_each_other(index):
+    """The six-bar's D, mid and A0 are 10 and 20 apart in a drawing 200 across."""
+    import shapely
+
+    from geokin import load
+
+    s = sweep(load("constructions/sixbar.toml"))
+    ax = drawn(s, index)
+    renderer = ax.figure.canvas.get_renderer()
+    boxes = {t.get_text(): t.get_window_extent(renderer) for t in ax.texts
+             if t.get_text() in s.points}
+    assert {"D", "mid", "A0"} <= set(boxes)
+    for a, b in itertools.combinations(boxes, 2):
+        assert not boxes[a].overlaps(boxes[b]), (a, b)
+    for a in ("D", "mid", "A0"):  # in display units, a few pixels apart at least
+        for b in ("D", "mid", "A0"):
+            if a < b:
+                gap = shapely.box(*boxes[a].extents).distance(shapely.box(*boxes[b].extents))
+                assert gap >= 2.0, (a, b, gap)
+    # and no label on another point
+    for name, box in boxes.items():
+        for other in boxes:
+            xy = ax.transData.transform(s[other][index])
+            assert other == name or not box.contains(*xy), (name, other)
+
+
+def ground_symbols(ax):
+    """The triangles and the hatched strips of the ground pivots, as shapely polygons."""
+    import shapely
+
+    grey = matplotlib.colors.to_rgba("#d9d9d9")
+    return [shapely.Polygon(p.get_xy()) for p in ax.patches
+            if p.get_hatch() or p.get_facecolor() == grey]
+
+
+def test_ground_symbols_of_pivots_close_together_do_not_overlap():
+    from geokin import load
+
+    s = sweep(load("constructions/sixbar.toml"))
+    ax = drawn(s, 0)
+    symbols = ground_symbols(ax)
+    assert len(symbols) == 8  # D, mid, A0, B0: a triangle and a strip each
+    biggest = max(p.area for p in symbols)
+    for a, b in itertools.combinations(symbols, 2):
+        assert a.intersection(b).area <= 0.02 * biggest  # a triangle's base on its strip
+    layout = Layout(s)
+    # D keeps its symbol below; mid and A0, with the frame running through them, do not
+    down = 1.5 * np.pi
+    assert layout.ground_directions["D"] == layout.ground_directions["B0"] == pytest.approx(down)
+    assert layout.ground_directions["mid"] != pytest.approx(down)
+    # smaller where pivots are 10 apart, as large as the others' where there is room
+    assert layout.ground_sizes["D"] == layout.ground_sizes["B0"] == layout.size
+    assert 0.6 * layout.size <= layout.ground_sizes["mid"] < layout.size
+
+
+def test_a_pivot_with_room_keeps_its_ground_symbol_below():
+    s = sweep(four_bar(), samples(37))
+    layout = Layout(s)
+    assert layout.ground_directions == pytest.approx({"O2": 1.5 * np.pi, "O4": 1.5 * np.pi})
+    assert layout.ground_sizes == {"O2": layout.size, "O4": layout.size}
+    ax = gp.plot_mechanism(s, 3)
+    o2 = pivot_triangles(ax)[0].get_xy()
+    np.testing.assert_allclose(o2[0], s["O2"][3])
+    assert np.all(o2[1:3, 1] < s["O2"][3][1])  # the base below the pivot
+
+
 @pytest.mark.parametrize("values, sense", [(samples(9), 1.0), (samples(9)[::-1], -1.0)])
 def test_input_arrow_turns_with_the_crank(values, sense):
     s = sweep(four_bar(), values)
@@ -395,9 +526,30 @@ def test_plot_input_output():
     (line,) = ax.get_lines()
     np.testing.assert_allclose(line.get_xdata(), np.degrees(s.input_values))
     assert np.isnan(line.get_ydata()[~s.valid]).all()
-    assert ax.get_xlabel() == "theta (°)"
+    assert ax.get_xlabel() == "theta (deg)"
     with pytest.raises(GeokinError, match="one value per sample"):
         gp.plot_input_output(s, angle[:5], ax=ax)
+
+
+def test_axes_carry_the_construction_units():
+    """Lengths in the script's unit on the mechanism's axes; none named without one."""
+    c = four_bar()
+    c.units = "mm"
+    ax = gp.plot_mechanism(sweep(c, samples(9)))
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("x (mm)", "y (mm)")
+    fig, ax = plt.subplots()
+    ax = gp.plot_mechanism(sweep(four_bar(), samples(9)), ax=ax)
+    assert (ax.get_xlabel(), ax.get_ylabel()) == ("x", "y")
+
+
+def test_a_length_input_is_plotted_in_the_construction_units():
+    c = Construction("pushed", units="in")
+    c.input("s", kind="length", range=(0, 5), samples=6)
+    c.fixed("O", 0, 0)
+    c.polar("A", "O", "10 + s", 0.5)
+    s = sweep(c)
+    ax = gp.plot_input_output(s, {"x of A": s["A"][:, 0]})
+    assert ax.get_xlabel() == "s (in)"
 
 
 def test_import_geokin_does_not_import_matplotlib():
@@ -405,6 +557,42 @@ def test_import_geokin_does_not_import_matplotlib():
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          check=True)
     assert out.stdout.strip() == "False"
+
+
+def test_an_animation_by_default_has_60_frames_at_72_dpi(tmp_path, monkeypatch):
+    """A few seconds' work: not every sample of a long sweep, nor 800 x 600 pixels."""
+    import inspect
+
+    defaults = inspect.signature(gp.animate).parameters
+    assert defaults["frames"].default == gp.DEFAULT_FRAMES == 60
+    assert defaults["dpi"].default == gp.DEFAULT_DPI == 72
+    frames = []
+    monkeypatch.setattr(ga.GifWriter, "add", lambda self, rgb: frames.append(rgb.shape))
+    gp.animate(sweep(four_bar(), samples(361)), tmp_path / "a.gif", progress=False)
+    assert frames == [(432, 576, 3)] * 60
+    # the inline animation of a notebook has the same defaults
+    inline = inspect.signature(gp.animation_html).parameters
+    assert (inline["frames"].default, inline["dpi"].default) == (60, 72)
+
+
+def test_blitted_frames_are_the_drawing():
+    """The frames draw the mechanism over a background drawn once: the same picture."""
+    s = sweep(four_bar(), samples(37))
+    fig, canvas, scene = ga._drawing(s, 30)
+    ga._lay_out(fig, scene, 0)
+    draw = ga._blitter(canvas, scene)
+    other, other_canvas, other_scene = ga._drawing(s, 30)
+    ga._lay_out(other, other_scene, 0)
+    for index in (5, 20):
+        scene.update(index, grow=True)
+        other_scene.update(index, grow=True)
+        other_canvas.draw()
+        whole = np.asarray(other_canvas.buffer_rgba())[..., :3]
+        frame = draw()
+        differ = np.any(frame != whole, axis=2)
+        # the same but for the rims of a few joint markers, rounded a little apart
+        assert differ.mean() < 0.01
+        assert np.abs(frame.astype(int) - whole).mean() < 0.5
 
 
 def test_frame_choice_is_even_and_capped():
@@ -429,11 +617,54 @@ def test_kinematics_figure_has_angle_velocity_and_acceleration_against_time():
     m = motion(sweep(c))
     fig, axes = figure_kinematics(m)
     assert len(axes) == 3 and axes[-1].get_xlabel() == "time (s)"
+    # degrees throughout, as geokin trace --derivatives writes them
+    assert [ax.get_ylabel() for ax in axes] == ["angle (deg)", "ω (deg/s)", "α (deg/s²)"]
     assert all(len(ax.get_lines()) == 3 for ax in axes)
-    np.testing.assert_allclose(axes[1].get_lines()[0].get_ydata(), 2 * np.pi)
+    np.testing.assert_allclose(axes[1].get_lines()[0].get_ydata(), 360.0)  # deg/s
     plt.close(fig)
     with pytest.raises(GeokinError, match="did you mean 'rocker'"):
         figure_kinematics(m, links=["roker"])
+
+
+def test_a_link_that_turns_fully_is_wrapped_and_broken_at_each_wrap():
+    """The six-bar's crank runs 0..1792 deg; drawn within ±180, with no line across the axes."""
+    from geokin import load
+    from geokin.kinematics import motion
+
+    m = motion(sweep(load("constructions/sixbar.toml")))
+    fig, axes = gp.figure_kinematics(m)
+    lines = {line.get_label(): line for line in axes[0].get_lines()}
+    assert set(lines) == {"crank (wrapped to ±180°)", "coupler", "rocker", "output"}
+    crank = lines["crank (wrapped to ±180°)"]
+    x, y = crank.get_xdata(), crank.get_ydata()
+    finite = np.isfinite(y)
+    assert np.all((y[finite] >= -180) & (y[finite] <= 180))
+    # the samples themselves lie in (-180, 180]; -180 only where a wrap starts again
+    on_samples = np.isin(x, m.time)
+    assert np.all(y[on_samples & finite] > -180)
+    # five wraps in 1792 deg (at 180, 540, ..., 1620), each a gap, never a jump across
+    assert np.isnan(y).sum() == 5
+    step = np.abs(np.diff(y))
+    assert np.nanmax(step) < 20  # 16 deg a sample
+    np.testing.assert_allclose(np.degrees(m.angle["crank"]) % 360, y[on_samples] % 360,
+                               atol=1e-9)
+    # the rocker does not turn fully: drawn as it runs, not wrapped
+    np.testing.assert_array_equal(lines["rocker"].get_ydata(), np.degrees(m.angle["rocker"]))
+    lo, hi = axes[0].get_ylim()
+    assert hi - lo < 500  # the rockers are not flattened by five turns of the crank
+
+
+def test_wrap_degrees_breaks_both_ways_and_keeps_gaps():
+    from geokin.plotting.charts import wrap_degrees
+
+    x, y = wrap_degrees(np.arange(5.0), [170.0, 190.0, np.nan, 170.0, -200.0])
+    assert x.tolist() == [0.0, 0.5, 0.5, 0.5, 1.0, 2.0, 3.0, 3.0 + 350 / 370,
+                          3.0 + 350 / 370, 3.0 + 350 / 370, 4.0]
+    # up through 180 at x = 0.5; down from 170 through -180 (and on as 160) at x = 3.95
+    np.testing.assert_array_equal(y, [170.0, 180.0, np.nan, -180.0, -170.0, np.nan, 170.0,
+                                      -180.0, np.nan, 180.0, 160.0])
+    for edge in (-540.0, -180.0, 180.0, 540.0):  # on the edge: 180, the interval's end
+        assert wrap_degrees([0.0], [edge])[1].tolist() == [180.0]
 
 
 # -- streamed, whole or nothing -------------------------------------------------------
@@ -444,7 +675,7 @@ def test_gif_frames_are_what_was_drawn(tmp_path, small_frames, monkeypatch):
     add = ga.GifWriter.add
     monkeypatch.setattr(ga.GifWriter, "add", lambda self, rgb: (drawn.append(rgb.copy()),
                                                                  add(self, rgb)))
-    path = gp.animate(sweep(four_bar(), samples(37)), tmp_path / "f.gif", frames=8, fps=20,
+    path = gp.animate(sweep(four_bar(), samples(37)), tmp_path / "f.gif", dpi=25, frames=8, fps=20,
                       progress=False)
     with Image.open(path) as gif:
         assert (gif.n_frames, gif.info["loop"]) == (8, 0)
@@ -501,7 +732,8 @@ def test_an_animation_that_would_not_fit_on_the_disk_is_refused_up_front(
     drawn = []
     monkeypatch.setattr(Scene, "update", lambda self, *a, **k: drawn.append(a))
     with pytest.raises(GeokinError) as error:
-        gp.animate(sweep(four_bar(), samples(3000)), tmp_path / f"big{suffix}", frames=3000)
+        gp.animate(sweep(four_bar(), samples(3000)), tmp_path / f"big{suffix}", frames=3000,
+                   dpi=100)
     message = str(error.value)
     assert "an animation of 3,000 frames of 800 x 600 pixels needs about" in message
     assert "but only 1 MB are free there; ask for fewer frames" in message
@@ -513,7 +745,7 @@ def test_an_animation_that_would_not_fit_in_memory_is_refused_up_front(tmp_path,
     with pytest.raises(BudgetError, match=r"cannot write '.*a\.gif': drawing an animation of 3 "
                        r"frames of 800 x 600 pixels needs about \d+ MB, more than the 5 MB "
                        r"budget \(.* memory\); ask for fewer samples") as error:
-        gp.animate(sweep(four_bar(), samples(30)), tmp_path / "a.gif", frames=3)
+        gp.animate(sweep(four_bar(), samples(30)), tmp_path / "a.gif", frames=3, dpi=100)
     assert error.value.budget == 5_000_000 < error.value.needed
     assert list(tmp_path.iterdir()) == []
     file_bytes, memory_bytes = gp.animation_estimate(10, 800, 600, ".gif", samples=10**6,
@@ -535,7 +767,7 @@ def test_an_interrupted_animation_leaves_the_old_file(tmp_path, small_frames, mo
 
     monkeypatch.setattr(Scene, "update", update)
     with pytest.raises(KeyboardInterrupt):
-        gp.animate(sweep(four_bar(), samples(37)), path, frames=10, progress=False)
+        gp.animate(sweep(four_bar(), samples(37)), path, dpi=25, frames=10, progress=False)
     assert path.read_bytes() == b"the old animation"
     assert [p.name for p in tmp_path.iterdir()] == [path.name]
 
@@ -589,7 +821,7 @@ def test_mp4_frames_go_to_ffmpeg_and_its_file_into_place(tmp_path, small_frames,
     fake_ffmpeg('for last; do :; done\ncat > "$last"\n')
     path = tmp_path / "old.mp4"
     path.write_bytes(b"the old movie")
-    gp.animate(sweep(four_bar(), samples(37)), path, frames=5, progress=False)
+    gp.animate(sweep(four_bar(), samples(37)), path, dpi=25, frames=5, progress=False)
     width, height = 200, 150  # 8 x 6 inches at 25 dpi
     assert path.stat().st_size == 5 * width * height * 4  # five RGBA frames
     assert [p.name for p in tmp_path.iterdir() if p.is_file()] == ["old.mp4"]
@@ -602,7 +834,7 @@ def test_a_failing_ffmpeg_is_an_error_and_leaves_the_old_file(tmp_path, small_fr
     path = tmp_path / "old.mp4"
     path.write_bytes(b"the old movie")
     with pytest.raises(GeokinError, match=r"ffmpeg stopped with status 1: Unknown encoder"):
-        gp.animate(sweep(four_bar(), samples(37)), path, frames=5, progress=False)
+        gp.animate(sweep(four_bar(), samples(37)), path, dpi=25, frames=5, progress=False)
     assert path.read_bytes() == b"the old movie"
     assert [p.name for p in tmp_path.iterdir() if p.is_file()] == ["old.mp4"]
 
@@ -635,7 +867,7 @@ def test_the_html_player_plays_steps_and_loops(tmp_path, small_frames):
     import base64
     import json
 
-    path = gp.animate(sweep(four_bar(), samples(37)), tmp_path / "p.html", frames=3, fps=20,
+    path = gp.animate(sweep(four_bar(), samples(37)), tmp_path / "p.html", dpi=25, frames=3, fps=20,
                       progress=False)
     check = tmp_path / "check.js"
     check.write_text(PLAYER_CHECK)

@@ -19,6 +19,8 @@ networkx's ``draw`` do. matplotlib is imported inside the functions, so
 
 from .animation import (
     ANIMATION_FORMATS,
+    DEFAULT_DPI,
+    DEFAULT_FRAMES,
     MAX_FPS,
     MAX_FRAMES,
     MIN_FPS,
@@ -42,6 +44,8 @@ from .mechanism import (
 
 __all__ = [
     "ANIMATION_FORMATS",
+    "DEFAULT_DPI",
+    "DEFAULT_FRAMES",
     "AnimationHTML",
     "FIGSIZE",
     "GROUND_COLOR",

@@ -35,6 +35,8 @@ from .mechanism import FIGSIZE, Scene, setup_axes
 
 __all__ = [
     "ANIMATION_FORMATS",
+    "DEFAULT_DPI",
+    "DEFAULT_FRAMES",
     "INLINE_DPI",
     "INLINE_FRAMES",
     "MAX_FPS",
@@ -51,8 +53,15 @@ __all__ = [
     "frame_indices",
 ]
 
+DEFAULT_FRAMES = 60
+"""The frames of an animation unless more or fewer are asked for: a few seconds'
+work on a 2-core machine (about 2 to 3 s for the mechanisms of ``constructions/``)."""
+
+DEFAULT_DPI = 72
+"""The resolution of an animation unless another is asked for: 576 by 432 pixels."""
+
 MAX_FRAMES = 300
-"""The most frames of an animation unless more are asked for."""
+"""The most frames of an animation asked for with ``frames=None`` (every sample)."""
 
 MIN_FPS, MAX_FPS = 0.01, 100.0
 """The frame rates an animation may have: a GIF counts delays in hundredths of a second."""
@@ -403,7 +412,8 @@ def _megabytes(count: int) -> str:
 
 
 def animate(sweep: Sweep, path: str | os.PathLike[str], *, fps: float = 25,
-            frames: int | None = None, progress: bool = True) -> pathlib.Path:
+            frames: int | None = DEFAULT_FRAMES, dpi: float = DEFAULT_DPI,
+            progress: bool = True) -> pathlib.Path:
     """Write an animation of the motion, the traced paths growing with it.
 
     The writer is chosen by the extension: ``.gif``, ``.html`` (one
@@ -425,9 +435,14 @@ def animate(sweep: Sweep, path: str | os.PathLike[str], *, fps: float = 25,
         The file to write, ending in ``.gif``, ``.html`` or ``.mp4``.
     fps : float
         Frames per second, from :data:`MIN_FPS` to :data:`MAX_FPS`.
-    frames : int, optional
-        The number of frames: that many samples, evenly chosen. By default
-        every sample, at most 300.
+    frames : int or None
+        The number of frames: that many samples, evenly chosen (every
+        sample if there are fewer); :data:`DEFAULT_FRAMES` (60) by default,
+        which takes a few seconds. None for every sample, at most
+        :data:`MAX_FRAMES`.
+    dpi : float
+        Pixels per inch of the 8 by 6 inch drawing: :data:`DEFAULT_DPI`
+        (72, 576 by 432 pixels) by default; 100 gives 800 by 600.
     progress : bool
         Show a progress bar on stderr when it is a terminal and writing
         takes more than about 2 s.
@@ -440,8 +455,8 @@ def animate(sweep: Sweep, path: str | os.PathLike[str], *, fps: float = 25,
     Raises
     ------
     GeokinError
-        For an unknown extension, an ``.mp4`` without ffmpeg, bad ``fps``
-        or ``frames``, or a file that would not fit on the disk.
+        For an unknown extension, an ``.mp4`` without ffmpeg, bad ``fps``,
+        ``frames`` or ``dpi``, or a file that would not fit on the disk.
     geokin.atomic.OutputError
         For a folder that does not exist, or a file that cannot be written.
     BudgetError
@@ -468,6 +483,7 @@ def animate(sweep: Sweep, path: str | os.PathLike[str], *, fps: float = 25,
     if suffix not in ANIMATION_FORMATS:
         raise GeokinError(f"cannot animate to {str(path)!r}: use a .gif, .html or .mp4 file")
     _check_fps(fps)
+    _check_dpi(dpi)
     indices = frame_indices(len(sweep), frames)
     from matplotlib import animation
 
@@ -478,7 +494,7 @@ def animate(sweep: Sweep, path: str | os.PathLike[str], *, fps: float = 25,
             "and make sure it is on PATH, or write a .gif or .html file instead")
     require_folder(path)
 
-    fig, canvas, scene = _drawing(sweep)
+    fig, canvas, scene = _drawing(sweep, dpi)
     width, height = canvas.get_width_height()
     _check_room(path, len(indices), width, height, suffix, len(sweep),
                 len(scene.trace_lines))
@@ -501,9 +517,9 @@ def animate(sweep: Sweep, path: str | os.PathLike[str], *, fps: float = 25,
                 else:
                     writer = PageWriter(f, fps, sweep.construction.name, (width, height),
                                          len(indices))
+                draw = _blitter(canvas, scene)
                 for k in frames_drawn():
-                    canvas.draw()
-                    writer.add(np.asarray(canvas.buffer_rgba())[..., :3])
+                    writer.add(draw())
                     bar(k, len(indices))
                 writer.finish()
     finally:
@@ -535,10 +551,34 @@ def _lay_out(fig, scene: Scene, first: int) -> None:
     fig.set_layout_engine("none")
 
 
-INLINE_FRAMES = 60
+def _blitter(canvas, scene: Scene):
+    """Return a function drawing a frame: the scene's artists over the rest, drawn once.
+
+    The axes, grid, ticks, title and legend stay the same in every frame, and
+    drawing them took most of a frame's time: they are drawn once, and each
+    frame only puts back that picture and draws the mechanism over it. The
+    function returns the frame, an (height, width, 3) array of uint8.
+    """
+    ax = scene.ax
+    moving = sorted(scene.artists, key=lambda artist: artist.get_zorder())
+    for artist in moving:
+        artist.set_animated(True)
+    canvas.draw()
+    background = canvas.copy_from_bbox(canvas.figure.bbox)
+
+    def draw() -> np.ndarray:
+        canvas.restore_region(background)
+        for artist in moving:
+            ax.draw_artist(artist)
+        return np.asarray(canvas.buffer_rgba())[..., :3]
+
+    return draw
+
+
+INLINE_FRAMES = DEFAULT_FRAMES
 """The frames of an inline animation unless more or fewer are asked for."""
 
-INLINE_DPI = 72
+INLINE_DPI = DEFAULT_DPI
 """The resolution of an inline animation: 576 by 432 pixels."""
 
 MAX_INLINE_BYTES = 20_000_000
@@ -636,9 +676,7 @@ def animation_html(sweep: Sweep, *, frames: int | None = INLINE_FRAMES, fps: flo
     (4, True)
     """
     _check_fps(fps)
-    if (isinstance(dpi, bool) or not isinstance(dpi, int | float)
-            or not (math.isfinite(dpi) and 1 <= dpi <= 1000)):
-        raise GeokinError(f"dpi must be a number from 1 to 1000, got {dpi!r}")
+    _check_dpi(dpi)
     indices = frame_indices(len(sweep), frames)
     fig, canvas, scene = _drawing(sweep, dpi)
     width, height = canvas.get_width_height()
@@ -653,11 +691,11 @@ def animation_html(sweep: Sweep, *, frames: int | None = INLINE_FRAMES, fps: flo
     check_memory(memory_bytes + text_bytes, what=f"drawing {animation}",
                  advice="ask for fewer frames or a lower dpi")
     _lay_out(fig, scene, int(indices[0]))
+    draw = _blitter(canvas, scene)
     data = []
     for index in indices:
         scene.update(int(index), grow=True)
-        canvas.draw()
-        data.append(_png_data(np.asarray(canvas.buffer_rgba())[..., :3]).decode("ascii"))
+        data.append(_png_data(draw()).decode("ascii"))
     # ids of its own: a notebook holds many animations on one page
     prefix = f"geokin-{uuid.uuid4().hex}-"
     title = html.escape(shown_text(sweep.construction.name))
@@ -669,6 +707,12 @@ def animation_html(sweep: Sweep, *, frames: int | None = INLINE_FRAMES, fps: flo
             f"</style>\n{player}<script>\n(function () {{\nvar frames = [\n{frames_js}\n];\n"
             f"{script}}})();\n</script>\n</div>\n")
     return AnimationHTML(text, sweep.construction.name, len(data), float(fps))
+
+
+def _check_dpi(dpi) -> None:
+    if (isinstance(dpi, bool) or not isinstance(dpi, int | float)
+            or not (math.isfinite(dpi) and 1 <= dpi <= 1000)):
+        raise GeokinError(f"dpi must be a number from 1 to 1000, got {dpi!r}")
 
 
 def _check_fps(fps) -> None:

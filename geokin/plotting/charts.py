@@ -16,18 +16,21 @@ from numpy.typing import ArrayLike
 from ..errors import GeokinError, did_you_mean
 from ..kinematics import Motion
 from ..results import Sweep
-from .layout import shown_text
+from .layout import length_unit, shown_text
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
     from matplotlib.figure import Figure
 
-__all__ = ["figure_kinematics", "plot_input_output"]
+__all__ = ["figure_kinematics", "plot_input_output", "wrap_degrees"]
 
 
 def plot_input_output(sweep: Sweep, outputs: Mapping[str, ArrayLike] | ArrayLike, *,
                       ax: Axes | None = None) -> Axes:
     """Plot quantities of a sweep against its input, in degrees for an angle.
+
+    The x axis is labelled with the input's unit: "theta (deg)" for an
+    angle, the construction's length unit for a length input.
 
     Parameters
     ----------
@@ -57,7 +60,7 @@ def plot_input_output(sweep: Sweep, outputs: Mapping[str, ArrayLike] | ArrayLike
     >>> fig, ax = plt.subplots()
     >>> ax = plot_input_output(s, {"x of A": s["A"][:, 0]}, ax=ax)
     >>> ax.get_xlabel(), len(ax.get_lines())
-    ('theta (°)', 1)
+    ('theta (deg)', 1)
     >>> plt.close(fig)
     """
     if ax is None:
@@ -67,10 +70,11 @@ def plot_input_output(sweep: Sweep, outputs: Mapping[str, ArrayLike] | ArrayLike
     n = len(sweep)
     if sweep.inputs:
         name, x = next(iter(sweep.inputs.items()))
+        unit = length_unit(sweep)
         if sweep.construction.inputs[name].kind == "angle":
-            x, xlabel = np.degrees(x), f"{name} (°)"
+            x, xlabel = np.degrees(x), f"{name} (deg)"
         else:
-            xlabel = name
+            xlabel = f"{name} ({unit})" if unit else name
     else:
         x, xlabel = np.arange(n), "sample"
     # anything with items() (a dict, a pandas DataFrame) holds labelled curves
@@ -83,11 +87,70 @@ def plot_input_output(sweep: Sweep, outputs: Mapping[str, ArrayLike] | ArrayLike
                               "one value per sample")
         y = np.where(sweep.valid, y, np.nan)
         ax.plot(x, y, label=label)
-    ax.set_xlabel(xlabel)
+    ax.set_xlabel(shown_text(xlabel), parse_math=False)
     ax.grid(True, color="#dddddd", lw=0.8)
     if any(label is not None for label in curves):
         ax.legend(fontsize=9)
     return ax
+
+
+def _turns_fully(angle: np.ndarray) -> bool:
+    """Whether a link's angle (radians, unwrapped) covers a whole turn over the sweep."""
+    finite = angle[np.isfinite(angle)]
+    return bool(finite.size) and float(np.ptp(finite)) >= 2 * np.pi * (1 - 1e-9)
+
+
+def wrap_degrees(x: ArrayLike, angle: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
+    """Wrap an unwrapped angle in degrees into (-180, 180], breaking the line at each wrap.
+
+    Where the angle passes ±180 between two samples, the curve is drawn on
+    to the edge and starts again from the other edge: a point on 180 and a
+    point on -180 at the crossing, interpolated in ``x``, are put in with a
+    NaN between them, which leaves a gap in a matplotlib line instead of a
+    vertical jump across the axes. NaN samples stay NaN.
+
+    Parameters
+    ----------
+    x : array_like, shape (N,)
+        The abscissa: time or the input.
+    angle : array_like, shape (N,)
+        Degrees, continuous through full turns (as
+        :func:`geokin.kinematics.unwrap_valid` gives, in radians).
+
+    Returns
+    -------
+    x, wrapped : ndarray
+        With three more points per wrap.
+
+    Examples
+    --------
+    >>> x, y = wrap_degrees([0, 1, 2], [90, 270, 450])
+    >>> x.tolist(), y.tolist()
+    ([0.0, 0.5, 0.5, 0.5, 1.0, 2.0], [90.0, 180.0, nan, -180.0, -90.0, 90.0])
+    """
+    x = np.asarray(x, dtype=float)
+    angle = np.asarray(angle, dtype=float)
+    turns = np.ceil((angle - 180.0) / 360.0)  # the whole turns taken off each sample
+    wrapped = angle - 360.0 * turns
+    with np.errstate(invalid="ignore"):
+        crossing = np.flatnonzero(np.isfinite(angle[:-1]) & np.isfinite(angle[1:])
+                                  & (turns[:-1] != turns[1:]))
+    if not crossing.size:
+        return x, wrapped
+    xs: list[np.ndarray] = []
+    ys: list[np.ndarray] = []
+    start = 0
+    for i in crossing.tolist():
+        a0, a1 = angle[i], angle[i + 1]
+        edge = 180.0 + 360.0 * min(turns[i], turns[i + 1])  # the first edge passed
+        at = x[i] + (edge - a0) / (a1 - a0) * (x[i + 1] - x[i])
+        before, after = (180.0, -180.0) if a1 > a0 else (-180.0, 180.0)
+        xs += [x[start:i + 1], np.array([at, at, at])]
+        ys += [wrapped[start:i + 1], np.array([before, np.nan, after])]
+        start = i + 1
+    xs.append(x[start:])
+    ys.append(wrapped[start:])
+    return np.concatenate(xs), np.concatenate(ys)
 
 
 def _robust_limits(values, reference):
@@ -119,9 +182,13 @@ def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
                       title: str | None = None) -> tuple[Figure, np.ndarray]:
     """Plot link angles, angular velocities and accelerations against time.
 
-    Three stacked axes, as a course report draws them: angle (degrees), angular
-    velocity (rad/s) and angular acceleration (rad/s²) of each declared link
-    against time (s). Samples flagged near a singular position are left out,
+    Three stacked axes, as a course report draws them: angle (deg), angular
+    velocity (deg/s) and angular acceleration (deg/s²) of each declared link
+    against time (s), in the units of ``geokin trace --derivatives``. The
+    angle of a link that turns fully over the sweep is wrapped into
+    (-180, 180] (see :func:`wrap_degrees`), its legend says so, so that it
+    does not run off to thousands of degrees and flatten the other links;
+    the others are drawn as they run. Samples flagged near a singular position are left out,
     and each axis shows the 1st to 99th percentile of its values where a few
     samples near a toggle would otherwise flatten the rest.
 
@@ -153,7 +220,7 @@ def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
     >>> c.link("crank", "O", "A")
     >>> fig, axes = figure_kinematics(motion(sweep(c)))
     >>> [ax.get_ylabel() for ax in axes]
-    ['angle (°)', 'ω (rad/s)', 'α (rad/s²)']
+    ['angle (deg)', 'ω (deg/s)', 'α (deg/s²)']
     >>> plt.close(fig)
     """
     if links is None:
@@ -175,25 +242,38 @@ def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
 
     fig, axes = plt.subplots(3, 1, sharex=True, figsize=(8.0, 8.0), layout="constrained")
     keep = motion.sweep.valid & ~motion.flagged
-    quantities = [(motion.angle, np.degrees, "angle (°)"),
-                  (motion.angular_velocity, None, "ω (rad/s)"),
-                  (motion.angular_acceleration, None, "α (rad/s²)")]
-    # the size a rate of each kind has in this motion, for telling noise from motion
+    # degrees throughout, as geokin trace writes them
+    quantities = [(motion.angle, "angle (deg)"),
+                  (motion.angular_velocity, "ω (deg/s)"),
+                  (motion.angular_acceleration, "α (deg/s²)")]
+    # the size a rate of each kind has in this motion (radians), for telling noise from motion
     rates = np.concatenate([np.abs(motion.angular_velocity[n][keep]) for n in names]
                            + [np.abs(motion.speed[keep])])
     omega = float(np.nanmax(rates, initial=0.0)) or 1.0
-    for ax, (values, convert, label), reference in zip(axes, quantities,
-                                                       (360.0, omega, omega**2), strict=True):
+    references = (360.0, np.degrees(omega), np.degrees(omega**2))
+    # a link that turns fully runs on to thousands of degrees and would flatten the others
+    turning = {name for name in names if _turns_fully(motion.angle[name])}
+    for ax, (values, label), reference in zip(axes, quantities, references, strict=True):
         shown = []
         for name in names:
-            y = values[name] if convert is None else convert(values[name])
-            y = np.where(keep, y, np.nan)
-            ax.plot(motion.time, y, label=name)
+            y = np.where(keep, np.degrees(values[name]), np.nan)
+            if values is motion.angle and name in turning:
+                x, y = wrap_degrees(motion.time, y)
+                ax.plot(x, y, label=f"{name} (wrapped to ±180°)")
+            else:
+                ax.plot(motion.time, y, label=name)
             shown.append(y[np.isfinite(y)])
         ax.set_ylim(*_robust_limits(np.concatenate(shown), reference))
+        if values is motion.angle and turning:
+            from matplotlib.ticker import MaxNLocator
+
+            # ticks on round angles: 90 or 180 apart over a turn
+            ax.yaxis.set_major_locator(MaxNLocator(nbins=6, steps=[1, 1.5, 3, 4.5, 9, 10]))
         ax.set_ylabel(label)
         ax.grid(True, color="#dddddd", lw=0.8)
-    axes[0].legend(fontsize=9, ncols=min(len(names), 4))
+    # above the curves, not on them: a wrapped angle reaches both edges of its axes
+    axes[0].legend(fontsize=9, ncols=min(len(names), 4), loc="lower left",
+                   bbox_to_anchor=(0.0, 1.0), frameon=False, borderaxespad=0.2)
     axes[-1].set_xlabel("time (s)")
     heading = motion.sweep.construction.name if title is None else title
     heading = shown_text(heading)

@@ -29,13 +29,16 @@ import math
 from collections.abc import Iterable, Sequence
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from ..analysis import Crank, cranks
 from ..errors import ConstructionError, show
+from ..kinematics import slider_positions
 from ..results import Sweep
 from ..terminal import escape, shorten
 
-__all__ = ["Layout", "input_text", "shown_text"]
+__all__ = ["Layout", "distance_to_segment", "input_text", "length_unit",
+           "shown_text", "signed_turn", "symbol_covers", "symbol_outline"]
 
 _GREEK = {"theta": "θ", "phi": "φ", "psi": "ψ", "alpha": "α", "beta": "β", "gamma": "γ",
           "omega": "ω"}
@@ -81,12 +84,31 @@ class Layout:
     neighbours : dict of str to set of str
         For every point, the points sharing a bar or plate with it.
     sliders : list of Slider
+    guide_spans : dict of str to (float, float)
+        For every slider, by name, the stretch of its guide drawn: from and
+        to this far along the guide from its first point (as
+        :func:`geokin.kinematics.slider_positions` measures). It holds the
+        block's travel over the sweep and a margin; a fixed guide also
+        reaches its first point, and a moving one stays on the link that
+        carries it (the lever of a slotted lever), unless the block goes
+        further.
     traces : list of str
     crank : Crank or None
         The crank the input turns, where the arc arrow is drawn: the first
         of :func:`geokin.analysis.cranks`.
     size : float
         The size of a symbol (pivot, block) in data units.
+    ground_sizes : dict of str to float
+        For every pivot, the size of its ground symbol: :attr:`size`, or
+        down to 0.6 of it where another ground point is closer than the
+        symbol would reach.
+    ground_directions : dict of str to float
+        For every pivot, the direction (radians, counter-clockwise from the
+        x axis) from the pivot to its ground symbol's hatched base: straight
+        down where that is clear, otherwise the side clear of the other
+        pivots and their symbols, of the ground's frame and fixed guides,
+        and of a bar that stays on that side about the pivot, outwards
+        rather than into the mechanism (see :func:`symbol_outline`).
     valid_indices : ndarray of int
         The samples that can be assembled.
     """
@@ -136,6 +158,9 @@ class Layout:
         self.lower, self.upper = lo, hi
         extent = float(np.max(hi - lo))
         self.size = 0.035 * extent if extent > 0 else 1.0
+        self.guide_spans = self._guide_spans()
+        self.ground_sizes = self._ground_sizes()
+        self.ground_directions = self._ground_directions()
 
     def bar_ends(self, points: Sequence[str]) -> tuple[str, ...]:
         """Return a link's points, or just its two ends if they all lie on one line.
@@ -169,6 +194,140 @@ class Layout:
                 raise ConstructionError(f"cannot trace: {err.args[0]}") from None
         return names
 
+    def _guide_spans(self) -> dict[str, tuple[float, float]]:
+        sweep, margin = self.sweep, 2.5 * self.size
+        travel = slider_positions(sweep)
+        spans = {}
+        for slider in self.sliders:
+            first, second = slider.along
+            t = travel[slider.name][self.valid_indices]
+            t = t[np.isfinite(t)]
+            if not t.size:
+                spans[slider.name] = (-margin, margin)
+                continue
+            lo, hi = float(t.min()) - margin, float(t.max()) + margin
+            if first in self.ground and second in self.ground:
+                lo = min(lo, -margin)  # the guide reaches back to its first point
+            else:
+                # no further than the link the guide is on, unless the block goes further
+                carrier = next((points for points in self.links
+                                if first in points and second in points), (first, second))
+                d = sweep.points[second] - sweep.points[first]
+                with np.errstate(all="ignore"):
+                    u = d / np.hypot(d[:, :1], d[:, 1:])
+                    along = np.array([np.einsum("ij,ij->i", sweep.points[q] - sweep.points[first],
+                                                u)[self.valid_indices] for q in carrier])
+                ok = along[np.isfinite(along)]
+                if ok.size:
+                    lo = max(lo, min(float(ok.min()), float(t.min())))
+                    hi = min(hi, max(float(ok.max()), float(t.max())))
+            spans[slider.name] = (lo, hi)
+        return spans
+
+    def symbol_lines(self, name: str, at: np.ndarray) -> tuple[tuple[np.ndarray, np.ndarray],
+                                                               tuple[np.ndarray, np.ndarray]]:
+        """Return the two lines a pivot's ground symbol is made of, each as its two ends.
+
+        The triangle's middle line, from near the pivot (at ``at``) to its
+        base, and the middle line of the hatched strip across it (the
+        corners are :func:`symbol_outline`), both along
+        :attr:`ground_directions`.
+        """
+        s, angle = self.ground_sizes[name], self.ground_directions[name]
+        d = np.array([math.cos(angle), math.sin(angle)])
+        e = np.array([-d[1], d[0]])
+        strip = at + 1.85 * s * d
+        return (at + 0.35 * s * d, at + 1.5 * s * d), (strip - 1.6 * s * e, strip + 1.6 * s * e)
+
+    def _ground_sizes(self) -> dict[str, float]:
+        """Size each pivot's ground symbol: smaller where another ground point is near."""
+        sizes = {p: self.size for p in self.pivots}
+        if not self.valid_indices.size:
+            return sizes
+        first = self.valid_indices[0]
+        for name in self.pivots:
+            here = self.sweep.points[name][first]
+            gaps = [float(np.hypot(*(self.sweep.points[p][first] - here)))
+                    for p in self.ground if p != name and p in self.shown]
+            gaps = [g for g in gaps if g > 0]
+            if gaps:
+                sizes[name] = self.size * min(max(min(gaps) / (2.2 * self.size), 0.6), 1.0)
+        return sizes
+
+    def _ground_directions(self) -> dict[str, float]:
+        """Choose the side of each pivot its ground symbol is drawn on."""
+        down = _SYMBOL_SIDES[0]
+        directions = {p: down for p in self.pivots}
+        if not self.valid_indices.size:
+            return directions
+        s, first = self.size, self.valid_indices[0]
+        at = {p: self.sweep.points[p][first] for p in self.ground}
+        # the lines of the ground: its frame, and each fixed guide with the hatching under it
+        lines = []
+        for points in self.links:
+            if all(p in self.ground for p in points):
+                closed = (*points, points[0]) if len(points) > 2 else points
+                lines += [(at[a], at[b]) for a, b in zip(closed, closed[1:], strict=False)]
+        for slider in self.sliders:
+            a, b = slider.along
+            if a in self.ground and b in self.ground:
+                u = at[b] - at[a]
+                length = float(np.hypot(*u))
+                if length == 0:
+                    continue
+                u = u / length
+                n = np.array([-u[1], u[0]])
+                lo, hi = self.guide_spans[slider.name]
+                start, end = at[a] + lo * u, at[a] + hi * u
+                lines += [(start, end), (start - 1.7 * s * n, end - 1.7 * s * n)]
+        # the directions of the moving bars about each pivot, over (some of) the motion
+        sampled = self.valid_indices[:: max(1, self.valid_indices.size // 90)]
+        placed: dict[str, float] = {}
+        middle = 0.5 * (self.lower + self.upper)
+        for name in self.pivots:
+            here, size = at[name], self.ground_sizes[name]
+            inward = math.atan2(*(middle - here)[::-1])
+            ends = [self.sweep.points[q][sampled] - here
+                    for q in self.neighbours[name] if q not in self.ground]
+            swing = np.concatenate(ends) if ends else np.empty((0, 2))
+            swing = np.arctan2(swing[:, 1], swing[:, 0])
+            through, apart = [], []  # lines through the pivot (their directions), and others
+            for line in lines:
+                if distance_to_segment(here, *line) < 1e-6 * s:
+                    through += [math.atan2(*(end - here)[::-1]) for end in line
+                                if np.hypot(*(end - here)) > 0.1 * s]
+                else:
+                    length = float(np.hypot(*(line[1] - line[0])))
+                    steps = np.linspace(0, 1, min(400, 2 + int(4 * length / s)))[:, None]
+                    apart.append(line[0] + steps * (line[1] - line[0]))
+            best, best_cost = down, math.inf
+            for rank, angle in enumerate(_SYMBOL_SIDES):
+                # below where that is clear; else outwards rather than into the mechanism
+                outward = 1 + math.cos(angle - inward)  # 0 straight out, 2 straight in
+                cost = 0.0 if rank == 0 else 0.05 + 0.03 * rank + 0.1 * outward
+                others = np.array([point for other, point in at.items()
+                                   if other != name and other in self.shown])
+                if others.size and symbol_covers(here, angle, size, others, 0.5 * s).any():
+                    cost += 2.0  # it would cover another ground point
+                outline = symbol_outline(here, angle, size)
+                for other, side in placed.items():
+                    theirs = self.ground_sizes[other]
+                    overlap = max(symbol_covers(at[other], side, theirs, outline, 0.2 * s).mean(),
+                                  symbol_covers(here, angle, size,
+                                                symbol_outline(at[other], side, theirs),
+                                                0.2 * s).mean())
+                    cost += 2.0 * float(overlap)
+                for direction in through:  # keep off the lines through the pivot
+                    cost += 1.0 if abs(signed_turn(direction, angle)) < math.radians(50) else 0.0
+                for points in apart:
+                    cost += 1.0 if symbol_covers(here, angle, size, points, 0.2 * s).any() else 0.0
+                if swing.size:  # a bar that is there most of the time, not a crank passing
+                    there = np.mean(np.abs(signed_turn(swing, angle)) < math.radians(40))
+                    cost += max(0.0, float(there) - 0.4)
+                if cost < best_cost - 1e-12:
+                    best, best_cost = angle, cost
+            directions[name] = placed[name] = best
+        return directions
     def pose_index(self, index: int) -> int | None:
         """Return the sample whose pose is drawn for ``index``: itself or the nearest valid."""
         if self.sweep.valid[index]:
@@ -183,6 +342,85 @@ class Layout:
         """Return the lower-left and upper-right corners of the whole motion with symbols."""
         s = self.size
         return self.lower - 3.0 * s, self.upper + np.array([3.0 * s, 3.0 * s])
+
+
+# the sides a ground symbol may take, the most usual first: below, beside, above
+_SYMBOL_SIDES = tuple(math.radians(a) for a in (270, 180, 0, 90, 225, 315, 135, 45))
+
+
+def symbol_outline(at: np.ndarray, angle: float, size: float) -> np.ndarray:
+    """Return the corners of a ground symbol: its triangle's tip and base, its hatching.
+
+    The tip is on the pivot ``at``; the base lies 1.5 ``size`` away towards
+    ``angle``, 2 ``size`` wide, and the hatching 0.7 ``size`` beyond it,
+    3.2 ``size`` wide.
+    """
+    d = np.array([math.cos(angle), math.sin(angle)])
+    e = np.array([-d[1], d[0]])
+    base = at + 1.5 * size * d
+    far = base + 0.7 * size * d
+    return np.array([at, base - size * e, base + size * e, base - 1.6 * size * e,
+                     base + 1.6 * size * e, far + 1.6 * size * e, far - 1.6 * size * e,
+                     base, at + size * d])
+
+
+def symbol_covers(at: np.ndarray, angle: float, size: float, points: np.ndarray,
+                  pad: float = 0.0) -> np.ndarray:
+    """Return which of the points (k, 2) lie on a ground symbol (see :func:`symbol_outline`).
+
+    ``pad`` widens the symbol by that much all round.
+
+    Examples
+    --------
+    >>> symbol_covers(np.zeros(2), -np.pi / 2, 1.0, np.array([[0, -1.0], [0, 1.0], [1.5, -2]]))
+    array([ True, False,  True])
+    """
+    d = np.array([math.cos(angle), math.sin(angle)])
+    e = np.array([-d[1], d[0]])
+    rel = np.asarray(points, dtype=float).reshape(-1, 2) - at
+    along, across = rel @ d, np.abs(rel @ e)
+    triangle = (along >= -pad) & (along <= 1.5 * size) & (across <= along / 1.5 + pad)
+    hatching = (along >= 1.5 * size) & (along <= 2.2 * size + pad) & (across <= 1.6 * size + pad)
+    return triangle | hatching
+
+
+def signed_turn(a, b):
+    """Return the signed angle from ``b`` to ``a`` (radians), in [-pi, pi).
+
+    Examples
+    --------
+    >>> round(float(np.degrees(signed_turn(np.radians(350), np.radians(10)))), 9)
+    -20.0
+    """
+    return (np.asarray(a) - b + np.pi) % (2 * np.pi) - np.pi
+
+
+def distance_to_segment(point: ArrayLike, a: ArrayLike, b: ArrayLike) -> np.ndarray:
+    """Return the distance from a point to the segment a-b, elementwise.
+
+    Parameters
+    ----------
+    point, a, b : array_like, shape (..., 2)
+        Broadcast against each other.
+
+    Returns
+    -------
+    ndarray, shape (...)
+
+    Examples
+    --------
+    >>> float(distance_to_segment([3.0, 4.0], [0.0, 0.0], [1.0, 0.0]))
+    4.47213595499958
+    >>> distance_to_segment([[0.5, 1.0], [-1.0, 0.0]], [0.0, 0.0], [1.0, 0.0]).tolist()
+    [1.0, 1.0]
+    """
+    point, a, b = (np.asarray(v, dtype=float) for v in (point, a, b))
+    ab, ap = b - a, point - a
+    length2 = np.sum(ab * ab, axis=-1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        t = np.where(length2 > 0, np.sum(ap * ab, axis=-1) / length2, 0.0)
+    t = np.clip(t, 0.0, 1.0)
+    return np.hypot(*np.moveaxis(ap - t[..., None] * ab, -1, 0))
 
 
 def _bars_from_construction(compiled):
@@ -235,3 +473,20 @@ def shown_text(text: object) -> str:
     'four-bar\\x1b[2J'
     """
     return escape(shorten(str(text), 200))
+
+
+def length_unit(sweep: Sweep) -> str:
+    """Return the construction's length unit as a figure shows it, or ``""`` without one.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from geokin import Construction, sweep
+    >>> c = Construction(units="mm")
+    >>> c.input("theta")
+    >>> c.fixed("O", 0, 0)
+    >>> c.polar("A", "O", 10, "theta")
+    >>> length_unit(sweep(c, np.zeros(1)))
+    'mm'
+    """
+    return shown_text(sweep.construction.units.strip()) if sweep.construction.units else ""

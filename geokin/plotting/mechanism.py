@@ -10,15 +10,20 @@ an animation. matplotlib is imported inside the functions.
 What a mechanism drawing shows:
 
 - ground pivots (points that never move, joined to a link) as triangles on
-  hatched ground;
+  hatched ground, below the pivot where there is room, otherwise on a side
+  clear of the other pivots and the frame, and smaller where pivots are close;
 - links as bars, a link of three or more points as a translucent plate;
   a construction without links gets a bar from each point to the points
   it is built on;
-- sliders as blocks on their guide line, on hatched ground when the guide is ground;
+- sliders as blocks on their guide, drawn over the block's travel along it
+  (a moving guide within the link that carries it), on hatched ground when
+  the guide is ground;
 - the driving input: an arc arrow at the driven crank's pivot and the input
   value (degrees for an angle) in the corner;
-- point labels, and the paths of the traced points over the whole sweep,
-  broken where the mechanism cannot be assembled.
+- point labels, each in a gap between its bars and clear of the other
+  labels, points, ground symbols and the input's arrow; and the paths of
+  the traced points over the whole sweep, broken where the mechanism cannot
+  be assembled.
 
 A sample that cannot be assembled is shown as the nearest assembled pose,
 faded, with the reason in the corner.
@@ -55,7 +60,14 @@ import numpy as np
 from ..atomic import replacing, require_folder
 from ..errors import GeokinError
 from ..results import Sweep
-from .layout import Layout, input_text, shown_text
+from .layout import (
+    Layout,
+    distance_to_segment,
+    input_text,
+    length_unit,
+    shown_text,
+    signed_turn,
+)
 
 if TYPE_CHECKING:
     from matplotlib.artist import Artist
@@ -87,6 +99,7 @@ INPUT_COLOR = "#c0392b"
 FIGSIZE = (8.0, 6.0)
 SAVE_FORMATS = (".png", ".svg")
 _Z_TRACE, _Z_GROUND, _Z_LINK, _Z_SLIDER, _Z_JOINT, _Z_LABEL = 1, 2, 3, 4, 5, 6
+_LABEL_REACH = 1.1  # from a point to the middle of its label, about, in symbol sizes
 
 
 class Scene:
@@ -243,15 +256,19 @@ class Scene:
             artist.set_alpha(0.2 if faded else None)
 
     def _draw_pose(self, at, pose):
-        layout, s = self.layout, self.layout.size
+        layout = self.layout
         for name, (triangle, hatch, base) in zip(layout.pivots, self.ground, strict=True):
-            x, y = at[name]
-            half, height = 1.0 * s, 1.5 * s
-            triangle.set_xy([(x, y), (x - half, y - height), (x + half, y - height)])
-            width, depth = 1.6 * s, 0.7 * s
-            hatch.set_xy([(x - width, y - height), (x + width, y - height),
-                          (x + width, y - height - depth), (x - width, y - height - depth)])
-            base.set_data([x - width, x + width], [y - height, y - height])
+            # the triangle's tip on the pivot, its hatched base on the side chosen for it
+            angle, g = layout.ground_directions[name], layout.ground_sizes[name]
+            d = np.array([math.cos(angle), math.sin(angle)])
+            e = np.array([-d[1], d[0]])
+            here = at[name]
+            middle = here + 1.5 * g * d
+            triangle.set_xy([here, middle - 1.0 * g * e, middle + 1.0 * g * e])
+            width, depth = 1.6 * g * e, 0.7 * g * d
+            hatch.set_xy([middle - width, middle + width, middle + width + depth,
+                          middle - width + depth])
+            base.set_data(*np.array([middle - width, middle + width]).T)
         for points, artist in self.bars:
             xy = np.array([at[p] for p in points])
             if hasattr(artist, "set_data"):
@@ -259,6 +276,7 @@ class Scene:
             else:
                 artist.set_xy(xy)
         self._on_blocks = {}
+        self._grounds = []  # the middle lines of the hatched grounds under fixed guides
         for slider, block, guide, surface, hatch in self.blocks:
             self._draw_slider(at, slider, block, guide, surface, hatch)
         self.joints.set_data(*np.array([at[p] for p in self.joint_names] or
@@ -267,15 +285,27 @@ class Scene:
                                       np.empty((0, 2))).reshape(-1, 2).T)
         self.reference_marks.set_data(*np.array([at[p] for p in layout.references] or
                                                 np.empty((0, 2))).reshape(-1, 2).T)
+        self._arrow_points = np.empty((0, 2))
         if self.crank_arrow is not None:
             self._draw_crank(at, pose)
         centre = np.mean([at[p] for p in layout.shown], axis=0)
-        for name, label in self.labels.items():
+        # each label where it is clear of the others: placed one by one (the labels on
+        # blocks first, which do not move), then each placed again knowing where all are
+        reach = _LABEL_REACH * layout.size
+        placed: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+        for name in sorted(self.labels, key=lambda name: name not in self._on_blocks):
             if name in self._on_blocks:
-                # above the block, clear of it
-                anchor, direction = self._on_blocks[name]
-            else:
-                anchor, direction = at[name], self._label_direction(name, at, centre)
+                placed[name] = self._on_blocks[name]  # above the block, clear of it
+                continue
+            self._placed = [a + reach * d for a, d in placed.values()]
+            placed[name] = at[name], self._label_direction(name, at, centre)
+        for name in placed:
+            if name not in self._on_blocks:
+                self._placed = [a + reach * d for other, (a, d) in placed.items()
+                                if other != name]
+                placed[name] = at[name], self._label_direction(name, at, centre)
+        for name, (anchor, direction) in placed.items():
+            label = self.labels[name]
             label.xy = tuple(anchor)
             label.set_position(tuple(8 * direction))
             # align the text's near side to the point, so long names do not cover it
@@ -286,24 +316,61 @@ class Scene:
                                         else "center")
 
     def _label_direction(self, name, at, centre):
-        """Return a unit vector from a point into the widest gap between its bars."""
-        here = at[name]
+        """Return a unit vector from a point to its label.
+
+        Into the widest gap between its bars and its ground symbol, and
+        clear of the other points, the ground symbols and the labels placed
+        before it: two points close together get their labels on different
+        sides. Distances are judged in symbol sizes, which are a fixed part
+        of the drawing.
+        """
+        layout, here = self.layout, at[name]
+        s = layout.size
         pulls = []
-        for other in self.layout.neighbours[name]:
+        for other in layout.neighbours[name]:
             d = at[other] - here
             if np.hypot(*d) > 0:
                 pulls.append(math.atan2(d[1], d[0]))
-        if name in self.layout.pivots:  # the ground symbol below
-            pulls += [math.radians(235), math.radians(270), math.radians(305)]
-        if not pulls:
+        if name in layout.pivots:  # the ground symbol
+            side = layout.ground_directions[name]
+            pulls += [side - math.radians(35), side, side + math.radians(35)]
+        others = [at[p] for p in layout.shown if p != name]
+        # the ground symbols, and the hatched grounds of fixed guides; of its own symbol,
+        # which is among the pulls, only the far strip
+        symbols = [line for p in layout.pivots
+                   for line in layout.symbol_lines(p, at[p])[p == name:]]
+        symbols += self._grounds
+        if not pulls and not others and not self._placed:
             away = here - centre
             norm = np.hypot(*away)
             return away / norm if norm > 1e-9 else np.array([0.7071, 0.7071])
-        candidates = np.radians(np.arange(45, 405, 22.5))
-        gaps = [min(abs((c - p + np.pi) % (2 * np.pi) - np.pi) for p in pulls)
-                for c in candidates]
-        best = candidates[int(np.argmax(gaps))]
-        return np.array([math.cos(best), math.sin(best)])
+        # every candidate at once: 16 directions, from up-right round
+        angles = np.radians(np.arange(45, 405, 22.5))
+        c = np.column_stack([np.cos(angles), np.sin(angles)])
+        if pulls:
+            gap = np.min(np.abs(signed_turn(angles[:, None], np.array(pulls)[None, :])), axis=1)
+        else:
+            gap = np.full(len(angles), math.pi)
+        labels = here + _LABEL_REACH * s * c
+
+        def crowding(distances, reach):
+            """How far into the reach of each obstacle each candidate comes, summed."""
+            return np.sum(np.maximum(0.0, 1.0 - distances / reach), axis=-1)
+
+        def to_points(points):
+            points = np.asarray(points, dtype=float).reshape(-1, 2)
+            return np.hypot(*(labels[:, None, :] - points[None, :, :]).transpose(2, 0, 1))
+
+        crowded = crowding(to_points(others), 1.2 * s)  # on another point's marker
+        crowded += 1.5 * crowding(to_points(self._placed), 2.4 * s)  # on another label
+        if symbols:  # on a ground symbol or a guide's hatched ground
+            ends = np.array(symbols, dtype=float)  # (m, 2, 2)
+            crowded += crowding(distance_to_segment(labels[:, None, :], ends[None, :, 0],
+                                                    ends[None, :, 1]), 1.1 * s)
+        if len(self._arrow_points):  # on the input's arrow
+            near = np.min(to_points(self._arrow_points), axis=1)
+            crowded += 1.5 * np.maximum(0.0, 1.0 - near / (1.5 * s))
+        return c[int(np.argmax(gap - 2.5 * crowded))]
 
     def _draw_slider(self, at, slider, block, guide, surface, hatch):
         """Draw a block centred on its point, along the guide's current direction."""
@@ -318,11 +385,8 @@ class Scene:
         self._on_blocks[slider.point] = (centre + half_h * n, n)
         block.set_xy([centre - half_l * u - half_h * n, centre + half_l * u - half_h * n,
                       centre + half_l * u + half_h * n, centre - half_l * u + half_h * n])
-        with np.errstate(invalid="ignore"):
-            t = (self.sweep.points[slider.point] - p) @ u
-        t_lo = min(np.nanmin(t, initial=np.inf), 0.0 if surface is not None else np.inf)
-        t_hi = np.nanmax(t, initial=-np.inf)
-        t_lo, t_hi = t_lo - 2.5 * s, t_hi + 2.5 * s
+        # the block's travel along its guide, not the whole line across the mechanism
+        t_lo, t_hi = self.layout.guide_spans[slider.name]
         a, b = p + t_lo * u, p + t_hi * u
         guide.set_data([a[0], b[0]], [a[1], b[1]])
         if surface is not None:
@@ -330,6 +394,7 @@ class Scene:
             surface.set_data([a[0], b[0]], [a[1], b[1]])
             depth = 0.7 * s * n
             hatch.set_xy([a, b, b - depth, a - depth])
+            self._grounds.append((a - 0.5 * depth, b - 0.5 * depth))
 
     def _draw_crank(self, at, pose):
         crank = self.layout.crank
@@ -344,6 +409,8 @@ class Scene:
             (o[0] + radius * math.cos(start), o[1] + radius * math.sin(start)),
             (o[0] + radius * math.cos(end), o[1] + radius * math.sin(end)))
         self.crank_arrow.set_connectionstyle(f"arc3,rad={sense * math.tan(span / 4):.4f}")
+        along = np.linspace(start, end, 12)
+        self._arrow_points = o + radius * np.column_stack([np.cos(along), np.sin(along)])
 
     def _crank_sense(self, pose):
         """+1 if the crank turns counter-clockwise at ``pose``, -1 if clockwise."""
@@ -362,6 +429,9 @@ class Scene:
 def setup_axes(ax: Axes, layout: Layout, title: str | None) -> None:
     """Fit the view to the whole motion, equal in x and y, with a grid and a title.
 
+    The axes are labelled with the construction's length unit
+    (:attr:`~geokin.construction.Compiled.units`), "x (mm)", or "x" without one.
+
     Parameters
     ----------
     ax : matplotlib.axes.Axes
@@ -375,8 +445,10 @@ def setup_axes(ax: Axes, layout: Layout, title: str | None) -> None:
     ax.autoscale_view()
     ax.grid(True, color="#dddddd", lw=0.8)
     ax.set_axisbelow(True)
-    ax.set_xlabel("x")
-    ax.set_ylabel("y")
+    # in the construction's length unit, as the script gives it
+    unit = length_unit(layout.sweep)
+    ax.set_xlabel(f"x ({unit})" if unit else "x", parse_math=False)
+    ax.set_ylabel(f"y ({unit})" if unit else "y", parse_math=False)
     if title is None:
         title = layout.sweep.construction.name
     if title:
