@@ -667,7 +667,8 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
         extra = _along(sweep, accelerating, _time_step(sweep, accelerating, step), driver)
         accel = {p: accel[p] + extra.first[p] for p in accel}
         acceleration_error = acceleration_error + extra.first_error
-    angle, angular_velocity, angular_acceleration = {}, {}, {}
+    angle = link_angles(sweep)
+    angular_velocity, angular_acceleration = {}, {}
     flagged = sweep.valid & (d.stencil == 2)
     with np.errstate(divide="ignore", invalid="ignore"):
         # errors are measured against each sample's own scales: its fastest point's
@@ -689,7 +690,6 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
             r2 = x * x + y * y
             omega = (x * vy - y * vx) / r2
             alpha = (x * ay - y * ax) / r2 - 2 * omega * (x * vx + y * vy) / r2
-            angle[link.name] = unwrap_valid(np.where(sweep.valid, np.arctan2(y, x), np.nan))
             angular_velocity[link.name], angular_acceleration[link.name] = omega, alpha
             turn_scale = np.fmax(turn_scale, np.abs(omega))
             turn_accel_scale = np.fmax(turn_accel_scale, np.abs(alpha))
