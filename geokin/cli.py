@@ -77,7 +77,15 @@ from .construction import MAX_SAMPLES, Construction, whole_steps
 from .engine import evaluate
 from .engine import sweep as run_sweep
 from .errors import AssemblyError, GeokinError, did_you_mean, quote
-from .io import EXPORT_FORMATS, columns, export_sweep, load, script_steps, write_csv
+from .io import (
+    EXPORT_FORMATS,
+    columns,
+    export_sweep,
+    load,
+    script_steps,
+    shortest_text,
+    write_csv,
+)
 from .kinematics import motion
 from .results import Sweep
 from .terminal import escape, one_line, shorten
@@ -115,12 +123,6 @@ class ScriptSweep:
     inputs: dict[str, np.ndarray]  # name -> values in script units
 
 
-def _shortest(value: float) -> str:
-    """Write a number as it reads back exactly: 16, 0.25, 1e-320."""
-    text = repr(float(value))
-    return text[:-2] if text.endswith(".0") else text
-
-
 def _sample(lo, hi, samples=None, step=None, *, label="--range") -> np.ndarray:
     if samples == 1:  # one configuration: the start of the range
         return np.array([float(lo)])
@@ -138,7 +140,7 @@ def _sample(lo, hi, samples=None, step=None, *, label="--range") -> np.ndarray:
         if not count + 1 <= MAX_SAMPLES:
             shown = (f"{math.floor(count) + 1}" if count < 1e15
                      else f"about {count:.1e}" if math.isfinite(count) else "too many")
-            raise UsageError(f"--step {_shortest(step)} makes {shown} samples; at most "
+            raise UsageError(f"--step {shortest_text(step)} makes {shown} samples; at most "
                              f"{MAX_SAMPLES}")
         return lo + step * np.arange(math.floor(count) + 1)
     return np.linspace(lo, hi, samples)

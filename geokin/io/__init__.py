@@ -8,7 +8,15 @@
 """
 
 from ..budgets import MAX_SCRIPT_BYTES
-from .export import EXPORT_FORMATS, columns, export_sweep, write_csv, write_json, write_npz
+from .export import (
+    EXPORT_FORMATS,
+    columns,
+    export_sweep,
+    shortest_text,
+    write_csv,
+    write_json,
+    write_npz,
+)
 from .script import OPS, dump, load, loads, script_steps
 
 __all__ = [
@@ -21,6 +29,7 @@ __all__ = [
     "load",
     "loads",
     "script_steps",
+    "shortest_text",
     "write_csv",
     "write_json",
     "write_npz",

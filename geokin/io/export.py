@@ -96,7 +96,8 @@ from ..kinematics import Motion, link_angles, slider_positions
 from ..results import Sweep
 from ..units import angles_to_script, to_script_array
 
-__all__ = ["EXPORT_FORMATS", "columns", "export_sweep", "write_csv", "write_json", "write_npz"]
+__all__ = ["EXPORT_FORMATS", "columns", "export_sweep", "shortest_text", "write_csv", "write_json",
+           "write_npz"]
 
 EXPORT_FORMATS = (".csv", ".json", ".npz")
 """The suffixes :func:`export_sweep` writes, in any case."""
@@ -268,6 +269,18 @@ def _arrays(table: Mapping[str, ArrayLike]) -> dict[str, np.ndarray]:
     return arrays
 
 
+def shortest_text(value: float) -> str:
+    """Write a number as the shortest text that reads back exactly, without a ``.0``.
+
+    Examples
+    --------
+    >>> [shortest_text(v) for v in (16.0, 0.25, 1e-320, -0.0, float("nan"))]
+    ['16', '0.25', '1e-320', '-0', 'nan']
+    """
+    text = repr(float(value))
+    return text[:-2] if text.endswith(".0") else text
+
+
 def _csv_cells(array: np.ndarray) -> list[str]:
     """Format one column: 1 and 0 for booleans, else the shortest exact decimal.
 
@@ -275,8 +288,7 @@ def _csv_cells(array: np.ndarray) -> list[str]:
     """
     if array.dtype == bool:
         return np.where(array, "1", "0").tolist()
-    cells = [repr(value) for value in array.astype(float).tolist()]
-    return [cell[:-2] if cell.endswith(".0") else cell for cell in cells]
+    return [shortest_text(value) for value in array.astype(float).tolist()]
 
 
 def write_csv(columns: Mapping[str, ArrayLike], stream: TextIO, *,
