@@ -28,23 +28,26 @@ def lengths():
     return [float(np.hypot(*np.subtract(SKETCH[p], SKETCH[q]))) for p, q in PAIRS]
 
 
-def reference_positions(theta):
-    """Solve the triad sample by sample with plain Newton, from the previous solution."""
-    d = lengths()
-    z = np.array([c for p in UNKNOWN for c in SKETCH[p]], dtype=float)
-    out = np.empty((len(theta), 8))
+def newton_reference(theta, known, unknown, pairs, d, sketch):
+    """Solve a group sample by sample with plain Newton, each from the previous solution.
+
+    ``known(t)`` gives the known points at input ``t``; ``pairs`` the
+    distance equations |P - Q| = d, written as |P - Q|**2 - d**2 = 0.
+    """
+    z = np.array([c for p in unknown for c in sketch[p]], dtype=float)
+    out = np.empty((len(theta), 2 * len(unknown)))
     for s, t in enumerate(theta):
-        pts = {"C": np.array([4.7, 0.0]), "F": np.array([np.cos(t), np.sin(t)])}
+        fixed = known(t)
         for _ in range(100):
-            pos = {**pts, **{p: z[2 * i:2 * i + 2] for i, p in enumerate(UNKNOWN)}}
-            f = np.empty(8)
-            jac = np.zeros((8, 8))
-            for e, (p, q) in enumerate(PAIRS):
+            pos = {**fixed, **{p: z[2 * i:2 * i + 2] for i, p in enumerate(unknown)}}
+            f = np.empty(len(pairs))
+            jac = np.zeros((len(pairs), len(z)))
+            for e, (p, q) in enumerate(pairs):
                 diff = pos[p] - pos[q]
                 f[e] = diff @ diff - d[e] ** 2
                 for name, sign in ((p, 2), (q, -2)):
-                    if name in UNKNOWN:
-                        i = UNKNOWN.index(name)
+                    if name in unknown:
+                        i = unknown.index(name)
                         jac[e, 2 * i:2 * i + 2] += sign * diff
             step = np.linalg.solve(jac, -f)
             z = z + step
@@ -52,6 +55,13 @@ def reference_positions(theta):
                 break
         out[s] = z
     return out
+
+
+def reference_positions(theta):
+    """Solve the triad sample by sample with plain Newton, from the previous solution."""
+    return newton_reference(
+        theta, lambda t: {"C": np.array([4.7, 0.0]), "F": np.array([np.cos(t), np.sin(t)])},
+        UNKNOWN, PAIRS, lengths(), SKETCH)
 
 
 def reference_motion(theta, z, omega):
@@ -299,29 +309,10 @@ def triad_reference(theta):
     """The triad B, C, D solved sample by sample by plain Newton, from the previous sample."""
     sketch = {**TRIAD, "A": (1.0, 0.0)}
     d = [float(np.hypot(*np.subtract(sketch[p], sketch[q]))) for p, q in TRIAD_PAIRS]
-    unknown = ["B", "C", "D"]
-    z = np.array([c for p in unknown for c in sketch[p]], dtype=float)
-    out = np.empty((len(theta), 6))
-    for s, t in enumerate(theta):
-        known = {"A": np.array([np.cos(t), np.sin(t)]), "O4": np.array(TRIAD["O4"]),
-                 "O6": np.array(TRIAD["O6"])}
-        for _ in range(100):
-            pos = {**known, **{p: z[2 * i:2 * i + 2] for i, p in enumerate(unknown)}}
-            f = np.empty(6)
-            jac = np.zeros((6, 6))
-            for e, (p, q) in enumerate(TRIAD_PAIRS):
-                diff = pos[p] - pos[q]
-                f[e] = diff @ diff - d[e] ** 2
-                for name, sign in ((p, 2), (q, -2)):
-                    if name in unknown:
-                        i = unknown.index(name)
-                        jac[e, 2 * i:2 * i + 2] += sign * diff
-            step = np.linalg.solve(jac, -f)
-            z = z + step
-            if np.max(np.abs(step)) < 1e-15:
-                break
-        out[s] = z
-    return out
+    return newton_reference(
+        theta, lambda t: {"A": np.array([np.cos(t), np.sin(t)]), "O4": np.array(TRIAD["O4"]),
+                          "O6": np.array(TRIAD["O6"])},
+        ["B", "C", "D"], TRIAD_PAIRS, d, sketch)
 
 
 def test_triad_sixbar_matches_independent_newton():
