@@ -23,30 +23,8 @@ from geokin import load, motion, sweep  # noqa: E402
 from geokin.engine import evaluate  # noqa: E402
 
 
-def hand_written(theta):
-    """The benchmark four-bar in closed form: the fastest plain numpy we can write."""
-    ax, ay = 10 * np.cos(theta), 10 * np.sin(theta)
-    dx, dy = 40 - ax, -ay
-    d2 = dx * dx + dy * dy
-    d = np.sqrt(d2)
-    m = (d2 + 35**2 - 30**2) / (2 * d)
-    h = np.sqrt(35**2 - m * m)
-    ux, uy = dx / d, dy / d
-    bx, by = ax + m * ux - h * uy, ay + m * uy + h * ux
-    c, s = np.cos(np.radians(30)), np.sin(np.radians(30))
-    k = 20 / 35
-    px = ax + k * (c * (bx - ax) - s * (by - ay))
-    py = ay + k * (s * (bx - ax) + c * (by - ay))
-    return np.stack([px, py], axis=-1)
-
-
-def hand_motion(theta, omega=2 * np.pi):
-    """Closed-form velocity and acceleration of A, B and P of the benchmark four-bar.
-
-    The vector loop vA + w3 x b = w4 x c (a = A - O2, b = B - A, c = B - O4,
-    w x r = w (-ry, rx)), dotted with c and with b, gives each unknown rate;
-    differentiated once more, each angular acceleration.
-    """
+def hand_joints(theta):
+    """A, B and P - A of the benchmark four-bar in closed form, as x and y arrays."""
     ax, ay = 10 * np.cos(theta), 10 * np.sin(theta)
     dx, dy = 40 - ax, -ay
     d2 = dx * dx + dy * dy
@@ -58,6 +36,23 @@ def hand_motion(theta, omega=2 * np.pi):
     c, s = np.cos(np.radians(30)), np.sin(np.radians(30))
     k = 20 / 35
     qx, qy = k * (c * (bx - ax) - s * (by - ay)), k * (s * (bx - ax) + c * (by - ay))
+    return ax, ay, bx, by, qx, qy
+
+
+def hand_written(theta):
+    """The benchmark four-bar in closed form: the fastest plain numpy we can write."""
+    ax, ay, _, _, qx, qy = hand_joints(theta)
+    return np.stack([ax + qx, ay + qy], axis=-1)
+
+
+def hand_motion(theta, omega=2 * np.pi):
+    """Closed-form velocity and acceleration of A, B and P of the benchmark four-bar.
+
+    The vector loop vA + w3 x b = w4 x c (a = A - O2, b = B - A, c = B - O4,
+    w x r = w (-ry, rx)), dotted with c and with b, gives each unknown rate;
+    differentiated once more, each angular acceleration.
+    """
+    ax, ay, bx, by, qx, qy = hand_joints(theta)
     b1, b2, c1, c2 = bx - ax, by - ay, bx - 40, by
     vax, vay = -omega * ay, omega * ax
     cross = b1 * c2 - b2 * c1

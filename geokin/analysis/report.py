@@ -469,8 +469,6 @@ class Report:
 
         Examples
         --------
-        A line too long for this page is broken in two:
-
         >>> from geokin import Construction
         >>> c = Construction("crank-rocker")
         >>> c.input("theta")
