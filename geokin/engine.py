@@ -45,7 +45,7 @@ from __future__ import annotations
 import threading
 import weakref
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -58,7 +58,8 @@ from .frozen import read_only
 from .nodes import Node, failure_reasons
 from .results import BranchEvent, PointTable, Sweep
 
-__all__ = ["assembly_guesses", "evaluate", "input_arrays", "start_labels", "sweep"]
+__all__ = ["assembly_guesses", "evaluate", "input_arrays", "start_labels", "sweep",
+           "variant_values"]
 
 MEET_RTOL = 1e-7
 """Roots closer than this times the node's scale meet (a graze or a toggle).
@@ -156,30 +157,37 @@ class _PlannedStep:
     varying: tuple  # (field, expression)
 
 
-_PLANS: dict[int, tuple[_PlannedStep, ...]] = {}
-"""Evaluation plans by the id of their compiled construction, dropped with it."""
+_PLANS: dict[tuple[int, frozenset[str]], tuple[_PlannedStep, ...]] = {}
+"""Evaluation plans by the id of their compiled construction and the parameters
+that vary from sample to sample, dropped with the construction."""
 
 
-def _plan(compiled: Compiled) -> tuple[_PlannedStep, ...]:
-    """Return the evaluation plan of a compiled construction, made once and kept."""
-    plan = _PLANS.get(id(compiled))
+def _plan(compiled: Compiled, varied: frozenset[str] = frozenset()) -> tuple[_PlannedStep, ...]:
+    """Return the evaluation plan of a compiled construction, made once and kept.
+
+    ``varied`` names the parameters given per sample (design variants):
+    values that use them are evaluated with the inputs.
+    """
+    key = (id(compiled), varied)
+    plan = _PLANS.get(key)
     if plan is not None:
         return plan
     planned = []
+    fixed = compiled.parameters.keys() - varied
     with np.errstate(all="ignore"):
         for step in compiled.steps:
             node = step.node
             constants, varying = {}, []
             for field_name, expr in node.value_fields().items():
-                if expr.names() <= compiled.parameters.keys():
+                if expr.names() <= fixed:
                     constants[field_name] = float(expr.evaluate(compiled.parameters))
                 else:
                     varying.append((field_name, expr))
             planned.append(_PlannedStep(step.index, node, constants, tuple(varying)))
     plan = tuple(planned)
     # the plan lives as long as the construction: a later one may reuse the id
-    weakref.finalize(compiled, _PLANS.pop, id(compiled), None)
-    _PLANS[id(compiled)] = plan
+    weakref.finalize(compiled, _PLANS.pop, key, None)
+    _PLANS[key] = plan
     return plan
 
 
@@ -251,7 +259,8 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
              held: Mapping[str, np.ndarray | int] | None = None, *, track: bool = True,
              start: Mapping[str, int] | None = None,
              origin: tuple[float, float] | None = None,
-             sketches: Mapping[str, np.ndarray] | None = None) -> Sweep:
+             sketches: Mapping[str, np.ndarray] | None = None,
+             parameters: Mapping[str, np.ndarray] | None = None, paths: int = 1) -> Sweep:
     """Evaluate every step for all samples.
 
     Parameters
@@ -281,21 +290,33 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         each point it finds, absolute) to start the continuation from at the
         first sample, instead of the group's sketch: a circuit continues a
         group from where its last pass ended, or across a fold.
+    parameters : mapping of str to ndarray, shape (N,), optional
+        Values of some parameters at every sample, instead of the
+        construction's own (design variants).
+    paths : int
+        The samples are this many paths of N / paths samples, one after the
+        other (the variants of a design): branches are tracked along each
+        path and never from one to the next, and each starts on its own
+        initial branch. Closure groups are followed along one path only.
 
     Returns
     -------
     Sweep
     """
     compiled = as_compiled(construction)
-    plan = _plan(compiled)
+    varied = {name: np.broadcast_to(np.asarray(values, dtype=float), (n,))
+              for name, values in (parameters or {}).items()}
+    plan = _plan(compiled, frozenset(varied))
     chosen = {**(start or {}), **(held or {})}
-    if (not track and n > BLOCK_SAMPLES
+    if (not track and n > BLOCK_SAMPLES and paths == 1
             and all(step.node.name in chosen or not step.node.chosen_by_position
                     for step in plan if step.node.roots == 2)
             and all(step.node.name in (held or {}) for step in plan if step.node.continued)):
-        parts = _evaluate_in_blocks(compiled, plan, inputs, n, held, start, origin)
+        parts = _evaluate_in_blocks(compiled, plan, {**inputs, **varied}, n, held, start,
+                                    origin)
     else:
-        parts = _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track, sketches)
+        parts = _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track, sketches,
+                                varied, paths)
 
     def per_sample(array, dtype=float):
         array = np.asarray(array, dtype=dtype)
@@ -310,13 +331,14 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         branches={name: per_sample(label, np.int8) for name, label in parts.labels.items()},
         events=tuple(parts.events),
         margins={name: per_sample(margin) for name, margin in parts.margins.items()},
-        line_parameters={name: per_sample(t) for name, t in parts.parameters.items()})
+        line_parameters={name: per_sample(t) for name, t in parts.parameters.items()},
+        parameters={name: read_only(values) for name, values in varied.items()})
 
 
 def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
-                    sketches=None) -> _Evaluated:
+                    sketches=None, varied=None, paths=1) -> _Evaluated:
     """Evaluate every step for all N samples at once, tracking branches if asked."""
-    env = _environment(compiled, inputs)
+    env = _environment(compiled, {**inputs, **(varied or {})})
     coords: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     label: np.ndarray | int | None
     labels: dict[str, np.ndarray | int] = {}
@@ -327,7 +349,8 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
     failed_step = np.zeros(n, dtype=np.int32)
     reason_code = np.zeros(n, dtype=np.int8)
     with np.errstate(all="ignore"):
-        tracker = _Tracker(compiled, plan, inputs, n, origin) if track and n >= 2 else None
+        tracker = (_Tracker(compiled, plan, inputs, n, origin, varied, paths)
+                   if track and n // paths >= 2 else None)
         for position, step in enumerate(plan):
             node = step.node
             values = _step_values(step, env)
@@ -353,7 +376,7 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
                     if tracker is not None:  # held: later nodes see it between samples too
                         tracker.labels[node.name] = label
                 else:
-                    first = _initial_label(node, cand, n, (start or {}).get(node.name))
+                    first = _initial_label(node, cand, n, (start or {}).get(node.name), paths)
                     if tracker is None:
                         label = first
                     else:
@@ -522,7 +545,8 @@ def assembly_guesses(sweep: Sweep, at: slice | np.ndarray | None = None,
 @renamed_keywords(branches="start_branches")
 def sweep(construction: Construction | Compiled,
           values: ArrayLike | Mapping[str, ArrayLike] | None = None, *, samples: int | None = None,
-          start_branches: Mapping[str, object] | None = None) -> Sweep:
+          start_branches: Mapping[str, object] | None = None,
+          parameters: Mapping[str, ArrayLike] | None = None) -> Sweep:
     """Evaluate a construction over a sweep of its inputs.
 
     Parameters
@@ -539,6 +563,14 @@ def sweep(construction: Construction | Compiled,
         The branch some two-root nodes start on, by name
         (``{"B": "right"}``), instead of their declared choice; the branch is
         still tracked along the sweep.
+    parameters : mapping of str to array_like, optional
+        Design variants: values of some of the construction's parameters,
+        each a number or an array of shape (V,), broadcast together. Every
+        variant is swept over the same input values, its branches tracked
+        along its own samples and never from one variant to the next, each
+        starting on its own initial branch; the sweep then has a leading
+        variant axis (see :class:`~geokin.results.Sweep`). Without it, the
+        construction's own values.
 
     Returns
     -------
@@ -549,6 +581,9 @@ def sweep(construction: Construction | Compiled,
     BudgetError
         If the sweep's arrays would not fit in memory (see
         :func:`geokin.budgets.check_sweep_memory`).
+    ConstructionError
+        For a varied name that is not a parameter, or values that are not
+        numbers of one shape (V,).
 
     Examples
     --------
@@ -563,13 +598,115 @@ def sweep(construction: Construction | Compiled,
     (True, (5, 2))
     >>> np.allclose(np.hypot(*(s["B"] - s["A"]).T), 35)
     True
+
+    Three rockers of different lengths at once:
+
+    >>> c.parameter("r4", 30)
+    >>> c.circle_circle("C", ("A", "O4"), (35, "r4"), branch="left")
+    >>> v = sweep(c, np.linspace(0, 2 * np.pi, 5), parameters={"r4": [5, 30, 40]})
+    >>> v["C"].shape, v.valid.all(axis=1).tolist()
+    ((3, 5, 2), [False, True, True])
     """
     compiled = as_compiled(construction)
     inputs, n = input_arrays(compiled, values, samples)
-    # refused before allocating, with the estimate and a block that would fit
-    check_sweep_memory(len(compiled.steps), n)
     start = start_labels(compiled, start_branches)
-    return evaluate(compiled, inputs, n, start=start)
+    if parameters is None:
+        # refused before allocating, with the estimate and a block that would fit
+        check_sweep_memory(len(compiled.steps), n)
+        return evaluate(compiled, inputs, n, start=start)
+    varied, count = variant_values(compiled, parameters)
+    check_sweep_memory(len(compiled.steps), count * n)
+    if any(step.node.continued for step in compiled.steps):
+        # a closure group is continued along one path: each variant alone
+        return _joined([evaluate(compiled, inputs, n, start=start,
+                                 parameters={k: np.full(n, v[i]) for k, v in varied.items()})
+                        for i in range(count)]).as_variants(count)
+    flat = evaluate(compiled, {k: np.tile(v, count) for k, v in inputs.items()}, count * n,
+                    start=start, parameters={k: _repeated(v, n) for k, v in varied.items()},
+                    paths=count)
+    return flat.as_variants(count)
+
+
+def _repeated(values: np.ndarray, times: int) -> np.ndarray:
+    """Return each value repeated ``times`` times, in order (``np.repeat``, faster)."""
+    return np.broadcast_to(values[:, None], (len(values), times)).reshape(-1)
+
+
+def variant_values(compiled: Compiled,
+                   parameters: Mapping[str, ArrayLike]) -> tuple[dict[str, np.ndarray], int]:
+    """Return the values of varied parameters as arrays of one shape (V,), and V.
+
+    Raises
+    ------
+    ConstructionError
+        For a name that is not a parameter of the construction, or values
+        that are not numbers, or do not broadcast to one shape (V,).
+
+    Examples
+    --------
+    >>> from geokin import Construction
+    >>> c = Construction()
+    >>> c.parameter("a", 1)
+    >>> c.parameter("b", 2)
+    >>> c.fixed("O", "a", "b")
+    >>> values, count = variant_values(c.compile(), {"a": [1, 2, 3], "b": 5})
+    >>> count, values["b"].tolist()
+    (3, [5.0, 5.0, 5.0])
+    """
+    names = list(compiled.parameters)
+    arrays = {}
+    for name, value in parameters.items():
+        if name not in compiled.parameters:
+            what = " (it is an input: give its values as the sweep's)" \
+                if name in compiled.inputs else did_you_mean(name, names)
+            raise ConstructionError(f"no parameter {name!r} to vary{what}", node=name)
+        try:
+            array = np.asarray(value, dtype=float)
+        except (TypeError, ValueError):
+            raise ConstructionError(f"the values of parameter {name!r} are not numbers",
+                                    node=name) from None
+        if array.ndim > 1:
+            raise ConstructionError(f"the values of parameter {name!r} must be a number or "
+                                    f"one-dimensional, got shape {array.shape}", node=name)
+        arrays[name] = array
+    try:
+        shape = np.broadcast_shapes(*(a.shape for a in arrays.values()))
+    except ValueError:
+        counts = ", ".join(f"{k}: {a.size}" for k, a in arrays.items())
+        raise ConstructionError(f"the varied parameters have different numbers of values "
+                                f"({counts}); give each the same number, or one") from None
+    count = shape[0] if shape else 1
+    if count == 0:
+        raise ConstructionError("a sweep of variants needs at least one variant; the "
+                                "parameters' values are empty")
+    return {k: np.broadcast_to(a, (count,)) for k, a in arrays.items()}, count
+
+
+def _joined(sweeps: list[Sweep]) -> Sweep:
+    """Return sweeps of one construction as one sweep of their samples, one after the other."""
+    first = sweeps[0]
+    offsets = np.cumsum([0] + [len(s) for s in sweeps])
+
+    def joined(arrays):
+        return np.concatenate([np.broadcast_to(a, (len(s),)) for a, s in
+                               zip(arrays, sweeps, strict=True)])
+
+    coords = {name: tuple(joined([s.points.coords(name)[i] for s in sweeps]) for i in (0, 1))
+              for name in first.points}
+    valid = joined([s.valid for s in sweeps])
+    return Sweep(
+        construction=first.construction,
+        inputs={k: joined([s.inputs[k] for s in sweeps]) for k in first.inputs},
+        points=PointTable(coords, valid), valid=valid,
+        failed_step=joined([s.failed_step for s in sweeps]),
+        reason_code=joined([s.reason_code for s in sweeps]),
+        branches={k: joined([s.branches[k] for s in sweeps]) for k in first.branches},
+        events=tuple(replace(e, index=e.index + offset)
+                     for s, offset in zip(sweeps, offsets, strict=False) for e in s.events),
+        margins={k: joined([s.margins[k] for s in sweeps]) for k in first.margins},
+        line_parameters={k: joined([s.line_parameters[k] for s in sweeps])
+                         for k in first.line_parameters},
+        parameters={k: joined([s.parameters[k] for s in sweeps]) for k in first.parameters})
 
 
 def start_labels(compiled: Compiled,
@@ -619,9 +756,16 @@ def start_labels(compiled: Compiled,
     return start
 
 
-def _initial_label(node, cand, n, override) -> int:
-    """Return the branch a node starts on: the one given, else the node's own choice."""
-    return override if override is not None else node.initial_root(cand, n)
+def _initial_label(node, cand, n, override, paths=1) -> int | np.ndarray:
+    """Return the branch a node starts on: the one given, else the node's own choice.
+
+    Over several paths it may differ from path to path: it is then given at
+    every sample, each path's at all of its samples.
+    """
+    if override is not None:
+        return override
+    first = node.initial_root(cand, n, paths)
+    return first if np.ndim(first) == 0 else _repeated(first, n // paths)
 
 
 class _Tracker:
@@ -640,12 +784,21 @@ class _Tracker:
     are always looked into.
     """
 
-    def __init__(self, compiled: Compiled, plan, inputs, n: int, origin):
+    def __init__(self, compiled: Compiled, plan, inputs, n: int, origin, varied=None,
+                 paths: int = 1):
         self.compiled = compiled
         self.plan = plan
         self.inputs = {k: np.broadcast_to(v, (n,)) for k, v in inputs.items()}
+        self.varied = varied or {}
         self.n = n
         self.origin = origin
+        # the steps from the end of one path to the start of the next (design variants):
+        # never looked into, nor crossed by a branch
+        self.length = n // paths
+        self.cut: np.ndarray | None = None
+        if paths > 1:
+            self.cut = np.zeros(n - 1, dtype=bool)
+            self.cut[self.length - 1::self.length] = True
         self.labels: dict[str, object] = {}
         self.flip_after: dict[str, np.ndarray] = {}  # a meeting at the sample itself
         self.meetings: dict[str, np.ndarray] = {}    # step + fraction, sorted
@@ -668,6 +821,10 @@ class _Tracker:
                 step = np.subtract(values[1:], values[:-1], out=_scratch(n - 1))
             else:
                 step = np.diff(values)
+            if self.cut is not None:
+                # a step between paths counts as the one before it, so that paths that
+                # each run one way still do all together
+                step[self.cut] = step[np.flatnonzero(self.cut) - 1]
             low, high = (step.min(), step.max()) if step.size else (0.0, 0.0)
             one_way = (low > 0 and high > 0) or (low < 0 and high < 0)
             steady = one_way and high - low <= 1e-9 * max(abs(low), abs(high))
@@ -739,6 +896,8 @@ class _Tracker:
             # margin itself, which spares a square root: |du| <= sqrt(|d(u**2)|)
             moved = self.scratch
             np.subtract(margin[1:], margin[:-1], out=moved)
+            if self.cut is not None:
+                moved[self.cut] = 0.0
             fastest = max(np.fmax.reduce(moved), -np.fmin.reduce(moved))
             if not self.even:
                 fastest = float(np.fmax.reduce(np.abs(moved) / self.travel)) * self.longest
@@ -747,6 +906,8 @@ class _Tracker:
                 return start, []
             apart = np.sqrt(margin)
             np.subtract(apart[1:], apart[:-1], out=moved)
+            if self.cut is not None:
+                moved[self.cut] = 0.0
             np.abs(moved, out=moved)
             if not self.even:
                 np.divide(moved, self.travel, out=moved)
@@ -759,6 +920,8 @@ class _Tracker:
         present = np.isfinite(np.broadcast_to(cand.x[0], (n,)))
         apart = np.where(present, np.sqrt(np.maximum(margin, 0.0)), np.nan)
         moved = np.abs(apart[1:] - apart[:-1])
+        if self.cut is not None:
+            moved[self.cut] = 0.0
         # what it could move per unit of travel, over each step and its neighbours
         rate = moved if self.even else moved / self.travel
         if n > 2:
@@ -770,6 +933,8 @@ class _Tracker:
         # a step into or out of a gap is looked into up to the gap's edge
         edge = present[:-1] != present[1:]
         settled = np.fmin(apart[:-1], apart[1:]) > SAFETY * reach
+        if self.cut is not None:
+            both, edge = both & ~self.cut, edge & ~self.cut
         if not self.any_coarse and not ((both & ~settled) | edge).any():
             self.labels[node.name] = start
             return start, []
@@ -784,8 +949,10 @@ class _Tracker:
                                              / (LENGTH_RESOLUTION / 2 * scale)))
             coarse = coarse | (pieces > 1)
         # a step of more than MAX_PIECES pieces (hundreds of turns) is past resolving
-        doubtful = np.flatnonzero(((both & ~settled) | edge | coarse) & self.finite
-                                  & (pieces <= MAX_PIECES))
+        doubtful = ((both & ~settled) | edge | coarse) & self.finite & (pieces <= MAX_PIECES)
+        if self.cut is not None:
+            doubtful &= ~self.cut
+        doubtful = np.flatnonzero(doubtful)
         at_sample = present & (apart <= MEET_RTOL)
         # each doubtful step is looked into at two pieces at least, so many steps at a
         # time that their pieces stay within a block of memory
@@ -801,12 +968,15 @@ class _Tracker:
         # between them (looked at off the middle, where a meeting of its own would hide
         # their parting), and two where they part
         together = np.zeros(n - 1, dtype=bool)
-        pairs = np.flatnonzero(at_sample[:-1] & at_sample[1:])
+        pairs = at_sample[:-1] & at_sample[1:]
+        if self.cut is not None:
+            pairs &= ~self.cut
+        pairs = np.flatnonzero(pairs)
         if pairs.size:
             inner_apart = self._apart(position, np.concatenate([pairs, pairs]),
                                       np.repeat([0.382, 0.618], pairs.size))
             together[pairs] = ~(inner_apart > MEET_RTOL).reshape(2, -1).any(axis=0)
-        flip_after = _flips_at_samples(at_sample, present, together, self.inputs)
+        flip_after = _flips_at_samples(at_sample, present, together, self.inputs, self.length)
         flips = flip_after[:-1].astype(np.int64)
         if inner.size:
             np.add.at(flips, np.floor(inner).astype(np.int64), 1)
@@ -816,7 +986,9 @@ class _Tracker:
         label = np.empty(n, dtype=np.int8)
         label[0] = 0
         label[1:] = np.cumsum(flips) % 2
-        label ^= np.int8(start)
+        if self.cut is not None:  # each path counts its own changes
+            label ^= _repeated(label[::self.length], self.length)
+        label ^= np.asarray(start, dtype=np.int8)
         self.labels[node.name] = label
         self.flip_after[node.name] = flip_after
         self.meetings[node.name] = inner
@@ -959,6 +1131,7 @@ class _Tracker:
         """
         inputs = {name: values[step] + fraction * (values[step + 1] - values[step])
                   for name, values in self.inputs.items()}
+        inputs.update({name: values[step] for name, values in self.varied.items()})
         env = _environment(self.compiled, inputs)
         coords = {}
         size = step.size
@@ -1029,7 +1202,7 @@ def _node_scale(cand, n) -> float:
     return 1.0
 
 
-def _flips_at_samples(at_sample, present, together, inputs):
+def _flips_at_samples(at_sample, present, together, inputs, length=None):
     """Return where meetings at samples change the branch.
 
     Meeting samples joined by steps along which the roots stay together
@@ -1037,7 +1210,9 @@ def _flips_at_samples(at_sample, present, together, inputs):
     last sample if the node can be assembled at the samples on both sides
     and the path goes on through it; where the path turns back there (its
     steps before and after point opposite ways), the branch is kept, as it
-    is when the path turns back just short of the meeting.
+    is when the path turns back just short of the meeting. The samples may
+    be several paths of ``length`` samples: a meeting at the first or the
+    last sample of any changes nothing.
     """
     n = at_sample.size
     flip = np.zeros(n, dtype=bool)
@@ -1047,7 +1222,8 @@ def _flips_at_samples(at_sample, present, together, inputs):
     joined[1:] = at_sample[1:] & at_sample[:-1] & together
     starts = np.flatnonzero(at_sample & ~joined)
     ends = np.flatnonzero(at_sample & ~np.append(joined[1:], False))
-    ok = (starts >= 1) & (ends <= n - 2)
+    length = n if length is None else length
+    ok = (starts % length != 0) & (ends % length != length - 1)
     starts, ends = starts[ok], ends[ok]
     ok = present[starts - 1] & present[ends + 1]
     starts, ends = starts[ok], ends[ok]

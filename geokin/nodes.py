@@ -289,7 +289,7 @@ class Node:
         """Return the value fields that cannot be negative (radii)."""
         return frozenset(f for key in self.keys if key.nonnegative for f in key.fields())
 
-    def initial_root(self, cand: Candidates, n: int) -> int:
+    def initial_root(self, cand: Candidates, n: int, paths: int = 1) -> int | np.ndarray:
         """Return the root this node starts on: 0 for a node with one root."""
         return 0
 
@@ -503,27 +503,33 @@ class _TwoRoot(Node):
             return f"near ({self.near[0]:g}, {self.near[1]:g})"
         return self.branch
 
-    def initial_root(self, cand: Candidates, n: int) -> int:
+    def initial_root(self, cand: Candidates, n: int, paths: int = 1) -> int | np.ndarray:
         """Return the root this node starts on.
 
         That is its declared branch, or the root nearer its sketch position
-        ``near`` at the first sample where one can be assembled.
+        ``near`` at the first sample where one can be assembled. The N
+        samples may be ``paths`` paths of N / paths samples one after the
+        other (variants of a design): the root is then chosen on each, and
+        returned per path where it depends on the roots' positions.
         """
         if self.near is None:
             return self.branch_names.index(self.branch or self.branch_names[0])
-        x0, x1, y0, y1 = (np.broadcast_to(a, (n,)) for a in (*cand.x, *cand.y))
+        x0, x1, y0, y1 = (np.broadcast_to(a, (n,)).reshape(paths, -1)
+                          for a in (*cand.x, *cand.y))
         usable = [np.isfinite(x0) & np.isfinite(y0), np.isfinite(x1) & np.isfinite(y1)]
         if cand.on_line is not None:  # a root off its ray or segment cannot be assembled
-            usable = [u & np.broadcast_to(on, (n,))
+            usable = [u & np.broadcast_to(on, (n,)).reshape(paths, -1)
                       for u, on in zip(usable, cand.on_line, strict=True)]
-        exists = np.flatnonzero(usable[0] | usable[1])
-        if exists.size == 0:
-            return 0
-        i = exists[0]
+        exists = usable[0] | usable[1]
+        rows = np.arange(paths)
+        i = np.argmax(exists, axis=1)  # the first sample of each path where a root exists
         near_x, near_y = self.near
-        distance = [np.hypot(x0[i] - near_x, y0[i] - near_y) if usable[0][i] else np.inf,
-                    np.hypot(x1[i] - near_x, y1[i] - near_y) if usable[1][i] else np.inf]
-        return int(distance[1] < distance[0])
+        with np.errstate(invalid="ignore"):
+            distance = [np.where(usable[k][rows, i], np.hypot(x[rows, i] - near_x,
+                                                              y[rows, i] - near_y), np.inf)
+                        for k, (x, y) in enumerate(((x0, y0), (x1, y1)))]
+        root = (distance[1] < distance[0]) & exists[rows, i]
+        return int(root[0]) if paths == 1 else root.astype(np.int8)
 
     @property
     def chosen_by_position(self) -> bool:

@@ -11,7 +11,7 @@ import math
 import unicodedata
 import warnings
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -50,13 +50,16 @@ class BranchEvent:
     fraction: float = 0.0
     """Where the roots meet, as a fraction of the step from sample ``index - 1``
     to ``index``: 0 at sample ``index - 1`` itself."""
+    variant: int | None = None
+    """In a sweep of design variants, the variant it happens in; None otherwise."""
 
     def __str__(self) -> str:
         if self.fraction > 0:
             where = f"between samples {self.index - 1} and {self.index}"
         else:
             where = f"at sample {self.index - 1}"
-        return (f"node {self.node!r} changes branch from {self.before} to {self.after} "
+        which = "" if self.variant is None else f"in variant {self.variant}, "
+        return (f"{which}node {self.node!r} changes branch from {self.before} to {self.after} "
                 f"at sample {self.index} (the two roots meet {where})")
 
 
@@ -95,6 +98,19 @@ class Sweep(Frozen):
         For every ray or segment node, its chosen root's parameter ``t``
         along the line: the root is ``line[0] + t * (line[1] - line[0])``,
         on the ray for ``t >= 0`` and on the segment for ``0 <= t <= 1``.
+    parameters : mapping of str to ndarray
+        The parameters whose values vary in this sweep, with their value at
+        every sample (the shape of ``valid``); empty for a sweep of one design.
+
+    Design variants
+    ---------------
+    A sweep of V design variants (``geokin.sweep(..., parameters=...)``)
+    has a leading variant axis on every per-sample array: ``valid``,
+    ``failed_step``, ``reason_code``, ``branches``, ``margins`` and
+    ``line_parameters`` are (V, N), ``points[name]`` is (V, N, 2), and each
+    event names its variant. The inputs stay (N,): every variant runs over
+    the same samples. :meth:`variant` gives one variant as a sweep of its
+    own, and :attr:`variants` their number.
     """
 
     construction: Compiled
@@ -107,21 +123,139 @@ class Sweep(Frozen):
     events: tuple[BranchEvent, ...]
     margins: Mapping[str, np.ndarray]
     line_parameters: Mapping[str, np.ndarray] = field(default_factory=dict)
+    parameters: Mapping[str, np.ndarray] = field(default_factory=dict)
 
     input = renamed_attribute("input", "input_values")
     _read_only = ("inputs", "branches", "margins", "line_parameters", "valid", "failed_step",
-                  "reason_code")
+                  "reason_code", "parameters")
 
     def __len__(self) -> int:
-        return len(self.valid)
+        """Return the number of samples N (of each variant)."""
+        return self.valid.shape[-1]
 
     def __getitem__(self, name: str) -> np.ndarray:
-        """Return the (N, 2) positions of a point."""
+        """Return the (N, 2) positions of a point ((V, N, 2) for V variants)."""
         return self.points[name]
 
     def __repr__(self) -> str:
-        return (f"<Sweep of {short_name(self.construction.name)}: {len(self)} samples, "
+        count = (f"{len(self)} samples" if self.variants is None
+                 else f"{self.variants} variants x {len(self)} samples")
+        return (f"<Sweep of {short_name(self.construction.name)}: {count}, "
                 f"{int(self.valid.sum())} valid, {len(self.events)} branch changes>")
+
+    @property
+    def variants(self) -> int | None:
+        """Return the number of design variants V, or None for a sweep of one design."""
+        return None if self.valid.ndim == 1 else self.valid.shape[0]
+
+    def variant(self, index: int) -> Sweep:
+        """Return one design variant as a sweep of its own.
+
+        Its construction holds the variant's parameter values; its arrays
+        are views of this sweep's.
+
+        Examples
+        --------
+        >>> from geokin import Construction, sweep
+        >>> c = Construction()
+        >>> c.parameter("r", 1)
+        >>> c.input("theta")
+        >>> c.fixed("O", 0, 0)
+        >>> c.polar("A", "O", "r", "theta")
+        >>> s = sweep(c, [0.0, np.pi / 2], parameters={"r": [1.0, 2.0, 3.0]})
+        >>> s["A"].shape, s.variants
+        ((3, 2, 2), 3)
+        >>> one = s.variant(2)
+        >>> one.construction.parameters["r"], one["A"][0].tolist()
+        (3.0, [3.0, 0.0])
+        """
+        count = self.variants
+        if count is None:
+            raise ValueError("this sweep is of one design: it has no variants")
+        if not -count <= index < count:
+            raise IndexError(f"variant {index} out of range for {count} variants")
+        index = index % count
+        values = {name: float(v[index].flat[0]) for name, v in self.parameters.items()}
+        compiled = replace(self.construction,
+                           parameters={**self.construction.parameters, **values})
+
+        def row(array):
+            return array if np.ndim(array) < 2 else array[index]
+
+        coords = {name: tuple(row(np.asarray(c)) for c in self.points.coords(name))
+                  for name in self.points}
+        valid = self.valid[index]
+        return Sweep(
+            construction=compiled, inputs=self.inputs,
+            points=PointTable(coords, valid), valid=valid,
+            failed_step=self.failed_step[index], reason_code=self.reason_code[index],
+            branches={k: row(v) for k, v in self.branches.items()},
+            events=tuple(replace(e, variant=None) for e in self.events
+                         if e.variant == index),
+            margins={k: row(v) for k, v in self.margins.items()},
+            line_parameters={k: row(v) for k, v in self.line_parameters.items()})
+
+    def flat(self) -> Sweep:
+        """Return a sweep of V variants as one sweep of V * N samples, variant after variant.
+
+        Its inputs repeat for every variant and its ``parameters`` give each
+        sample's values: evaluating the construction at its samples with
+        those values gives its points. The kinematics of variants are found
+        on it; :meth:`as_variants` undoes it.
+        """
+        count = self.variants
+        if count is None:
+            return self
+        n = len(self)
+
+        def flat(array):
+            array = np.asarray(array)
+            return array if array.ndim < 2 else array.reshape(-1)
+
+        coords = {name: tuple(flat(c) for c in self.points.coords(name)) for name in self.points}
+        valid = flat(self.valid)
+        return Sweep(
+            construction=self.construction,
+            inputs={k: np.tile(v, count) for k, v in self.inputs.items()},
+            points=PointTable(coords, valid), valid=valid,
+            failed_step=flat(self.failed_step), reason_code=flat(self.reason_code),
+            branches={k: flat(v) for k, v in self.branches.items()},
+            events=tuple(replace(e, index=e.variant * n + e.index, variant=None)
+                         for e in self.events),
+            margins={k: flat(v) for k, v in self.margins.items()},
+            line_parameters={k: flat(v) for k, v in self.line_parameters.items()},
+            parameters={k: flat(v) for k, v in self.parameters.items()})
+
+    def as_variants(self, count: int) -> Sweep:
+        """Return a sweep of ``count`` variants of N samples each, one after the other.
+
+        The inverse of :meth:`flat`: this sweep's V * N samples are cut into
+        V rows; its events are given their variant.
+        """
+        if self.variants is not None:
+            raise ValueError("this sweep already has a variant axis")
+        total = len(self)
+        if count < 1 or total % count:
+            raise ValueError(f"{total} samples cannot be cut into {count} variants")
+        n = total // count
+
+        def rows(array):
+            array = np.asarray(array)
+            return array if array.ndim == 0 else np.broadcast_to(array, (total,)).reshape(count, n)
+
+        coords = {name: tuple(rows(c) for c in self.points.coords(name)) for name in self.points}
+        valid = rows(self.valid)
+        return Sweep(
+            construction=self.construction,
+            inputs={k: v[:n] for k, v in self.inputs.items()},
+            points=PointTable(coords, valid), valid=valid,
+            failed_step=rows(self.failed_step), reason_code=rows(self.reason_code),
+            branches={k: rows(v) for k, v in self.branches.items()},
+            events=tuple(replace(e, index=e.index % n, variant=e.index // n)
+                         for e in self.events),
+            margins={k: rows(v) for k, v in self.margins.items()},
+            line_parameters={k: rows(v) for k, v in self.line_parameters.items()},
+            parameters={k: rows(v) for k, v in self.parameters.items()})
 
     def _repr_html_(self) -> str:
         """Return a table of the sweep and a picture of its paths, for a notebook.
@@ -419,9 +553,13 @@ class PointTable(Mapping):
         [2.0, -2.0]
         """
         x, y = self._coords[self._name(name)]
-        n = len(self._valid)
-        return (read_only(np.broadcast_to(np.asarray(x, dtype=float), (n,))),
-                read_only(np.broadcast_to(np.asarray(y, dtype=float), (n,))))
+        shape = self._valid.shape
+        return (read_only(np.broadcast_to(np.asarray(x, dtype=float), shape)),
+                read_only(np.broadcast_to(np.asarray(y, dtype=float), shape)))
+
+    def coords(self, name: str) -> tuple[np.ndarray | float, np.ndarray | float]:
+        """Return a point's x and y as evaluated: numbers for a point that does not move."""
+        return self._coords[self._name(name)]
 
     def _name(self, name: str) -> str:
         if isinstance(name, str) and not name.isascii():
@@ -435,9 +573,9 @@ class PointTable(Mapping):
         stacked = self._stacked.get(name)
         if stacked is None:
             x, y = self._coords[name]
-            stacked = np.empty((len(self._valid), 2))
-            stacked[:, 0] = x
-            stacked[:, 1] = y
+            stacked = np.empty((*self._valid.shape, 2))
+            stacked[..., 0] = x
+            stacked[..., 1] = y
             if not self._valid.all():
                 stacked[~self._valid] = np.nan
             self._stacked[name] = stacked = read_only(stacked)
