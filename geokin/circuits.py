@@ -20,12 +20,14 @@ from __future__ import annotations
 
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from typing import Any
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from .compat import renamed_attribute, renamed_keywords
 from .construction import Compiled, Construction, as_compiled
-from .engine import assembly_guesses, evaluate, start_labels
+from .engine import assembly_guesses, evaluate, start_labels, variant_values
 from .errors import AssemblyError, ConstructionError
 from .frozen import Frozen
 from .nodes import NO_INTERSECTION, SINGULAR
@@ -118,12 +120,16 @@ def _held(compiled, name, at):
             if k != name}
 
 
-def _evaluate_at(compiled, name, values, held, branches):
-    """Evaluate at input values with fixed branches; other inputs held at ``held``."""
+def _evaluate_at(compiled, name, values, held, branches, parameters=None):
+    """Evaluate at input values with fixed branches; other inputs held at ``held``.
+
+    ``parameters`` gives some parameters' values at each input value (variants).
+    """
     values = np.asarray(values, dtype=float)
     inputs = {k: np.full(values.shape, v) for k, v in held.items()}
     inputs[name] = values
-    return evaluate(compiled, inputs, len(values), branches, track=False)
+    return evaluate(compiled, inputs, len(values), branches, track=False,
+                    parameters=parameters)
 
 
 def _steps_by_name(compiled):
@@ -179,7 +185,7 @@ def _first(node: str, nodes: tuple[str, ...]) -> tuple[str, ...]:
     return (node, *(other for other in nodes if other != node))
 
 
-def _refine(compiled, name, held, branches, inside, outside, guesses=None):
+def _refine(compiled, name, held, branches, inside, outside, guesses=None, parameters=None):
     """Bisect brackets [inside, outside] (arrays) down to LIMIT_TOLERANCE.
 
     ``guesses`` holds each continued node's solution at the inside ends
@@ -187,6 +193,7 @@ def _refine(compiled, name, held, branches, inside, outside, guesses=None):
     brackets): every middle is solved from the solution at its inside end,
     as a two-root node keeps its branch, so a closure group stays on its
     assembly and its fold is found where Newton from that assembly stops.
+    ``branches`` and ``parameters`` may be given per bracket (design variants).
 
     Returns the refined inside ends and the sweep at the outside ends.
     """
@@ -200,26 +207,31 @@ def _refine(compiled, name, held, branches, inside, outside, guesses=None):
             middle != outside)
         if not open_.any():
             break
-        result = _evaluate_at(compiled, name, middle, held, {**branches, **guesses})
+        result = _evaluate_at(compiled, name, middle, held, {**branches, **guesses},
+                              parameters)
         ok = _strictly_valid(result)
         inside = np.where(ok, middle, inside)
         outside = np.where(ok, outside, middle)
         for node, found in assembly_guesses(result).items():
             guesses[node] = np.where(ok[:, None], found, guesses[node])
-    return inside, _evaluate_at(compiled, name, outside, held, {**branches, **guesses})
+    return inside, _evaluate_at(compiled, name, outside, held, {**branches, **guesses},
+                                parameters)
 
 
 @renamed_keywords(input="input_name", range="search_range", branches="start_branches")
-def limits(construction: Construction | Compiled, input_name: str | None = None, *,
+def limits(construction: Construction | Compiled | Sweep, input_name: str | None = None, *,
            search_range: tuple[float, float] | None = None,
            samples: int = SEARCH_SAMPLES,
            start_branches: Mapping[str, int] | None = None,
-           at: Mapping[str, float] | None = None) -> Limits:
+           at: Mapping[str, float] | None = None,
+           parameters: Mapping[str, ArrayLike] | None = None) -> Any:
     """Find every limit of an input's motion and the assemblable intervals.
 
     Parameters
     ----------
-    construction : Construction or Compiled
+    construction : Construction, Compiled or Sweep
+        What to search; a sweep of design variants gives its construction
+        and its variants' parameters.
     input_name : str, optional
         The input to move; the only input by default. Other inputs are held
         at ``at`` or at the start of their range.
@@ -237,10 +249,22 @@ def limits(construction: Construction | Compiled, input_name: str | None = None,
         sample in the searched range.
     at : mapping of str to float, optional
         Values of the other inputs.
+    parameters : mapping of str to array_like, optional
+        Design variants, as :func:`geokin.sweep` takes them: every
+        variant's limits are searched at once, its branches held from its
+        own first assemblable sample, its brackets bisected together with
+        all the others'.
 
     Returns
     -------
-    Limits
+    Limits, or tuple of Limits
+        One per variant for design variants; a variant that cannot be
+        assembled anywhere in the searched range has no interval.
+
+    Raises
+    ------
+    AssemblyError
+        For one design that cannot be assembled anywhere in the searched range.
 
     Examples
     --------
@@ -262,7 +286,21 @@ def limits(construction: Construction | Compiled, input_name: str | None = None,
     ('C', 'tangent')
     >>> found
     <Limits of 'theta2': -2.30693 to 2.30693 (tangent at 'C', tangent at 'C')>
+
+    The same with a ground 7 and 8 long, at once (for 8 the crank stops where
+    B is 6 + 5 from D2: cos(theta2) = (25 + 64 - 121) / 80):
+
+    >>> c.parameter("ground", 7)
+    >>> c.fixed("D2", "ground", 0)
+    >>> c.circle_circle("C2", ("B", "D2"), (6, 5), branch="left")
+    >>> both = limits(c, parameters={"ground": [7.0, 8.0]})
+    >>> [round(float(np.degrees(v.as_values()[0][1])), 4) for v in both]
+    [132.1774, 113.5782]
     """
+    if isinstance(construction, Sweep):
+        if parameters is None and construction.variants is not None:
+            parameters = {k: v[:, 0] for k, v in construction.parameters.items()}
+        construction = construction.construction
     compiled = as_compiled(construction)
     name = compiled.resolve_input(input_name)
     declared = compiled.inputs[name]
@@ -279,33 +317,80 @@ def limits(construction: Construction | Compiled, input_name: str | None = None,
         raise ConstructionError(f"limits need at least 3 samples to bracket, got {samples}",
                                 node=name, field="samples")
     grid = np.linspace(lo, hi, samples)
-    inputs = {k: np.full(samples, v) for k, v in held.items()}
-    inputs[name] = grid
-    probe = evaluate(compiled, inputs, samples, track=False,
-                     start=start_labels(compiled, start_branches))
-    first_valid = np.flatnonzero(probe.valid)
-    if first_valid.size == 0:
+    start = start_labels(compiled, start_branches)
+    if parameters is None:
+        return _limits_of_variants(compiled, name, grid, held, start, turn, None, 1)[0]
+    varied, count = variant_values(compiled, parameters)
+    if any(step.node.continued for step in compiled.steps):
+        # a closure group's bisection starts from its own solutions: each variant alone
+        return tuple(_limits_of_variants(
+            compiled, name, grid, held, start, turn, {k: v[i:i + 1] for k, v in varied.items()},
+            1)[0] for i in range(count))
+    return tuple(_limits_of_variants(compiled, name, grid, held, start, turn, varied, count))
+
+
+def _limits_of_variants(compiled, name, grid, held, start, turn, varied, count):
+    """Return the limits of ``count`` variants (one design without ``varied``) at once."""
+    samples = grid.size
+    total = count * samples
+    per_sample = None if varied is None else {
+        k: np.broadcast_to(v[:, None], (count, samples)).reshape(-1) for k, v in varied.items()}
+    values = np.tile(grid, count)
+    inputs = {k: np.full(total, v) for k, v in held.items()}
+    inputs[name] = values
+    probe = evaluate(compiled, inputs, total, track=False, start=start, parameters=per_sample,
+                     paths=count)
+    valid = probe.valid.reshape(count, samples)
+    assembles = valid.any(axis=1)
+    if varied is None and not assembles[0]:
         where = "over a whole turn" if turn else "over the searched range"
         failed = probe.failed_node[samples // 2]
         raise AssemblyError(f"the construction cannot be assembled anywhere {where} of input "
                             f"{name!r}: node {failed!r}: {probe.failure_reason[samples // 2]}",
                             node=failed or None)
-    held_branches = {k: int(np.broadcast_to(v, (samples,))[first_valid[0]])
-                     for k, v in probe.branches.items()}
-    probe = _evaluate_at(compiled, name, grid, held, held_branches)
-    ok = _strictly_valid(probe)
+    # each variant holds the branches of its first assemblable sample
+    first_valid = np.arange(count) * samples + np.argmax(valid, axis=1)
+    held_rows = {k: np.broadcast_to(v, (total,))[first_valid].astype(int)
+                 for k, v in probe.branches.items()}
+    if varied is None:
+        branches: dict = {k: int(v[0]) for k, v in held_rows.items()}
+    else:
+        branches = {k: np.broadcast_to(v[:, None], (count, samples)).reshape(-1)
+                    for k, v in held_rows.items()}
+    probe = _evaluate_at(compiled, name, values, held, branches, per_sample)
+    ok = _strictly_valid(probe).reshape(count, samples) & assembles[:, None]
+    row, change = np.nonzero(ok[:, 1:] != ok[:, :-1])
+    into = ok[row, change]
+    inside = np.where(into, grid[change], grid[change + 1])
+    outside = np.where(into, grid[change + 1], grid[change])
+    start_at = row * samples + np.where(into, change, change + 1)
+    refined, beyond = _refine(
+        compiled, name, held,
+        branches if varied is None else {k: v[row] for k, v in held_rows.items()},
+        inside, outside, assembly_guesses(probe, start_at),
+        None if varied is None else {k: v[row] for k, v in varied.items()})
+    found = [Limit(float(value), *_what_stops(beyond, i)) for i, value in enumerate(refined)]
+    declared = compiled.inputs[name]
+    ends = np.searchsorted(row, np.arange(count + 1))
+    result = []
+    for variant in range(count):
+        held_branches = {k: int(v[variant]) for k, v in held_rows.items()}
+        if not assembles[variant]:
+            result.append(Limits(name, (), False, held_branches))
+            continue
+        result.append(_intervals(name, declared, grid, turn, ok[variant],
+                                 found[ends[variant]:ends[variant + 1]], held_branches))
+    return result
+
+
+def _intervals(name, declared, grid, turn, ok, found, held_branches) -> Limits:
+    """Pair the limits found along a search into assemblable intervals."""
+    lo, hi = float(grid[0]), float(grid[-1])
     if ok.all() and turn:
         # it turns fully: every value is assemblable, the declared range included
         lo, hi = min(lo, *declared.range), max(hi, *declared.range)
         ends = (Limit(lo, None, "range"), Limit(hi, None, "range"))
         return Limits(name, (ends,), True, held_branches)
-    change = np.flatnonzero(ok[1:] != ok[:-1])
-    inside = np.where(ok[change], grid[change], grid[change + 1])
-    outside = np.where(ok[change], grid[change + 1], grid[change])
-    start_at = np.where(ok[change], change, change + 1)
-    refined, beyond = _refine(compiled, name, held, held_branches, inside, outside,
-                              assembly_guesses(probe, start_at))
-    found = [Limit(float(value), *_what_stops(beyond, i)) for i, value in enumerate(refined)]
     # pair the limits into intervals, with the range ends where the motion reaches them
     bounds = list(found)
     if ok[0]:

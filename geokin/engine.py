@@ -337,8 +337,22 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
 
 def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
                     sketches=None, varied=None, paths=1) -> _Evaluated:
-    """Evaluate every step for all N samples at once, tracking branches if asked."""
+    """Evaluate every step for all N samples at once, tracking branches if asked.
+
+    Over several paths with the same inputs and parameters constant along
+    each (design variants), the steps are evaluated on arrays of shape
+    (paths, N / paths), the inputs a row and the parameters a column
+    broadcast against each other, as one would write it by hand: what
+    depends on the inputs alone is computed once for all paths.
+    """
     env = _environment(compiled, {**inputs, **(varied or {})})
+    rows = None
+    if paths > 1 and varied and not any(step.node.continued for step in plan):
+        rows = (paths, n // paths)
+        env = _environment(compiled, {
+            **{k: np.broadcast_to(v, (n,))[:rows[1]].reshape(1, -1) for k, v in inputs.items()},
+            **{k: v[::rows[1]].reshape(-1, 1) for k, v in varied.items()}})
+        by_rows: dict[str, tuple] = {}
     coords: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     label: np.ndarray | int | None
     labels: dict[str, np.ndarray | int] = {}
@@ -362,6 +376,8 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
                     found = {**(cand.also or {}), node.name: (cand.x[0], cand.y[0])}
                     tracker.solutions[node.name] = np.column_stack([
                         np.broadcast_to(c, (n,)) for p in node.defines for c in found[p]])
+            elif rows is not None:
+                cand = _candidates_in_rows(step, by_rows, values, origin, rows)
             else:
                 cand = (_candidates(step, coords, values, origin) if n <= BLOCKED_ABOVE
                         else _candidates_in_blocks(step, coords, values, origin, n))
@@ -389,11 +405,15 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
                     parameters[node.name] = (cand.t[label] if np.ndim(label) == 0
                                              else np.where(label, cand.t[1], cand.t[0]))
             coords[node.name] = (x, y)
+            if rows is not None:
+                by_rows[node.name] = (_as_rows(x, rows), _as_rows(y, rows))
             finite = np.isfinite(x) & np.isfinite(y)
             failing = valid & ~finite if np.ndim(finite) else (None if finite else valid.copy())
             if failing is not None and failing.any():
                 # the first step that fails at a sample is its reason: recorded now, so
                 # that no step's candidates are kept for later
+                if rows is not None:
+                    values = {k: _as_samples(v, rows) for k, v in values.items()}
                 _record_failures(step, cand, values, label, failing, failed_step, reason_code)
                 valid &= ~failing
     events.sort(key=lambda e: (e.index, e.fraction))
@@ -431,6 +451,57 @@ def _candidates_in_blocks(step, coords, values, origin, n):
                 mine[lo:hi] = theirs
     assert whole is not None
     return type(cand)(*whole)
+
+
+def _as_rows(value, rows):
+    """Return per-sample values as an array of rows (one number stays one)."""
+    return value if np.ndim(value) == 0 else np.reshape(value, rows)
+
+
+def _as_samples(value, rows):
+    """Return values given on rows (or broadcast to them) as one array per sample."""
+    return value if np.ndim(value) == 0 else np.broadcast_to(value, rows).reshape(-1)
+
+
+def _candidates_in_rows(step, coords, values, origin, rows):
+    """Compute a step's candidates on rows of samples, as one array over all samples.
+
+    ``coords`` and ``values`` are numbers, rows of shape (1, M), columns of
+    shape (P, 1) or arrays of shape (P, M), broadcast together; about
+    :data:`BLOCK_SAMPLES` samples are computed at a time, for the cache.
+    """
+    paths, length = rows
+    block = max(1, BLOCK_SAMPLES // length)
+
+    def part(value, lo, hi):
+        return value[lo:hi] if np.ndim(value) == 2 and value.shape[0] == paths else value
+
+    whole = None
+    for lo in range(0, paths, block):
+        hi = min(lo + block, paths)
+        cand = _candidates(step, {k: (part(x, lo, hi), part(y, lo, hi))
+                                  for k, (x, y) in coords.items()},
+                           {k: part(v, lo, hi) for k, v in values.items()}, origin)
+        fields = [cand.x, cand.y, cand.margin, cand.on_line, cand.t]
+        if whole is None:
+            if lo + block >= paths:  # one block: its arrays as they are
+                return type(cand)(*[None if f is None else tuple(
+                    _as_samples(a, rows) for a in f) if isinstance(f, tuple)
+                    else _as_samples(f, rows) for f in fields])
+            whole = [None if f is None else tuple(
+                a if np.ndim(a) == 0 else np.empty(rows, dtype=np.asarray(a).dtype) for a in f)
+                if isinstance(f, tuple) else (f if np.ndim(f) == 0 else np.empty(rows))
+                for f in fields]
+        for mine, theirs in zip(whole, fields, strict=True):
+            if isinstance(mine, tuple):
+                for out, piece in zip(mine, theirs, strict=True):
+                    if np.ndim(out):
+                        out[lo:hi] = piece
+            elif mine is not None and np.ndim(mine):
+                mine[lo:hi] = theirs
+    assert whole is not None
+    return type(cand)(*[None if f is None else tuple(_as_samples(a, rows) for a in f)
+                        if isinstance(f, tuple) else _as_samples(f, rows) for f in whole])
 
 
 def _evaluate_in_blocks(compiled, plan, inputs, n, held, start, origin) -> _Evaluated:
@@ -883,7 +954,7 @@ class _Tracker:
         # memory for the per-step work of the whole-sweep test, reused from node to node
         self.scratch = np.empty(n - 1) if scratch is None else scratch
 
-    def track(self, position: int, cand, start: int):
+    def track(self, position: int, cand, start: int | np.ndarray):
         """Return the branch of node ``plan[position]`` at every sample, and its events."""
         node = self.plan[position].node
         n = self.n

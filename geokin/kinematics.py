@@ -49,6 +49,7 @@ Time derivatives follow by the chain rule from the input's rate
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -164,6 +165,28 @@ def _size(sweep: Sweep) -> float:
     return largest if largest > 0 else 1.0
 
 
+def _sizes(sweep: Sweep) -> np.ndarray:
+    """Return each sample's mechanism size: :func:`_size` of its own variant.
+
+    For a sweep of variants (V, N) each variant has its own size, given at
+    each of its samples, (V * N,); for a sweep of one design, its size.
+    """
+    if sweep.variants is None:
+        return np.array(_size(sweep))
+    low, high = np.full((sweep.variants, 2), np.inf), np.full((sweep.variants, 2), -np.inf)
+    for name in sweep.construction.point_names:
+        for axis, values in enumerate(sweep.points.xy(name)):
+            values = np.where(sweep.valid, values, np.nan)
+            low[:, axis] = np.fmin(low[:, axis], np.fmin.reduce(values, axis=1))
+            high[:, axis] = np.fmax(high[:, axis], np.fmax.reduce(values, axis=1))
+    with np.errstate(invalid="ignore"):
+        size = np.max(high - low, axis=1)
+        largest = np.max(np.abs(np.c_[low, high]), axis=1)
+    size = np.where(np.isfinite(size) & (size > 0), size,
+                    np.where(np.isfinite(largest) & (largest > 0), largest, 1.0))
+    return np.repeat(size, len(sweep))
+
+
 def _step_for(sweep: Sweep, name: str, step: float | None) -> float:
     if step is not None:
         if not (np.isfinite(step) and step > 0):
@@ -215,13 +238,15 @@ def input_derivatives(sweep: Sweep, input_name: str | None = None, *,
     return _along(sweep, {name: np.ones(len(sweep))}, h, name)
 
 
-def _along(sweep: Sweep, direction: dict, h: float, label: str) -> Derivatives:
+def _along(sweep: Sweep, direction: dict, h: float, label: str,
+           sizes: np.ndarray | None = None) -> Derivatives:
     """Differentiate every point along a direction in the inputs' space.
 
     The construction is evaluated again at ``inputs + k * h * direction`` on
     each sample's branches, :data:`SAMPLES_PER_BLOCK` samples at a time;
     ``direction`` holds, per input, an array of its rate at each sample
-    (inputs left out are held).
+    (inputs left out are held). ``sizes`` gives the mechanism's size at each
+    sample where it differs from sample to sample (design variants).
     """
     compiled = sweep.construction
     n = len(sweep)
@@ -230,7 +255,7 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str) -> Derivatives:
     check_sweep_memory(2 * len(names), n, what="motion")
     # evaluated about the mechanism's own middle where it lies far from (0, 0): the
     # differences of positions would lose the digits the derivatives need
-    size = _size(sweep)
+    size = _size(sweep) if sizes is None else float(np.max(sizes))
     middle = np.zeros(2)
     if sweep.valid.any():
         first_valid = int(np.argmax(sweep.valid))
@@ -238,7 +263,8 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str) -> Derivatives:
     origin = (float(middle[0]), float(middle[1])) if np.hypot(*middle) > 4 * size else None
     # the rounding of positions: a few units in the last place of their size in the
     # frame they are evaluated in
-    noise = POSITION_ROUNDING * _EPS * (size + (0.0 if origin is not None
+    noise = POSITION_ROUNDING * _EPS * ((size if sizes is None else sizes) + (
+        0.0 if origin is not None
                                                 else float(np.hypot(*middle))))
     # a ground point does not move: its derivatives are zero wherever it is assembled
     moving = [p for p in names if p not in compiled.ground]
@@ -257,7 +283,7 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str) -> Derivatives:
         ok = block.valid(CENTRAL + extra) & sweep.valid[lo:hi]
         estimate = _Estimate(lo + np.flatnonzero(ok) if not ok.all() else slice(lo, hi), h)
         block.central(ok, moving, first, second, estimate)
-        estimate.finish(first_error, second_error, noise, ROUNDING_CENTRAL)
+        estimate.finish(first_error, second_error, _at(noise, estimate.at), ROUNDING_CENTRAL)
         stencil[lo:hi][ok] = 0
         # one-sided stencils where the central one cannot be assembled: few samples
         rest = lo + np.flatnonzero(~ok)
@@ -273,9 +299,15 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str) -> Derivatives:
                 if mask.any():
                     estimate = _Estimate(rest[mask], sign * h)
                     side.one_sided(mask, sign, moving, first, second, estimate)
-                    estimate.finish(first_error, second_error, noise, ROUNDING_ONE_SIDED)
+                    estimate.finish(first_error, second_error, _at(noise, estimate.at),
+                                    ROUNDING_ONE_SIDED)
             stencil[rest[forward]], stencil[rest[backward]] = 1, -1
     return Derivatives(label, h, first, second, stencil, first_error, second_error)
+
+
+def _at(value, at):
+    """Return a number, or an array's values at some samples."""
+    return value if np.ndim(value) == 0 else value[at]
 
 
 class _Block:
@@ -285,7 +317,7 @@ class _Block:
     """
 
     def __init__(self, sweep: Sweep, at: slice | np.ndarray, rates: dict, h: float,
-                 origin: tuple[float, float] | None, noise: float,
+                 origin: tuple[float, float] | None, noise: float | np.ndarray,
                  offsets: tuple[int, ...] = CENTRAL):
         self.sweep, self.at, self.h, self.noise = sweep, at, h, noise
         self.offsets = offsets
@@ -303,8 +335,9 @@ class _Block:
                 for name, b in sweep.branches.items()}
         # a closure group, untracked here, starts at each sample from its own solution
         held.update(assembly_guesses(sweep, at, k))
+        varied = {name: np.tile(values[at], k) for name, values in sweep.parameters.items()}
         self.evaluated = evaluate(sweep.construction, inputs, m * k, held, track=False,
-                                  origin=origin)
+                                  origin=origin, parameters=varied)
         self.okay = self.evaluated.valid.reshape(k, m)
 
     def valid(self, offsets: tuple[int, ...]) -> np.ndarray:
@@ -625,14 +658,18 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
     array([2.])
     """
     compiled = sweep.construction
-    n = len(sweep)
+    # variants share the inputs and their clock, and are differentiated all at once as
+    # one sweep of their samples one after the other
+    whole, count = sweep, sweep.variants
+    sweep = sweep.flat()
+    n = len(whole)
     driver = input_name
     if driver is None:
-        moving = [k for k, v in sweep.inputs.items() if np.ptp(v) > 0]
+        moving = [k for k, v in whole.inputs.items() if np.ptp(v) > 0]
         driver = moving[0] if moving else None
     driver = compiled.resolve_input(driver, purpose="drive the motion")
     declared = compiled.inputs[driver]
-    values = sweep.inputs[driver]
+    values = whole.inputs[driver]
     direction = _direction_of_travel(values)
     size = np.broadcast_to(np.asarray(declared.speed if speed is None else speed, float), (n,))
     if not (np.isfinite(size) & (size > 0)).all():
@@ -647,12 +684,18 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
     time = np.concatenate([[0.0], np.cumsum(dt)])
     # the other inputs move as the sweep moves them, in step with the driving one
     rates, changes = {driver: rate}, {driver: rate_change}
-    for name, other in sweep.inputs.items():
+    for name, other in whole.inputs.items():
         if name != driver and np.ptp(other) > 0 and n >= 2 and (np.diff(time) > 0).all():
             rates[name] = np.gradient(other, time)
             changes[name] = np.gradient(rates[name], time) if n >= 3 else np.zeros(n)
+    if count is not None:
+        rate, rate_change = np.tile(rate, count), np.tile(rate_change, count)
+        rates = {k: np.tile(v, count) for k, v in rates.items()}
+        changes = {k: np.tile(v, count) for k, v in changes.items()}
+        n *= count
     # one step in time that moves no input by more than its own finite-difference step
-    d = _along(sweep, rates, _time_step(sweep, rates, step), driver)
+    sizes = None if count is None else _sizes(whole)
+    d = _along(sweep, rates, _time_step(sweep, rates, step), driver, sizes)
     velocity = d.first
     accel = d.second
     velocity_error, acceleration_error = d.first_error, d.second_error
@@ -664,16 +707,16 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
         acceleration_error = acceleration_error + velocity_error * np.abs(ratio)
     elif accelerating:
         # the inputs' own accelerations add a first derivative along them
-        extra = _along(sweep, accelerating, _time_step(sweep, accelerating, step), driver)
+        extra = _along(sweep, accelerating, _time_step(sweep, accelerating, step), driver, sizes)
         accel = {p: accel[p] + extra.first[p] for p in accel}
         acceleration_error = acceleration_error + extra.first_error
-    angle = link_angles(sweep)
+    angle = link_angles(whole)
     angular_velocity, angular_acceleration = {}, {}
     flagged = sweep.valid & (d.stencil == 2)
     with np.errstate(divide="ignore", invalid="ignore"):
         # errors are measured against each sample's own scales: its fastest point's
         # speed, and its largest acceleration or that speed turned over the size
-        extent = _size(sweep)
+        extent = _size(sweep) if sizes is None else sizes
         speed_scale = _largest_at_each(velocity.values(), n)
         accel_scale = np.fmax(_largest_at_each(accel.values(), n), speed_scale**2 / extent)
         flagged |= velocity_error > VELOCITY_RTOL * speed_scale
@@ -707,17 +750,33 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
             flagged |= error_a > ACCELERATION_RTOL * accel_scale
         for margin in sweep.margins.values():
             flagged |= sweep.valid & (margin < SINGULAR_MARGIN)
-    return Motion(sweep, driver, time, rate, rate_change, velocity, accel, angle,
-                  angular_velocity, angular_acceleration, flagged & sweep.valid,
-                  velocity_error, acceleration_error, d,
-                  {name: rates[0] for name, rates in slides.items()},
-                  {name: rates[1] for name, rates in slides.items()},
-                  {name: rates[2] for name, rates in slides.items()})
+    if count is None:
+        return Motion(sweep, driver, time, rate, rate_change, velocity, accel, angle,
+                      angular_velocity, angular_acceleration, flagged & sweep.valid,
+                      velocity_error, acceleration_error, d,
+                      {name: rates[0] for name, rates in slides.items()},
+                      {name: rates[1] for name, rates in slides.items()},
+                      {name: rates[2] for name, rates in slides.items()})
+
+    def rows(value):
+        if isinstance(value, Mapping):
+            return {k: rows(v) for k, v in value.items()}
+        return np.reshape(value, (count, -1, *np.shape(value)[1:]))
+
+    derivatives = Derivatives(d.input_name, d.step, rows(d.first), rows(d.second),
+                              rows(d.stencil), rows(d.first_error), rows(d.second_error))
+    return Motion(whole, driver, time, rate[:len(time)], rate_change[:len(time)],
+                  rows(velocity), rows(accel), angle, rows(angular_velocity),
+                  rows(angular_acceleration), rows(flagged & sweep.valid),
+                  rows(velocity_error), rows(acceleration_error), derivatives,
+                  {name: rows(rates[0]) for name, rates in slides.items()},
+                  {name: rows(rates[1]) for name, rates in slides.items()},
+                  {name: rows(rates[2]) for name, rates in slides.items()})
 
 
 def _dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Return the dot product of each row of two (N, 2) arrays."""
-    return np.einsum("ij,ij->i", u, v)
+    """Return the dot product of each row of two (..., 2) arrays."""
+    return np.einsum("...i,...i->...", u, v)
 
 
 def _slider_rates(sweep: Sweep, velocity: dict, accel: dict, velocity_error: np.ndarray,
@@ -778,14 +837,27 @@ def _largest_at_each(vectors, n: int) -> np.ndarray:
 def unwrap_valid(angle: np.ndarray) -> np.ndarray:
     """Unwrap angles across the finite samples, keeping NaN where they are not.
 
+    Along the last axis: each row of a (V, N) array (design variants) on its own.
+
     Examples
     --------
     >>> unwrap_valid(np.array([3.0, np.nan, -3.0])).round(4)
     array([3.    ,    nan, 3.2832])
+    >>> unwrap_valid(np.array([[3.0, -3.0], [-3.0, 3.0]])).round(4)
+    array([[ 3.    ,  3.2832],
+           [-3.    , -3.2832]])
     """
-    out = np.full_like(angle, np.nan)
     ok = np.isfinite(angle)
-    out[ok] = np.unwrap(angle[ok])
+    if ok.all():
+        return np.unwrap(angle, axis=-1)
+    # each gap filled with the angle before it (the first finite one before the
+    # first): no step across it, and the same steps between finite samples
+    at = np.arange(angle.shape[-1])
+    first = np.argmax(ok, axis=-1)[..., None]
+    filled = np.take_along_axis(angle, np.maximum.accumulate(np.where(ok, at, first), axis=-1),
+                                axis=-1)
+    out = np.unwrap(filled, axis=-1)
+    out[~ok] = np.nan
     return out
 
 
@@ -826,7 +898,7 @@ def slider_positions(sweep: Sweep) -> dict[str, np.ndarray]:
         guide = sweep.points[second] - sweep.points[first]
         with np.errstate(all="ignore"):
             result[slider.name] = _dot(sweep.points[slider.point] - sweep.points[first],
-                                       guide) / np.hypot(guide[:, 0], guide[:, 1])
+                                       guide) / np.hypot(guide[..., 0], guide[..., 1])
     return result
 
 
@@ -857,5 +929,5 @@ def link_angles(sweep: Sweep) -> dict[str, np.ndarray]:
     result = {}
     for link in sweep.construction.links:
         d = sweep.points[link.points[1]] - sweep.points[link.points[0]]
-        result[link.name] = unwrap_valid(np.arctan2(d[:, 1], d[:, 0]))
+        result[link.name] = unwrap_valid(np.arctan2(d[..., 1], d[..., 0]))
     return result

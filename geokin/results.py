@@ -220,7 +220,7 @@ class Sweep(Frozen):
             points=PointTable(coords, valid), valid=valid,
             failed_step=flat(self.failed_step), reason_code=flat(self.reason_code),
             branches={k: flat(v) for k, v in self.branches.items()},
-            events=tuple(replace(e, index=e.variant * n + e.index, variant=None)
+            events=tuple(replace(e, index=(e.variant or 0) * n + e.index, variant=None)
                          for e in self.events),
             margins={k: flat(v) for k, v in self.margins.items()},
             line_parameters={k: flat(v) for k, v in self.line_parameters.items()},

@@ -1,0 +1,259 @@
+"""Design variants swept at once: each variant exactly as it sweeps alone.
+
+Every check compares a batch of variants with each variant swept, moved or
+searched on its own (a construction holding that variant's values), or
+with the four-bar's closed forms; branch tracking must never run from one
+variant into the next.
+"""
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+
+import geokin
+from geokin import Construction, ConstructionError
+from geokin.circuits import limits
+from geokin.kinematics import motion
+
+NAMES = ("a", "b", "c", "d")
+
+
+def parametric_fourbar(near=False, lengths=(10.0, 35.0, 30.0, 40.0)):
+    """A four-bar with named lengths, a second dyad that folds, and a slider."""
+    c = Construction("four-bar variants")
+    for name, value in zip(NAMES, lengths, strict=True):
+        c.parameter(name, float(value))
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", "d", 0)
+    c.polar("A", "O2", "a", "theta")
+    if near:
+        c.circle_circle("B", ("A", "O4"), ("b", "c"), near=(10, 30))
+    else:
+        c.circle_circle("B", ("A", "O4"), ("b", "c"), branch="left")
+    # roots that meet and part as the crank turns: a line through A and B cut by
+    # a circle about O4
+    c.line_circle("C", ("A", "B"), "O4", "c", branch="first")
+    c.link("crank", "O2", "A")
+    c.link("coupler", "A", "B")
+    c.link("rocker", "O4", "B")
+    c.slider("block", "C", ("A", "B"))
+    return c
+
+
+def random_lengths(rng, count):
+    """Lengths of which many cannot be assembled over a whole turn, some at change points."""
+    a = rng.uniform(5, 15, count)
+    d = rng.uniform(20, 40, count)
+    b = rng.uniform(10, 40, count)
+    c = np.where(rng.random(count) < 0.3, a + d - b, rng.uniform(5, 40, count))
+    return {"a": a, "b": b, "c": np.where(c > 0, c, 10.0), "d": d}
+
+
+def built_alone(lengths, near=False):
+    """Return a function building variant i afresh, with its lengths as the parameters' values."""
+    return lambda i: parametric_fourbar(near, [lengths[k][i] for k in NAMES])
+
+
+def assert_same_as_alone(batch, construction_of, values):
+    """Each variant of ``batch`` equals the sweep of its own construction, exactly."""
+    for i in range(batch.variants):
+        alone = geokin.sweep(construction_of(i), values)
+        np.testing.assert_array_equal(batch.valid[i], alone.valid)
+        np.testing.assert_array_equal(batch.failed_step[i], alone.failed_step)
+        np.testing.assert_array_equal(batch.reason_code[i], alone.reason_code)
+        for node in alone.branches:
+            np.testing.assert_array_equal(batch.branches[node][i], alone.branches[node])
+        for point in alone.points:
+            np.testing.assert_allclose(batch[point][i], alone[point], rtol=0, atol=1e-12)
+        mine = batch.variant(i).events
+        assert [(e.node, e.index, e.before, e.after) for e in mine] == [
+            (e.node, e.index, e.before, e.after) for e in alone.events]
+        np.testing.assert_allclose([e.fraction for e in mine],
+                                   [e.fraction for e in alone.events], rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("path", ["turns", "random walk", "coarse"])
+def test_300_variants_equal_their_own_sweeps(path):
+    rng = np.random.default_rng({"turns": 1, "random walk": 2, "coarse": 3}[path])
+    values = {"turns": np.linspace(0, 4 * np.pi, 181),
+              "random walk": np.cumsum(rng.normal(0.3, 0.5, 60)),
+              "coarse": np.linspace(0, 2 * np.pi, 9)}[path]
+    c = parametric_fourbar()
+    lengths = random_lengths(rng, 300)
+    batch = geokin.sweep(c, values, parameters=lengths)
+    assert batch.valid.shape == (300, len(values)) and batch["C"].shape == (300, len(values), 2)
+    # the batch holds what makes the test worth running: variants that cannot be
+    # assembled somewhere, and branch changes
+    assert 0 < batch.valid.all(axis=1).sum() < 300 and len(batch.events) > 50
+    assert_same_as_alone(batch, built_alone(lengths), values)
+
+
+def test_each_variant_chooses_its_own_starting_root():
+    c = parametric_fourbar(near=True)
+    rng = np.random.default_rng(5)
+    lengths = random_lengths(rng, 100)
+    # with O4 on either side of O2, the root above the ground line is left of A -> O4
+    # for some variants and right of it for the others
+    lengths["d"] = lengths["d"] * np.where(rng.random(100) < 0.5, -1, 1)
+    values = np.linspace(0, 2 * np.pi, 73)
+    batch = geokin.sweep(c, values, parameters=lengths)
+    assert_same_as_alone(batch, built_alone(lengths, near=True), values)
+    # not all on one side: the sketch position chose per variant
+    first = [batch.branches["B"][i][np.argmax(batch.valid[i])] for i in range(100)
+             if batch.valid[i].any()]
+    assert 0 < sum(first) < len(first)
+
+
+@given(st.lists(st.floats(-3, 3), min_size=2, max_size=25),
+       st.integers(0, 2**32 - 1))
+def test_variants_along_random_paths(steps, seed):
+    values = np.cumsum(steps)
+    lengths = random_lengths(np.random.default_rng(seed), 5)
+    c = parametric_fourbar()
+    batch = geokin.sweep(c, values, parameters=lengths)
+    assert_same_as_alone(batch, built_alone(lengths), values)
+
+
+def test_variant_construction_holds_its_values():
+    c = parametric_fourbar()
+    batch = geokin.sweep(c, [0.0, 1.0], parameters={"a": [8.0, 9.0], "d": 41.0})
+    one = batch.variant(1)
+    assert one.construction.parameters["a"] == 9.0 and one.construction.parameters["d"] == 41.0
+    assert one.construction.parameters["b"] == 35.0
+    np.testing.assert_allclose(np.hypot(*one["A"].T), 9.0)
+    np.testing.assert_array_equal(batch["O4"][:, :, 0], 41.0)
+    assert batch.variant(-1).construction.parameters["a"] == 9.0
+    with pytest.raises(IndexError):
+        batch.variant(2)
+
+
+def test_flat_and_back():
+    c = parametric_fourbar()
+    lengths = random_lengths(np.random.default_rng(7), 20)
+    batch = geokin.sweep(c, np.linspace(0, 2 * np.pi, 37), parameters=lengths)
+    flat = batch.flat()
+    assert flat.variants is None and len(flat) == 20 * 37
+    again = flat.as_variants(20)
+    np.testing.assert_array_equal(again["C"], batch["C"])
+    np.testing.assert_array_equal(again.valid, batch.valid)
+    assert again.events == batch.events
+
+
+@pytest.mark.parametrize("parameters, message", [
+    ({"e": [1.0]}, "no parameter 'e'"),
+    ({"theta": [1.0]}, "it is an input"),
+    ({"a": [1.0, 2.0], "b": [1.0, 2.0, 3.0]}, "different numbers of values"),
+    ({"a": [[1.0, 2.0]]}, "one-dimensional"),
+    ({"a": []}, "at least one variant"),
+    ({"a": ["x"]}, "not numbers"),
+])
+def test_bad_variants_are_refused(parameters, message):
+    with pytest.raises(ConstructionError, match=message):
+        geokin.sweep(parametric_fourbar(), [0.0, 1.0], parameters=parameters)
+
+
+def test_motion_of_variants_equals_each_alone():
+    c = parametric_fourbar()
+    lengths = random_lengths(np.random.default_rng(11), 40)
+    values = np.linspace(0, 2 * np.pi, 91)
+    batch = motion(geokin.sweep(c, values, parameters=lengths), speed=3.0)
+    assert batch.velocity["B"].shape == (40, 91, 2) and batch.flagged.shape == (40, 91)
+    for i in range(40):
+        alone = motion(geokin.sweep(built_alone(lengths)(i), values), speed=3.0)
+        for point in ("A", "B", "C"):
+            np.testing.assert_allclose(batch.velocity[point][i], alone.velocity[point],
+                                       rtol=1e-12, atol=1e-12)
+            np.testing.assert_allclose(batch.acceleration[point][i], alone.acceleration[point],
+                                       rtol=1e-12, atol=1e-12)
+        for link in ("crank", "coupler", "rocker"):
+            np.testing.assert_allclose(batch.angle[link][i], alone.angle[link], atol=1e-12)
+            np.testing.assert_allclose(batch.angular_velocity[link][i],
+                                       alone.angular_velocity[link], rtol=1e-12, atol=1e-12)
+        np.testing.assert_allclose(batch.slider_velocity["block"][i],
+                                   alone.slider_velocity["block"], rtol=1e-12, atol=1e-12)
+        np.testing.assert_array_equal(batch.flagged[i], alone.flagged)
+
+
+def closed_form_limits(a, b, c, d):
+    """The crank angles where the coupler and rocker stretch out or fold (|b -+ c| from O4)."""
+    found = []
+    for reach in (b + c, abs(b - c)):
+        cosine = (a * a + d * d - reach * reach) / (2 * a * d)
+        if -1 < cosine < 1:
+            found += [np.arccos(cosine), -np.arccos(cosine)]
+    return sorted(found)
+
+
+def test_limits_of_variants_against_the_closed_form_and_each_alone():
+    rng = np.random.default_rng(13)
+    count = 300
+    lengths = {"a": rng.uniform(5, 15, count), "b": rng.uniform(10, 40, count),
+               "c": rng.uniform(5, 40, count), "d": rng.uniform(20, 40, count)}
+
+    def fourbar(lengths):
+        c = Construction("four-bar")
+        for name, value in zip(NAMES, lengths, strict=True):
+            c.parameter(name, float(value))
+        c.input("theta", range=(-np.pi, np.pi))
+        c.fixed("O2", 0, 0)
+        c.fixed("O4", "d", 0)
+        c.polar("A", "O2", "a", "theta")
+        c.circle_circle("B", ("A", "O4"), ("b", "c"), branch="left")
+        return c
+
+    found = limits(fourbar((1, 1, 1, 1)), parameters=lengths)
+    assert isinstance(found, tuple) and len(found) == count
+    checked = nowhere = 0
+    for i, mine in enumerate(found):
+        a, b, cc, d = (lengths[k][i] for k in NAMES)
+        expected = closed_form_limits(a, b, cc, d)
+        values = sorted(v for pair in mine.as_values() for v in pair
+                        if not np.isclose(abs(v), np.pi))
+        if not mine.intervals:
+            nowhere += 1
+            # O4 is never within the dyad's reach: |A - O4| runs over |d - a| .. d + a
+            assert a + d < abs(b - cc) or abs(d - a) > b + cc
+            continue
+        if mine.full_turn:
+            assert expected == []
+            continue
+        np.testing.assert_allclose(np.sort(np.mod(values, 2 * np.pi)),
+                                   np.sort(np.mod(expected, 2 * np.pi)), atol=1e-9)
+        alone = limits(fourbar([lengths[k][i] for k in NAMES]))
+        assert alone.full_turn == mine.full_turn
+        np.testing.assert_allclose(alone.as_values(), mine.as_values(), rtol=0, atol=1e-12)
+        assert [(lo.node, lo.kind, hi.node, hi.kind) for lo, hi in alone.intervals] == [
+            (lo.node, lo.kind, hi.node, hi.kind) for lo, hi in mine.intervals]
+        checked += 1
+    assert checked > 100 and nowhere > 0
+
+
+def test_limits_take_a_sweep_of_variants():
+    c = parametric_fourbar()
+    lengths = random_lengths(np.random.default_rng(17), 5)
+    batch = geokin.sweep(c, np.linspace(0, 2 * np.pi, 5), parameters=lengths)
+    by_sweep = limits(batch)
+    by_values = limits(c, parameters=lengths)
+    assert [f.as_values() for f in by_sweep] == [f.as_values() for f in by_values]
+
+
+def test_closure_group_variants_equal_each_alone():
+    def grouped(lengths):
+        c = Construction("four-bar with a group")
+        for name, value in zip(NAMES, lengths, strict=True):
+            c.parameter(name, float(value))
+        c.input("theta")
+        c.fixed("O2", 0, 0)
+        c.fixed("O4", "d", 0)
+        c.polar("A", "O2", "a", "theta")
+        c.closure("group", ["B"], [("A", "B", "b"), ("O4", "B", "c")], near={"B": (20, 25)})
+        return c
+
+    values = np.linspace(0, 2 * np.pi, 37)
+    lengths = {"a": [10.0, 9.0, 12.0], "b": [35.0, 36.0, 33.0], "c": [30.0] * 3,
+               "d": [40.0] * 3}
+    batch = geokin.sweep(grouped((10, 35, 30, 40)), values, parameters=lengths)
+    assert batch["B"].shape == (3, 37, 2)
+    assert_same_as_alone(batch, lambda i: grouped([lengths[k][i] for k in NAMES]), values)
