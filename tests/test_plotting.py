@@ -301,15 +301,60 @@ def test_invalid_samples_plot_and_animate(tmp_path, small_frames):
         assert gif.n_frames == 12
 
 
-def test_sweep_that_never_assembles(tmp_path, small_frames):
+def dark_pixels_near(image, ax, xy, radius=12):
+    """Count the dark pixels of a drawn figure's image within ``radius`` pixels of data ``xy``.
+
+    Dark: darker than the grid and the white background, as a symbol or a bar is.
+    """
+    x, y = ax.transData.transform(xy)
+    row, column = int(round(image.shape[0] - y)), int(round(x))
+    window = image[max(row - radius, 0):row + radius, max(column - radius, 0):column + radius]
+    return int((window[..., :3].min(axis=-1) < 120).sum())
+
+
+def rendered(fig):
+    canvas = matplotlib.backends.backend_agg.FigureCanvasAgg(fig)
+    canvas.draw()
+    return np.asarray(canvas.buffer_rgba())
+
+
+def test_a_sweep_that_never_assembles_shows_what_is_known():
+    # the crank (200) cannot bring its pin within reach of coupler and rocker (35, 30)
     s = sweep(four_bar(crank=200.0), samples(9))
     assert not s.valid.any()
-    ax = gp.plot_mechanism(s)
-    assert "cannot be assembled" in ax.texts[-1].get_text()
-    assert not any(p.get_visible() for p in ax.patches)
+    fig, ax = gp.figure_mechanism(s, 2)
+    status = ax.texts[-1].get_text()
+    assert status == ("θ = 90.0°\nno sample can be assembled:\nnode 'B' fails at all 9 "
+                      "samples:\nno intersection: the curves do not meet")
+    # the pivots and the crank, which are known; nothing of what comes after B
+    shown = {a.get_text() for a in ax.texts if a.get_visible()} - {status}
+    assert shown == {"O2", "O4", "A"}
+    assert sum(p.get_visible() for p in ax.patches if p.get_hatch()) == 2  # two grounds
+    crank = [line for line in bars(ax) if line.get_visible()]
+    assert len(crank) == 1
+    np.testing.assert_allclose(crank[0].get_xydata(), [[0, 0], [0, 200]], atol=1e-9)
+    assert not any(line.get_visible() for line in bars(ax)[1:])  # the rocker
+    assert ax.get_legend() is None  # no path of P to show
+    # a view round what is known, the crank's circle included, not the unit square
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    assert x0 < -200 and x1 > 200 and y0 < -200 and y1 > 200 and x1 - x0 < 1000
+    image = rendered(fig)
+    for pivot in ((0, 0), (40, 0)):
+        assert dark_pixels_near(image, ax, pivot) > 10, pivot
+    assert dark_pixels_near(image, ax, (150, -150)) == 0  # and not everywhere
+
+
+def test_an_animation_of_a_sweep_that_never_assembles_shows_the_crank_turning(tmp_path,
+                                                                              small_frames):
+    s = sweep(four_bar(crank=200.0), samples(9))
     path = gp.animate(s, tmp_path / "never.gif", dpi=25, frames=3, progress=False)
-    with Image.open(path) as gif:  # a whole animation of the message, every frame
+    with Image.open(path) as gif:
         assert gif.n_frames == 3
+        frames = []
+        for k in range(3):
+            gif.seek(k)
+            frames.append(np.asarray(gif.convert("RGB"), dtype=int))
+    assert (frames[0] != frames[1]).any()  # the crank turns; the pivots stay
 
 
 def test_progress_bar_only_on_a_terminal_and_a_slow_job():

@@ -543,8 +543,8 @@ def _lay_out(fig, scene: Scene, first: int) -> None:
     ax = scene.ax
     scene.update(first)
     setup_axes(ax, scene.layout, None)
-    if scene.trace_lines:
-        ax.legend(handles=scene.trace_lines, loc="upper left", bbox_to_anchor=(1.01, 1.0),
+    if scene.drawn_paths:
+        ax.legend(handles=scene.drawn_paths, loc="upper left", bbox_to_anchor=(1.01, 1.0),
                   fontsize=9, framealpha=0.9)
     # lay the figure out once: the frames keep the same axes
     fig.draw_without_rendering()

@@ -26,7 +26,10 @@ What a mechanism drawing shows:
   be assembled.
 
 A sample that cannot be assembled is shown as the nearest assembled pose,
-faded, with the reason in the corner.
+faded, with the reason in the corner. Where no sample can be assembled,
+each shows what is known there, with why nothing assembles: the ground
+pivots, and the points found before the node that fails (a crank turning
+alone), with the bars and sliders between them.
 
 Examples
 --------
@@ -52,6 +55,7 @@ from __future__ import annotations
 import math
 import os
 import pathlib
+import textwrap
 from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
@@ -226,6 +230,12 @@ class Scene:
         return [*self.trace_lines, *self.mechanism, self.joints, self.loose,
                 self.reference_marks, self.status]
 
+    @property
+    def drawn_paths(self) -> list[Artist]:
+        """The paths of :attr:`trace_lines` with a sample to show, for the legend."""
+        return [line for name, line in zip(self.layout.traces, self.trace_lines, strict=True)
+                if np.isfinite(self.sweep.points[name]).all(axis=1).any()]
+
     def update(self, index: int, *, grow: bool = False) -> None:
         """Draw sample ``index``; with ``grow`` the paths end at that sample."""
         sweep, layout = self.sweep, self.layout
@@ -235,20 +245,25 @@ class Scene:
             artist.set_data(xy[:, 0], xy[:, 1])
         text = input_text(sweep, index)
         pose = layout.pose_index(index)
-        if not sweep.valid[index]:
+        if pose is None and layout.unassembled:
+            text += "\n" + _wrapped(layout.unassembled)
+        elif not sweep.valid[index]:
             text += (f"\ncannot be assembled at {sweep.failed_node[index]!r}:\n"
                      f"{sweep.failure_reason[index]}")
         self.status.set_text(text)
         box = self.status.get_bbox_patch()
         if box is not None:
             box.set_edgecolor("#bbbbbb" if sweep.valid[index] else INPUT_COLOR)
-        for artist in [*self.mechanism, self.joints, self.loose, self.reference_marks]:
-            artist.set_visible(pose is not None)
         if pose is None:
-            return
-        at = {name: sweep.points[name][pose] for name in layout.nodes}
-        self._draw_pose(at, pose)
-        faded = not sweep.valid[index]
+            # nothing assembles: no pose to borrow, so this sample's own, as far as it
+            # is known (NaN beyond the failing node)
+            at = {name: np.array([c[index] for c in sweep.points.xy(name)])
+                  for name in layout.nodes}
+            self._draw_pose(at, index)
+            faded = False
+        else:
+            self._draw_pose({name: sweep.points[name][pose] for name in layout.nodes}, pose)
+            faded = not sweep.valid[index]
         for artist in self.mechanism:
             alpha = self._alpha[id(artist)]
             artist.set_alpha(0.2 * (alpha or 1.0) if faded else alpha)
@@ -256,8 +271,14 @@ class Scene:
             artist.set_alpha(0.2 if faded else None)
 
     def _draw_pose(self, at, pose):
+        """Draw the points at ``at`` (name to x, y); what is not finite there is hidden."""
         layout = self.layout
+        known = {name for name, xy in at.items() if np.isfinite(xy).all()}
         for name, (triangle, hatch, base) in zip(layout.pivots, self.ground, strict=True):
+            for artist in (triangle, hatch, base):
+                artist.set_visible(name in known)
+            if name not in known:
+                continue
             # the triangle's tip on the pivot, its hatched base on the side chosen for it
             angle, g = layout.ground_directions[name], layout.ground_sizes[name]
             d = np.array([math.cos(angle), math.sin(angle)])
@@ -270,6 +291,7 @@ class Scene:
                           middle - width + depth])
             base.set_data(*np.array([middle - width, middle + width]).T)
         for points, artist in self.bars:
+            artist.set_visible(known.issuperset(points))
             xy = np.array([at[p] for p in points])
             if hasattr(artist, "set_data"):
                 artist.set_data(xy[:, 0], xy[:, 1])
@@ -278,22 +300,36 @@ class Scene:
         self._on_blocks = {}
         self._grounds = []  # the middle lines of the hatched grounds under fixed guides
         for slider, block, guide, surface, hatch in self.blocks:
-            self._draw_slider(at, slider, block, guide, surface, hatch)
-        self.joints.set_data(*np.array([at[p] for p in self.joint_names] or
-                                       np.empty((0, 2))).reshape(-1, 2).T)
-        self.loose.set_data(*np.array([at[p] for p in self.loose_names] or
-                                      np.empty((0, 2))).reshape(-1, 2).T)
-        self.reference_marks.set_data(*np.array([at[p] for p in layout.references] or
-                                                np.empty((0, 2))).reshape(-1, 2).T)
+            shown = known.issuperset((slider.point, *slider.along))
+            for artist in (block, guide, surface, hatch):
+                if artist is not None:
+                    artist.set_visible(shown)
+            if shown:
+                self._draw_slider(at, slider, block, guide, surface, hatch)
+
+        def marks(names):
+            return np.array([at[p] for p in names if p in known] or
+                            np.empty((0, 2))).reshape(-1, 2).T
+
+        for artist, names in ((self.joints, self.joint_names), (self.loose, self.loose_names),
+                              (self.reference_marks, layout.references)):
+            artist.set_data(*marks(names))
+            artist.set_visible(True)
         self._arrow_points = np.empty((0, 2))
         if self.crank_arrow is not None:
-            self._draw_crank(at, pose)
-        centre = np.mean([at[p] for p in layout.shown], axis=0)
+            crank = layout.crank
+            self.crank_arrow.set_visible(known.issuperset((crank.origin, crank.tip)))
+            if self.crank_arrow.get_visible():
+                self._draw_crank(at, pose)
+        for name, label in self.labels.items():
+            label.set_visible(name in known)
+        centre = np.mean([at[p] for p in layout.shown if p in known] or [np.zeros(2)], axis=0)
         # each label where it is clear of the others: placed one by one (the labels on
         # blocks first, which do not move), then each placed again knowing where all are
         reach = _LABEL_REACH * layout.size
         placed: dict[str, tuple[np.ndarray, np.ndarray]] = {}
-        for name in sorted(self.labels, key=lambda name: name not in self._on_blocks):
+        for name in sorted((p for p in self.labels if p in known),
+                           key=lambda name: name not in self._on_blocks):
             if name in self._on_blocks:
                 placed[name] = self._on_blocks[name]  # above the block, clear of it
                 continue
@@ -334,10 +370,10 @@ class Scene:
         if name in layout.pivots:  # the ground symbol
             side = layout.ground_directions[name]
             pulls += [side - math.radians(35), side, side + math.radians(35)]
-        others = [at[p] for p in layout.shown if p != name]
+        others = [at[p] for p in layout.shown if p != name and np.isfinite(at[p]).all()]
         # the ground symbols, and the hatched grounds of fixed guides; of its own symbol,
         # which is among the pulls, only the far strip
-        symbols = [line for p in layout.pivots
+        symbols = [line for p in layout.pivots if np.isfinite(at[p]).all()
                    for line in layout.symbol_lines(p, at[p])[p == name:]]
         symbols += self._grounds
         if not pulls and not others and not self._placed:
@@ -415,8 +451,9 @@ class Scene:
     def _crank_sense(self, pose):
         """+1 if the crank turns counter-clockwise at ``pose``, -1 if clockwise."""
         crank = self.layout.crank
-        d = self.sweep.points[crank.tip] - self.sweep.points[crank.origin]
-        angle = np.arctan2(d[:, 1], d[:, 0])
+        # as evaluated: the crank is known where a node after it fails
+        (x0, y0), (x1, y1) = self.sweep.points.xy(crank.origin), self.sweep.points.xy(crank.tip)
+        angle = np.arctan2(y1 - y0, x1 - x0)
         n = len(angle)
         for i, j in ((pose, pose + 1), (pose - 1, pose)):
             if 0 <= i and j < n:
@@ -424,6 +461,22 @@ class Scene:
                 if np.isfinite(step) and step != 0:
                     return 1.0 if step > 0 else -1.0
         return 1.0
+
+
+def _wrapped(text: str, width: int = 44) -> str:
+    """Break a message into short lines for a figure's corner, at its colons where it can.
+
+    Examples
+    --------
+    >>> print(_wrapped("no sample can be assembled: node 'B' fails at all 361 samples: "
+    ...                "no intersection: the curves do not meet"))
+    no sample can be assembled:
+    node 'B' fails at all 361 samples:
+    no intersection: the curves do not meet
+    """
+    parts = text.split(": ", 2)
+    return "\n".join(textwrap.fill(part + (":" if k < len(parts) - 1 else ""), width)
+                     for k, part in enumerate(parts))
 
 
 def setup_axes(ax: Axes, layout: Layout, title: str | None) -> None:
@@ -528,8 +581,8 @@ def plot_mechanism(sweep: Sweep, index: int | None = None, *, ax: Axes | None = 
     scene = Scene(sweep, ax, traces)
     scene.update(index)
     setup_axes(ax, scene.layout, title)
-    if scene.trace_lines:
-        ax.legend(handles=scene.trace_lines, loc="best", fontsize=9, framealpha=0.9)
+    if scene.drawn_paths:
+        ax.legend(handles=scene.drawn_paths, loc="best", fontsize=9, framealpha=0.9)
     return ax
 
 
