@@ -344,6 +344,45 @@ def test_a_sweep_that_never_assembles_shows_what_is_known():
     assert dark_pixels_near(image, ax, (150, -150)) == 0  # and not everywhere
 
 
+def test_a_sweep_that_never_assembles_with_nothing_moving_known():
+    # the ground pivots alone are known: the view is round them, not the unit square
+    c = Construction("too short")
+    c.input("theta")
+    c.fixed("O2", 100, 50)
+    c.fixed("O4", 140, 50)
+    c.circle_circle("B", ("O2", "O4"), ("5 + 0 * theta", 5), branch="left")
+    c.link("left", "O2", "B")
+    c.link("right", "B", "O4")
+    s = sweep(c, samples(5))
+    fig, ax = gp.figure_mechanism(s)
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    assert x0 < 100 and x1 > 140 and y0 < 50 < y1 and x1 - x0 < 80
+    image = rendered(fig)
+    for pivot in ((100, 50), (140, 50)):
+        assert dark_pixels_near(image, ax, pivot) > 10, pivot
+
+
+def test_the_view_is_the_mechanism_far_from_the_origin():
+    # the artists are made at the origin before they are moved: the view must not hold it
+    c = Construction("far")
+    c.input("theta")
+    c.fixed("O2", 1000, 1000)
+    c.fixed("O4", 1040, 1000)
+    c.polar("A", "O2", 10, "theta")
+    c.circle_circle("B", ("A", "O4"), (35, 30), branch="left")
+    c.link("crank", "O2", "A")
+    c.link("coupler", "A", "B")
+    c.link("rocker", "B", "O4")
+    ax = gp.plot_mechanism(sweep(c, samples(37)))
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    assert 900 < x0 < 990 and 1040 < x1 < 1100 and 900 < y0 < 990
+    # what the axes held before stays in view
+    fig, ax = plt.subplots()
+    ax.plot([0, 1], [0, 1])
+    gp.plot_mechanism(sweep(c, samples(37)), ax=ax)
+    assert ax.get_xlim()[0] < 0 < 1040 < ax.get_xlim()[1]
+
+
 def test_an_animation_of_a_sweep_that_never_assembles_shows_the_crank_turning(tmp_path,
                                                                               small_frames):
     s = sweep(four_bar(crank=200.0), samples(9))

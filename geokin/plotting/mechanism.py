@@ -136,6 +136,9 @@ class Scene:
 
         self.sweep, self.ax = sweep, ax
         self.layout = layout = Layout(sweep, traces)
+        # the artists are made at the origin and moved later: the view is the layout's
+        # bounds (see setup_axes), not theirs, with whatever the axes held before
+        limits, ignored = ax.dataLim.frozen(), ax.ignore_existing_data_limits
         self.linewidth = 5.0
         self.mechanism: list[Artist] = []  # artists faded at samples that cannot be assembled
 
@@ -223,6 +226,8 @@ class Scene:
                               bbox=dict(boxstyle="round,pad=0.3", fc="white", ec="#bbbbbb",
                                         alpha=0.9))
         self._alpha = {id(a): a.get_alpha() for a in self.mechanism}
+        ax.dataLim.set(limits)
+        ax.ignore_existing_data_limits = ignored
 
     @property
     def artists(self) -> list[Artist]:
