@@ -375,7 +375,7 @@ def test_the_view_is_the_mechanism_far_from_the_origin():
     c.link("rocker", "B", "O4")
     ax = gp.plot_mechanism(sweep(c, samples(37)))
     (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
-    assert 900 < x0 < 990 and 1040 < x1 < 1100 and 900 < y0 < 990
+    assert 900 < x0 < 990 and 1040 < x1 < 1100 and 900 < y0 < 990 and 1000 < y1 < 1100
     # what the axes held before stays in view
     fig, ax = plt.subplots()
     ax.plot([0, 1], [0, 1])

@@ -419,7 +419,9 @@ def animate(sweep: Sweep, path: str | os.PathLike[str], *, fps: float = 25,
     The writer is chosen by the extension: ``.gif``, ``.html`` (one
     self-contained page with the frames embedded and a player) or ``.mp4``
     (needs ffmpeg). Samples that cannot be assembled show the last
-    assembled pose, faded, with the reason.
+    assembled pose, faded, with the reason; if none can be, each frame
+    shows what is known at its sample (see
+    :func:`~geokin.plotting.mechanism.plot_mechanism`).
 
     Each frame goes to the file as soon as it is drawn, so memory does not
     grow with the number of frames; an animation whose file would not fit

@@ -537,7 +537,9 @@ def plot_mechanism(sweep: Sweep, index: int | None = None, *, ax: Axes | None = 
     index : int, optional
         The sample to draw (negative counts from the end); by default the
         first sample that can be assembled. A sample that cannot be
-        assembled shows the nearest assembled pose, faded, and the reason.
+        assembled shows the nearest assembled pose, faded, and the reason;
+        if none can be, what is known at this one (the ground pivots, the
+        points found before the node that fails) and why none can be.
     ax : matplotlib.axes.Axes, optional
         Where to draw; the current axes by default.
     title : str, optional
