@@ -1035,3 +1035,30 @@ def test_two_inline_animations_on_one_page_play_each_its_own_frames(tmp_path):
     assert result["globals"] == "undefined"  # the frames stay inside each player
     assert result["timers"] == 2 and result["sources"] == [True, True]
     assert sorted(result["counters"]) == ["2 / 3", "2 / 5"]
+
+
+@pytest.mark.parametrize("index", [0, 60, 90, 120, 180, 270, 300])
+def test_labels_of_the_quick_returns_blocks_keep_off_the_ground_symbols(index):
+    """At 90 and 270 degrees the ram's pin B is on C: its label goes beside, not on C's ground."""
+    from geokin import load
+    from geokin.plotting.layout import symbol_covers
+
+    s = sweep(load("constructions/quick_return.toml"))
+    fig = matplotlib.figure.Figure(figsize=gp.FIGSIZE, layout="constrained")
+    canvas = matplotlib.backends.backend_agg.FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    scene = Scene(s, ax)
+    scene.update(index)
+    gp.mechanism.setup_axes(ax, scene.layout, None)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    layout = scene.layout
+    for name in ("A", "B"):  # the points on blocks
+        box = scene.labels[name].get_window_extent(renderer)
+        # a grid over the label's box, in data units
+        xs, ys = np.meshgrid(np.linspace(box.x0, box.x1, 9), np.linspace(box.y0, box.y1, 5))
+        grid = ax.transData.inverted().transform(np.column_stack([xs.ravel(), ys.ravel()]))
+        for pivot in layout.pivots:
+            covered = symbol_covers(s[pivot][index], layout.ground_directions[pivot],
+                                    layout.ground_sizes[pivot], grid)
+            assert not covered.any(), (name, pivot)

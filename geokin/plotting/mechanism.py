@@ -20,8 +20,9 @@ What a mechanism drawing shows:
   the guide is ground;
 - the driving input: an arc arrow at the driven crank's pivot and the input
   value (degrees for an angle) in the corner;
-- point labels, each in a gap between its bars and clear of the other
-  labels, points, ground symbols and the input's arrow; and the paths of
+- point labels, each in a gap between its bars (beside the blocks on its
+  point) and clear of the other labels, points, ground symbols and the
+  input's arrow; and the paths of
   the traced points over the whole sweep, broken where the mechanism cannot
   be assembled.
 
@@ -330,21 +331,17 @@ class Scene:
             label.set_visible(name in known)
         centre = np.mean([at[p] for p in layout.shown if p in known] or [np.zeros(2)], axis=0)
         # each label where it is clear of the others: placed one by one (the labels on
-        # blocks first, which do not move), then each placed again knowing where all are
+        # blocks first, which have fewer places), then each placed again knowing where
+        # all are
         reach = _LABEL_REACH * layout.size
         placed: dict[str, tuple[np.ndarray, np.ndarray]] = {}
         for name in sorted((p for p in self.labels if p in known),
                            key=lambda name: name not in self._on_blocks):
-            if name in self._on_blocks:
-                placed[name] = self._on_blocks[name]  # above the block, clear of it
-                continue
             self._placed = [a + reach * d for a, d in placed.values()]
-            placed[name] = at[name], self._label_direction(name, at, centre)
+            placed[name] = self._label_place(name, at, centre)
         for name in placed:
-            if name not in self._on_blocks:
-                self._placed = [a + reach * d for other, (a, d) in placed.items()
-                                if other != name]
-                placed[name] = at[name], self._label_direction(name, at, centre)
+            self._placed = [a + reach * d for other, (a, d) in placed.items() if other != name]
+            placed[name] = self._label_place(name, at, centre)
         for name, (anchor, direction) in placed.items():
             label = self.labels[name]
             label.xy = tuple(anchor)
@@ -356,14 +353,16 @@ class Scene:
             label.set_verticalalignment("bottom" if dy > 0.3 else "top" if dy < -0.3
                                         else "center")
 
-    def _label_direction(self, name, at, centre):
-        """Return a unit vector from a point to its label.
+    def _label_place(self, name, at, centre):
+        """Return where a point's label goes: its anchor, and a unit vector from there.
 
         Into the widest gap between its bars and its ground symbol, and
         clear of the other points, the ground symbols and the labels placed
         before it: two points close together get their labels on different
-        sides. Distances are judged in symbol sizes, which are a fixed part
-        of the drawing.
+        sides. The anchor is the point, or for a point on blocks the edge of
+        its blocks that way, so the label is beside them, not on them.
+        Distances are judged in symbol sizes, which are a fixed part of the
+        drawing.
         """
         layout, here = self.layout, at[name]
         s = layout.size
@@ -384,7 +383,8 @@ class Scene:
         if not pulls and not others and not self._placed:
             away = here - centre
             norm = np.hypot(*away)
-            return away / norm if norm > 1e-9 else np.array([0.7071, 0.7071])
+            d = away / norm if norm > 1e-9 else np.array([0.7071, 0.7071])
+            return here + self._past_blocks(name, d[None, :])[0] * d, d
         # every candidate at once: 16 directions, from up-right round
         angles = np.radians(np.arange(45, 405, 22.5))
         c = np.column_stack([np.cos(angles), np.sin(angles)])
@@ -392,7 +392,8 @@ class Scene:
             gap = np.min(np.abs(signed_turn(angles[:, None], np.array(pulls)[None, :])), axis=1)
         else:
             gap = np.full(len(angles), math.pi)
-        labels = here + _LABEL_REACH * s * c
+        clear = self._past_blocks(name, c)
+        labels = here + (clear + _LABEL_REACH * s)[:, None] * c
 
         def crowding(distances, reach):
             """How far into the reach of each obstacle each candidate comes, summed."""
@@ -402,7 +403,9 @@ class Scene:
             points = np.asarray(points, dtype=float).reshape(-1, 2)
             return np.hypot(*(labels[:, None, :] - points[None, :, :]).transpose(2, 0, 1))
 
-        crowded = crowding(to_points(others), 1.2 * s)  # on another point's marker
+        # on another point's marker; a label beside blocks, away from its point, keeps
+        # further from the others, so that it is not read as theirs
+        crowded = crowding(to_points(others), (1.2 * s + clear)[:, None])
         crowded += 1.5 * crowding(to_points(self._placed), 2.4 * s)  # on another label
         if symbols:  # on a ground symbol or a guide's hatched ground
             ends = np.array(symbols, dtype=float)  # (m, 2, 2)
@@ -411,7 +414,17 @@ class Scene:
         if len(self._arrow_points):  # on the input's arrow
             near = np.min(to_points(self._arrow_points), axis=1)
             crowded += 1.5 * np.maximum(0.0, 1.0 - near / (1.5 * s))
-        return c[int(np.argmax(gap - 2.5 * crowded))]
+        best = int(np.argmax(gap - 2.5 * crowded))
+        return here + clear[best] * c[best], c[best]
+
+    def _past_blocks(self, name, directions):
+        """Return how far from a point each direction (k, 2) leaves the blocks on it: 0 if none."""
+        clear = np.zeros(len(directions))
+        for u, n, half_l, half_h in self._on_blocks.get(name, ()):
+            with np.errstate(divide="ignore"):  # straight along a side: the other side decides
+                out = np.minimum(half_l / np.abs(directions @ u), half_h / np.abs(directions @ n))
+            clear = np.maximum(clear, out)
+        return clear
 
     def _draw_slider(self, at, slider, block, guide, surface, hatch):
         """Draw a block centred on its point, along the guide's current direction."""
@@ -423,7 +436,7 @@ class Scene:
         n = np.array([-u[1], u[0]])
         centre = at[slider.point]
         half_l, half_h = 1.6 * s, 1.0 * s
-        self._on_blocks[slider.point] = (centre + half_h * n, n)
+        self._on_blocks.setdefault(slider.point, []).append((u, n, half_l, half_h))
         block.set_xy([centre - half_l * u - half_h * n, centre + half_l * u - half_h * n,
                       centre + half_l * u + half_h * n, centre - half_l * u + half_h * n])
         # the block's travel along its guide, not the whole line across the mechanism
