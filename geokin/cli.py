@@ -35,9 +35,12 @@ and ``--samples N`` or ``--step S`` for the first input (other inputs are
 swept over their own ranges with as many samples), or ``--circuit`` for the
 first input's whole circuit. Errors are printed on standard error without a
 traceback, one line each with what came from a script escaped, and the exit
-status is 2; a construction that cannot be assembled at any sample is said
-so, naming the node that fails and why, with exit status 1 and no output
-file. Every output file is written whole or not at all
+status is 2. A construction that cannot be assembled at any sample is said
+so in one line, naming the node that fails and why, with exit status 1,
+after ``trace``, ``plot`` and ``animate`` have written what is known: the
+ground pivots (and the points found before the failing node, in a
+picture); ``plot --kinematics``, ``--circuit`` and ``analyze``, which have
+nothing known to show, write nothing. Every output file is written whole or not at all
 (:mod:`geokin.atomic`): Ctrl-C exits with status 130 and leaves the old file.
 
 Adding a command takes a function ``run_<name>(args) -> int`` and a
@@ -180,10 +183,14 @@ def sweep_values(construction: Construction, args: argparse.Namespace) -> dict[s
 
 
 def motion_of(path: str | os.PathLike[str], args: argparse.Namespace,
-              at: float | None = None) -> tuple[ScriptSweep, int | None]:
+              at: float | None = None, *, assembled: bool = True
+              ) -> tuple[ScriptSweep, int | None]:
     """Load a script and sweep it; with ``at``, make sure the first input takes that value.
 
     Returns the motion and the index of the sample at ``at`` (None without it).
+    With ``assembled``, a sweep that cannot be assembled at any sample is an
+    :class:`AssemblyError`; without it, the caller writes what is known of
+    it first (and then calls :meth:`Sweep.require_assembled`).
     """
     construction = load(path)
     if getattr(args, "circuit", False):
@@ -201,8 +208,9 @@ def motion_of(path: str | os.PathLike[str], args: argparse.Namespace,
             raise _outside(at, first, lo, hi, "the sweep")
         values, index = _insert(values, name, at)
     radians = {name: from_script(construction.inputs[name], v) for name, v in values.items()}
-    # nothing to write or draw if no sample assembles: say why instead
-    result = run_sweep(construction, radians or None).require_assembled()
+    result = run_sweep(construction, radians or None)
+    if assembled:  # nothing to write or draw if no sample assembles: say why instead
+        result.require_assembled()
     return ScriptSweep(construction, result, values), index
 
 
@@ -434,7 +442,9 @@ def add_trace(subparsers: Subparsers) -> None:
                     "valid, and <point>.x, <point>.y for each point; with --derivatives "
                     "also <point>.vx, .vy, .ax, .ay per second at the input's speed. "
                     "--links and --sliders add link angles (degrees) and slider positions. "
-                    "NaN where a sample cannot be assembled.")
+                    "NaN where a sample cannot be assembled, except for ground points, "
+                    "which are known at every sample: if none can be, the columns are "
+                    "written and the status is 1.")
     p.add_argument("script", metavar="SCRIPT", help="construction script (.toml)")
     p.add_argument("-o", "--output", metavar="FILE",
                    help="write FILE.csv, FILE.json or FILE.npz (default: CSV on standard output)")
@@ -500,7 +510,8 @@ def run_trace(args: argparse.Namespace) -> int:
     if args.output is not None:
         _output_kind(args.output, EXPORT_FORMATS, "a trace")
         require_folder(args.output)  # say so before a long sweep, not after
-    m, _ = motion_of(args.script, args)
+    # where nothing assembles, the ground points are still known: write them, then say so
+    m, _ = motion_of(args.script, args, assembled=False)
     points = _selected(m.construction, args.points, "point")
     links = _selected(m.construction, args.links, "link")
     sliders = _selected(m.construction, args.sliders, "slider")
@@ -516,10 +527,12 @@ def run_trace(args: argparse.Namespace) -> int:
     if args.output is None:
         write_csv(table, sys.stdout)
         sys.stdout.flush()
-        return 0
-    path = export_sweep(table, args.output)
-    print(escape(f"wrote {path}: {len(m.sweep)} samples, {len(table)} columns"),
-          file=sys.stderr)
+    else:
+        path = export_sweep(table, args.output)
+    m.sweep.require_assembled()  # the one line of stderr if no sample can be assembled
+    if args.output is not None:
+        print(escape(f"wrote {path}: {len(m.sweep)} samples, {len(table)} columns"),
+              file=sys.stderr)
     return 0
 
 
@@ -563,6 +576,7 @@ def run_plot(args: argparse.Namespace) -> int:
                              "give one or the other")
         if args.samples == 1:
             raise UsageError("--kinematics plots against time: it needs at least 2 samples")
+        # the links' angles: where nothing assembles nothing of them is known, no chart
         m, _ = motion_of(args.script, args)
         first = next(iter(m.construction.inputs), None)
         if first is None:
@@ -570,8 +584,9 @@ def run_plot(args: argparse.Namespace) -> int:
         fig, _ = plotting.figure_kinematics(motion(m.sweep, first), title=args.title)
         print(escape(f"wrote {plotting.save(fig, output)}"), file=sys.stderr)
         return 0
-    m, index = motion_of(args.script, args, at=args.at)
-    if index is not None and not m.sweep.valid[index]:
+    # where nothing assembles, the ground pivots are still known: draw them, then say so
+    m, index = motion_of(args.script, args, at=args.at, assembled=False)
+    if index is not None and not m.sweep.valid[index] and m.sweep.valid.any():
         s = m.sweep
         print(one_line(f"geokin: warning: {_sample_text(m.construction, s, index)}: node "
                        f"{s.failed_node[index]!r} cannot be assembled: "
@@ -583,6 +598,7 @@ def run_plot(args: argparse.Namespace) -> int:
     ax = fig.add_subplot()
     plotting.plot_mechanism(m.sweep, index, ax=ax, title=args.title)
     path = plotting.save(fig, output)
+    m.sweep.require_assembled()
     print(escape(f"wrote {path}"), file=sys.stderr)
     return 0
 
@@ -618,11 +634,13 @@ def run_animate(args: argparse.Namespace) -> int:
                          f"frames per second, got {args.fps:g}")
     if args.dpi is not None and not 1 <= args.dpi <= 1000:
         raise UsageError(f"--dpi must be from 1 to 1000, got {args.dpi:g}")
-    m, _ = motion_of(args.script, args)
+    # as plot: the pivots (and a crank turning alone) where nothing assembles, then exit 1
+    m, _ = motion_of(args.script, args, assembled=False)
     frames = plotting.DEFAULT_FRAMES if args.frames is None else args.frames
     dpi = plotting.DEFAULT_DPI if args.dpi is None else args.dpi
     path = plotting.animate(m.sweep, args.output, fps=args.fps, frames=frames, dpi=dpi,
                             progress=not args.no_progress)
+    m.sweep.require_assembled()
     n = len(m.sweep)
     shown = min(frames, n)
     said = f"wrote {path}: {shown} frames of {n} samples at {dpi:g} dpi"
@@ -774,7 +792,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     -------
     int
         The exit status: 0 on success, 1 when the construction cannot be
-        assembled at any sample (nothing is written), 2 for any other error
+        assembled at any sample (after writing what is known: the ground
+        pivots), 2 for any other error
         (a bad script or argument; printed on standard error) and 130 after
         Ctrl-C, which leaves every output file as it was. SIGTERM cleans up
         the same way, then ends the process by that signal.

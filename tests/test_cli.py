@@ -105,38 +105,116 @@ def never(tmp_path):
     return path
 
 
+def one_error_line(err, script, samples=361):
+    """The one line of standard error where no sample can be assembled: the node, and why."""
+    message = NEVER_ERROR.replace("361", str(samples))
+    assert err == f"geokin: error: {script}: {message}\n"
+    return True
+
+
 @pytest.mark.parametrize("argv, output, message", [
-    (["trace"], None, NEVER_ERROR),
-    (["trace", "--derivatives", "-o"], "out.csv", NEVER_ERROR),
-    (["trace", "-o"], "out.npz", NEVER_ERROR),
-    (["trace", "--samples", 1], None, NEVER_ERROR.replace("all 361 samples", "the one sample")),
-    (["plot", "-o"], "out.png", NEVER_ERROR),
-    (["plot", "--at", 90, "-o"], "out.png", NEVER_ERROR),
     (["plot", "--kinematics", "-o"], "out.png", NEVER_ERROR),
-    (["animate", "--no-progress", "-o"], "out.gif", NEVER_ERROR),
     (["plot", "--circuit", "-o"], "out.png", "the construction cannot be assembled anywhere "
                                              "over a whole turn of input 'theta': node 'B': no "
                                              "intersection: the curves do not meet"),
+    (["trace", "--circuit", "-o"], "out.csv", "the construction cannot be assembled anywhere "
+                                              "over a whole turn of input 'theta': node 'B': "
+                                              "no intersection: the curves do not meet"),
     (["analyze"], None, "the construction cannot be assembled anywhere over a whole turn of "
                         "input 'theta': node 'B': no intersection: the curves do not meet"),
 ])
-def test_a_construction_that_never_assembles_exits_1_writing_nothing(capsys, tmp_path, never,
-                                                                     argv, output, message):
+def test_a_construction_that_never_assembles_with_nothing_known_to_show_writes_nothing(
+        capsys, tmp_path, never, argv, output, message):
+    # link angles against time, or a circuit that has nowhere to start: nothing is known
     args = [argv[0], never, *argv[1:]]
     if output is not None:
+        (tmp_path / output).write_text("the old file")
         args.append(tmp_path / output)
     status, out, err = run(capsys, *args)
     assert (status, out, err) == (1, "", f"geokin: error: {never}: {message}\n")
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["never.toml"]
+    if output is not None:
+        assert (tmp_path / output).read_text() == "the old file"
 
 
-def test_a_construction_that_never_assembles_leaves_the_old_output(capsys, tmp_path, never):
-    for name in ("old.csv", "old.png"):
-        (tmp_path / name).write_text("the old file")
-    assert run(capsys, "trace", never, "-o", tmp_path / "old.csv")[0] == 1
-    assert run(capsys, "plot", never, "-o", tmp_path / "old.png")[0] == 1
-    for name in ("old.csv", "old.png"):
-        assert (tmp_path / name).read_text() == "the old file"
+PIVOT = 40 + 1 / 3  # O4.x: read back exactly, not only to a few digits
+
+
+@pytest.mark.parametrize("suffix", [None, ".csv", ".json", ".npz"])
+def test_trace_of_a_construction_that_never_assembles_writes_the_ground_pivots(
+        capsys, tmp_path, never, suffix):
+    never.write_text(NEVER.replace("at = [40, 0]", 'at = ["40 + 1/3", -0.1]'))
+    args = ["trace", never, "--derivatives", "--samples", 7]
+    out_path = None if suffix is None else tmp_path / f"old{suffix}"
+    if out_path is not None:
+        out_path.write_text("the old file")
+        args += ["-o", out_path]
+    status, out, err = run(capsys, *args)
+    assert status == 1 and one_error_line(err, never, 7)  # and no "wrote ..." line
+    if suffix is None:
+        header, data = read_csv(out)
+        table = dict(zip(header, data.T, strict=True))
+    elif suffix == ".csv":
+        header, data = read_csv(out_path.read_text())
+        table = dict(zip(header, data.T, strict=True))
+    elif suffix == ".json":
+        table = {k: np.array([np.nan if v is None else v for v in values], dtype=float)
+                 for k, values in json.loads(out_path.read_text()).items()}
+    else:
+        with np.load(out_path) as archive:
+            table = {k: archive[k] for k in archive}
+    assert out == "" or suffix is None
+    np.testing.assert_array_equal(table["theta"], [0, 60, 120, 180, 240, 300, 360])
+    assert (table["valid"] == 0).all()
+    # the ground pivots where the script puts them, at rest
+    assert (table["O2.x"] == 0).all() and (table["O2.y"] == 0).all()
+    assert (table["O4.x"] == PIVOT).all() and (table["O4.y"] == -0.1).all()
+    assert (table["O4.vx"] == 0).all() and (table["O4.ay"] == 0).all()
+    # the points that move are not known: the mechanism is not assembled
+    for name in ("A.x", "A.vy", "B.x", "B.y"):
+        assert np.isnan(table[name]).all(), name
+
+
+@pytest.mark.parametrize("argv", [[], ["--at", 90], ["--title", "short"]])
+def test_plot_of_a_construction_that_never_assembles_draws_the_ground_pivots(
+        capsys, tmp_path, never, argv):
+    out = tmp_path / "old.png"
+    out.write_text("the old file")
+    status, stdout, err = run(capsys, "plot", never, "-o", out, *argv)
+    assert status == 1 and stdout == "" and one_error_line(err, never)
+    # where the pivots are in the picture: the same drawing, from Python
+    import matplotlib
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    import geokin.plotting as gp
+
+    matplotlib.use("Agg")
+    fig = Figure(figsize=gp.FIGSIZE, layout="constrained")
+    FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    s = geokin.sweep(geokin.load(never))
+    gp.plot_mechanism(s, 90 if argv[:1] == ["--at"] else None, ax=ax, title=argv[-1]
+                      if argv[:1] == ["--title"] else None)
+    fig.draw_without_rendering()
+    with Image.open(out) as image:
+        assert image.size == (800, 600)
+        pixels = np.asarray(image.convert("RGB"), dtype=int)
+    for pivot in ((0, 0), (40, 0)):
+        x, y = ax.transData.transform(pivot)
+        row, column = int(round(600 - y)), int(round(x))
+        near = pixels[row - 12:row + 12, column - 12:column + 12]
+        assert (near.min(axis=-1) < 120).sum() > 20, pivot  # the pivot's ring and triangle
+    assert (pixels.min(axis=-1) < 120).mean() < 0.05  # a drawing, not a dark page
+
+
+def test_animate_of_a_construction_that_never_assembles_shows_the_pivots(capsys, tmp_path,
+                                                                         never):
+    out = tmp_path / "never.gif"
+    status, stdout, err = run(capsys, "animate", never, "-o", out, "--frames", 3, "--dpi", 25,
+                              "--no-progress")
+    assert status == 1 and stdout == "" and one_error_line(err, never)
+    with Image.open(out) as gif:
+        assert gif.n_frames == 3
 
 
 def test_check_of_a_construction_that_never_assembles_exits_1(capsys, tmp_path, never):
@@ -158,10 +236,14 @@ def test_a_construction_that_assembles_somewhere_is_not_an_error(capsys, never):
     # of it for part of the turn: today's NaN where it does not
     script = never.with_name("some.toml")
     script.write_text(NEVER.replace("at = [40, 0]", "at = [15, 0]"))
-    status, out, err = run(capsys, "trace", script, "--points", "B")
+    status, out, err = run(capsys, "trace", script, "--points", "B,O4")
     assert status == 0 and err == ""
-    valid = read_csv(out)[1][:, 1]
+    header, data = read_csv(out)
+    assert header == ["theta", "valid", "B.x", "B.y", "O4.x", "O4.y"]
+    valid = data[:, 1] == 1
     assert 0 < valid.sum() < len(valid)
+    assert np.isnan(data[~valid, 2:4]).all() and np.isfinite(data[valid, 2:4]).all()
+    assert (data[:, 4] == 15).all() and (data[:, 5] == 0).all()  # the pivot, at every sample
 
 
 # -- trace -------------------------------------------------------------------------

@@ -129,6 +129,38 @@ def test_an_unknown_point_is_named():
         columns(sweep(a_crank("theta"), [0.0]), ["AA"])
 
 
+def a_four_bar(rocker_pivot_x, *, coupler=5.0, rocker=5.0):
+    """A four-bar with ground pivots at (0, 0) and (rocker_pivot_x, 1/3), crank 10."""
+    c = geokin.Construction("four-bar")
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", rocker_pivot_x, 1 / 3)  # not a round number: exactness shows
+    c.polar("A", "O2", 10, "theta")
+    c.circle_circle("B", ("A", "O4"), (coupler, rocker), branch="left")
+    return c
+
+
+@pytest.mark.parametrize("pivot_x", [40.0, 15.0], ids=["never", "partly"])
+def test_ground_points_are_known_at_every_sample_moving_ones_only_where_assembled(
+        tmp_path, pivot_x):
+    s = sweep(a_four_bar(pivot_x), np.linspace(0, 2 * np.pi, 73))
+    assert not s.valid.all() and s.valid.any() == (pivot_x == 15.0)
+    table = columns(s, motion=motion(s))
+    assert (table["O4.x"] == pivot_x).all() and (table["O4.y"] == 1 / 3).all()
+    assert (table["O2.x"] == 0).all() and (table["O2.y"] == 0).all()
+    for rate in ("vx", "vy", "ax", "ay"):  # a ground point stands still
+        assert (table[f"O4.{rate}"] == 0).all(), rate
+    # a moving point is unknown where the mechanism cannot be assembled, even one found
+    # there (the crank pin A, before B fails)
+    for name in ("A.x", "A.y", "B.x", "B.vx"):
+        assert np.isnan(table[name][~s.valid]).all(), name
+        assert np.isfinite(table[name][s.valid]).all(), name
+    for suffix in EXPORT_FORMATS:  # and every file says the same, exactly
+        back = READ[suffix](export_sweep(s, tmp_path / f"four-bar{suffix}", ["O4", "B"]))
+        assert (back["O4.y"] == 1 / 3).all(), suffix
+        assert np.isnan(back["B.y"][~s.valid]).all(), suffix
+
+
 def wrapped(angle):
     """Return angles wrapped to (-180, 180] degrees."""
     return np.degrees(np.angle(np.exp(1j * np.radians(angle))))

@@ -301,15 +301,99 @@ def test_invalid_samples_plot_and_animate(tmp_path, small_frames):
         assert gif.n_frames == 12
 
 
-def test_sweep_that_never_assembles(tmp_path, small_frames):
+def dark_pixels_near(image, ax, xy, radius=12):
+    """Count the dark pixels of a drawn figure's image within ``radius`` pixels of data ``xy``.
+
+    Dark: darker than the grid and the white background, as a symbol or a bar is.
+    """
+    x, y = ax.transData.transform(xy)
+    row, column = int(round(image.shape[0] - y)), int(round(x))
+    window = image[max(row - radius, 0):row + radius, max(column - radius, 0):column + radius]
+    return int((window[..., :3].min(axis=-1) < 120).sum())
+
+
+def rendered(fig):
+    canvas = matplotlib.backends.backend_agg.FigureCanvasAgg(fig)
+    canvas.draw()
+    return np.asarray(canvas.buffer_rgba())
+
+
+def test_a_sweep_that_never_assembles_shows_what_is_known():
+    # the crank (200) cannot bring its pin within reach of coupler and rocker (35, 30)
     s = sweep(four_bar(crank=200.0), samples(9))
     assert not s.valid.any()
-    ax = gp.plot_mechanism(s)
-    assert "cannot be assembled" in ax.texts[-1].get_text()
-    assert not any(p.get_visible() for p in ax.patches)
+    fig, ax = gp.figure_mechanism(s, 2)
+    status = ax.texts[-1].get_text()
+    assert status == ("θ = 90.0°\nno sample can be assembled:\nnode 'B' fails at all 9 "
+                      "samples:\nno intersection: the curves do not meet")
+    # the pivots and the crank, which are known; nothing of what comes after B
+    shown = {a.get_text() for a in ax.texts if a.get_visible()} - {status}
+    assert shown == {"O2", "O4", "A"}
+    assert sum(p.get_visible() for p in ax.patches if p.get_hatch()) == 2  # two grounds
+    crank = [line for line in bars(ax) if line.get_visible()]
+    assert len(crank) == 1
+    np.testing.assert_allclose(crank[0].get_xydata(), [[0, 0], [0, 200]], atol=1e-9)
+    assert not any(line.get_visible() for line in bars(ax)[1:])  # the rocker
+    assert ax.get_legend() is None  # no path of P to show
+    # a view round what is known, the crank's circle included, not the unit square
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    assert x0 < -200 and x1 > 200 and y0 < -200 and y1 > 200 and x1 - x0 < 1000
+    image = rendered(fig)
+    for pivot in ((0, 0), (40, 0)):
+        assert dark_pixels_near(image, ax, pivot) > 10, pivot
+    assert dark_pixels_near(image, ax, (150, -150)) == 0  # and not everywhere
+
+
+def test_a_sweep_that_never_assembles_with_nothing_moving_known():
+    # the ground pivots alone are known: the view is round them, not the unit square
+    c = Construction("too short")
+    c.input("theta")
+    c.fixed("O2", 100, 50)
+    c.fixed("O4", 140, 50)
+    c.circle_circle("B", ("O2", "O4"), ("5 + 0 * theta", 5), branch="left")
+    c.link("left", "O2", "B")
+    c.link("right", "B", "O4")
+    s = sweep(c, samples(5))
+    fig, ax = gp.figure_mechanism(s)
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    assert x0 < 100 and x1 > 140 and y0 < 50 < y1 and x1 - x0 < 80
+    image = rendered(fig)
+    for pivot in ((100, 50), (140, 50)):
+        assert dark_pixels_near(image, ax, pivot) > 10, pivot
+
+
+def test_the_view_is_the_mechanism_far_from_the_origin():
+    # the artists are made at the origin before they are moved: the view must not hold it
+    c = Construction("far")
+    c.input("theta")
+    c.fixed("O2", 1000, 1000)
+    c.fixed("O4", 1040, 1000)
+    c.polar("A", "O2", 10, "theta")
+    c.circle_circle("B", ("A", "O4"), (35, 30), branch="left")
+    c.link("crank", "O2", "A")
+    c.link("coupler", "A", "B")
+    c.link("rocker", "B", "O4")
+    ax = gp.plot_mechanism(sweep(c, samples(37)))
+    (x0, x1), (y0, y1) = ax.get_xlim(), ax.get_ylim()
+    assert 900 < x0 < 990 and 1040 < x1 < 1100 and 900 < y0 < 990 and 1000 < y1 < 1100
+    # what the axes held before stays in view
+    fig, ax = plt.subplots()
+    ax.plot([0, 1], [0, 1])
+    gp.plot_mechanism(sweep(c, samples(37)), ax=ax)
+    assert ax.get_xlim()[0] < 0 < 1040 < ax.get_xlim()[1]
+
+
+def test_an_animation_of_a_sweep_that_never_assembles_shows_the_crank_turning(tmp_path,
+                                                                              small_frames):
+    s = sweep(four_bar(crank=200.0), samples(9))
     path = gp.animate(s, tmp_path / "never.gif", dpi=25, frames=3, progress=False)
-    with Image.open(path) as gif:  # a whole animation of the message, every frame
+    with Image.open(path) as gif:
         assert gif.n_frames == 3
+        frames = []
+        for k in range(3):
+            gif.seek(k)
+            frames.append(np.asarray(gif.convert("RGB"), dtype=int))
+    assert (frames[0] != frames[1]).any()  # the crank turns; the pivots stay
 
 
 def test_progress_bar_only_on_a_terminal_and_a_slow_job():
@@ -951,3 +1035,30 @@ def test_two_inline_animations_on_one_page_play_each_its_own_frames(tmp_path):
     assert result["globals"] == "undefined"  # the frames stay inside each player
     assert result["timers"] == 2 and result["sources"] == [True, True]
     assert sorted(result["counters"]) == ["2 / 3", "2 / 5"]
+
+
+@pytest.mark.parametrize("index", [0, 60, 90, 120, 180, 270, 300])
+def test_labels_of_the_quick_returns_blocks_keep_off_the_ground_symbols(index):
+    """At 90 and 270 degrees the ram's pin B is on C: its label goes beside, not on C's ground."""
+    from geokin import load
+    from geokin.plotting.layout import symbol_covers
+
+    s = sweep(load("constructions/quick_return.toml"))
+    fig = matplotlib.figure.Figure(figsize=gp.FIGSIZE, layout="constrained")
+    canvas = matplotlib.backends.backend_agg.FigureCanvasAgg(fig)
+    ax = fig.add_subplot()
+    scene = Scene(s, ax)
+    scene.update(index)
+    gp.mechanism.setup_axes(ax, scene.layout, None)
+    canvas.draw()
+    renderer = canvas.get_renderer()
+    layout = scene.layout
+    for name in ("A", "B"):  # the points on blocks
+        box = scene.labels[name].get_window_extent(renderer)
+        # a grid over the label's box, in data units
+        xs, ys = np.meshgrid(np.linspace(box.x0, box.x1, 9), np.linspace(box.y0, box.y1, 5))
+        grid = ax.transData.inverted().transform(np.column_stack([xs.ravel(), ys.ravel()]))
+        for pivot in layout.pivots:
+            covered = symbol_covers(s[pivot][index], layout.ground_directions[pivot],
+                                    layout.ground_sizes[pivot], grid)
+            assert not covered.any(), (name, pivot)

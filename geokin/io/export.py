@@ -10,9 +10,11 @@ of column name to a 1-D array with one value per sample, in this order:
 - where the sweep changes branch, or when asked: ``<node>.branch``, 0 or 1
   for every two-root node, as the input value alone no longer tells the
   samples apart;
-- per point ``<point>.x`` and ``<point>.y`` (NaN where a sample cannot be
-  assembled), and with a motion ``<point>.vx .vy`` (per second) and
-  ``<point>.ax .ay`` (per second squared);
+- per point ``<point>.x`` and ``<point>.y``, and with a motion
+  ``<point>.vx .vy`` (per second) and ``<point>.ax .ay`` (per second
+  squared): NaN where a sample cannot be assembled, except for ground
+  points (:attr:`~geokin.construction.Compiled.ground`), whose place is
+  known at every sample, and whose rates are 0;
 - per link asked for, ``<link>.angle`` (the direction from its first point
   to its second, unwrapped along the sweep: :func:`~geokin.kinematics.link_angles`),
   and with a motion ``<link>.omega`` and ``<link>.alpha``, its angular
@@ -225,11 +227,16 @@ def columns(sweep: Sweep, points: Sequence[str] | None = None, *, motion: Motion
         for node, branch in sweep.branches.items():
             add(f"{node}.branch", branch.astype(float))
     for point in sweep.points if points is None else points:
-        xy = sweep[point]
-        add(f"{point}.x", xy[:, 0])
-        add(f"{point}.y", xy[:, 1])
+        # a ground point is where it is at every sample, assembled or not: only the
+        # points that move are unknown where the mechanism cannot be assembled
+        ground = compiled.step_named(point).node.name in compiled.ground
+        x, y = sweep.points.xy(point) if ground else sweep[point].T
+        add(f"{point}.x", x)
+        add(f"{point}.y", y)
         if motion is not None:
             v, a = motion.velocity[point], motion.acceleration[point]
+            if ground:  # and it stands still
+                v, a = np.zeros((n, 2)), np.zeros((n, 2))
             add(f"{point}.vx", v[:, 0])
             add(f"{point}.vy", v[:, 1])
             add(f"{point}.ax", a[:, 0])

@@ -419,7 +419,9 @@ def animate(sweep: Sweep, path: str | os.PathLike[str], *, fps: float = 25,
     The writer is chosen by the extension: ``.gif``, ``.html`` (one
     self-contained page with the frames embedded and a player) or ``.mp4``
     (needs ffmpeg). Samples that cannot be assembled show the last
-    assembled pose, faded, with the reason.
+    assembled pose, faded, with the reason; if none can be, each frame
+    shows what is known at its sample (see
+    :func:`~geokin.plotting.mechanism.plot_mechanism`).
 
     Each frame goes to the file as soon as it is drawn, so memory does not
     grow with the number of frames; an animation whose file would not fit
@@ -543,8 +545,8 @@ def _lay_out(fig, scene: Scene, first: int) -> None:
     ax = scene.ax
     scene.update(first)
     setup_axes(ax, scene.layout, None)
-    if scene.trace_lines:
-        ax.legend(handles=scene.trace_lines, loc="upper left", bbox_to_anchor=(1.01, 1.0),
+    if scene.drawn_paths:
+        ax.legend(handles=scene.drawn_paths, loc="upper left", bbox_to_anchor=(1.01, 1.0),
                   fontsize=9, framealpha=0.9)
     # lay the figure out once: the frames keep the same axes
     fig.draw_without_rendering()

@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from ..analysis import Crank, cranks
-from ..errors import ConstructionError, show
+from ..errors import AssemblyError, ConstructionError, show
 from ..kinematics import slider_positions
 from ..results import Sweep
 from ..terminal import escape, shorten
@@ -111,6 +111,11 @@ class Layout:
         rather than into the mechanism (see :func:`symbol_outline`).
     valid_indices : ndarray of int
         The samples that can be assembled.
+    unassembled : str or None
+        Why no sample can be assembled (the message of
+        :meth:`~geokin.results.Sweep.require_assembled`), or None if one can.
+        Such a sweep is drawn as what is known at each sample: the ground
+        pivots, and the points found before the node that fails.
     """
 
     def __init__(self, sweep: Sweep, traces: Iterable[str] | None = None) -> None:
@@ -150,9 +155,19 @@ class Layout:
                 self.neighbours[p].update(q for q in points if q != p)
         valid = np.flatnonzero(sweep.valid)
         self.valid_indices = valid
-        xy = np.concatenate([sweep.points[p] for p in self.shown]) if self.shown else None
-        if xy is not None and valid.size:
-            lo, hi = np.nanmin(xy, axis=0), np.nanmax(xy, axis=0)
+        self.unassembled: str | None = None
+        try:
+            sweep.require_assembled()
+        except AssemblyError as err:
+            self.unassembled = str(err)
+        if valid.size:
+            xy = np.concatenate([sweep.points[p] for p in self.shown] or [np.empty((0, 2))])
+        else:  # the view holds what is known: the pivots, the points found before a failure
+            xy = np.concatenate([np.column_stack(sweep.points.xy(p)) for p in self.shown]
+                                or [np.empty((0, 2))])
+        xy = xy[np.isfinite(xy).all(axis=1)]
+        if xy.size:
+            lo, hi = xy.min(axis=0), xy.max(axis=0)
         else:
             lo, hi = np.zeros(2), np.ones(2)
         self.lower, self.upper = lo, hi
@@ -242,14 +257,11 @@ class Layout:
     def _ground_sizes(self) -> dict[str, float]:
         """Size each pivot's ground symbol: smaller where another ground point is near."""
         sizes = {p: self.size for p in self.pivots}
-        if not self.valid_indices.size:
-            return sizes
-        first = self.valid_indices[0]
         for name in self.pivots:
-            here = self.sweep.points[name][first]
-            gaps = [float(np.hypot(*(self.sweep.points[p][first] - here)))
+            here = self.ground_at(name)
+            gaps = [float(np.hypot(*(self.ground_at(p) - here)))
                     for p in self.ground if p != name and p in self.shown]
-            gaps = [g for g in gaps if g > 0]
+            gaps = [g for g in gaps if g > 0]  # and not NaN: a ground node that fails
             if gaps:
                 sizes[name] = self.size * min(max(min(gaps) / (2.2 * self.size), 0.6), 1.0)
         return sizes
@@ -258,10 +270,8 @@ class Layout:
         """Choose the side of each pivot its ground symbol is drawn on."""
         down = _SYMBOL_SIDES[0]
         directions = {p: down for p in self.pivots}
-        if not self.valid_indices.size:
-            return directions
-        s, first = self.size, self.valid_indices[0]
-        at = {p: self.sweep.points[p][first] for p in self.ground}
+        s = self.size
+        at = {p: self.ground_at(p) for p in self.ground}
         # the lines of the ground: its frame, and each fixed guide with the hatching under it
         lines = []
         for points in self.links:
@@ -328,8 +338,17 @@ class Layout:
                     best, best_cost = angle, cost
             directions[name] = placed[name] = best
         return directions
+
+    def ground_at(self, name: str) -> np.ndarray:
+        """Return where a ground point is: the same at every sample, assembled or not."""
+        x, y = self.sweep.points.xy(name)
+        return np.array([x[0], y[0]]) if len(x) else np.full(2, np.nan)
+
     def pose_index(self, index: int) -> int | None:
-        """Return the sample whose pose is drawn for ``index``: itself or the nearest valid."""
+        """Return the sample whose pose is drawn for ``index``: itself or the nearest valid.
+
+        None if no sample can be assembled.
+        """
         if self.sweep.valid[index]:
             return index
         valid = self.valid_indices

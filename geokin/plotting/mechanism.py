@@ -20,13 +20,17 @@ What a mechanism drawing shows:
   the guide is ground;
 - the driving input: an arc arrow at the driven crank's pivot and the input
   value (degrees for an angle) in the corner;
-- point labels, each in a gap between its bars and clear of the other
-  labels, points, ground symbols and the input's arrow; and the paths of
+- point labels, each in a gap between its bars (beside the blocks on its
+  point) and clear of the other labels, points, ground symbols and the
+  input's arrow; and the paths of
   the traced points over the whole sweep, broken where the mechanism cannot
   be assembled.
 
 A sample that cannot be assembled is shown as the nearest assembled pose,
-faded, with the reason in the corner.
+faded, with the reason in the corner. Where no sample can be assembled,
+each shows what is known there, with why nothing assembles: the ground
+pivots, and the points found before the node that fails (a crank turning
+alone), with the bars and sliders between them.
 
 Examples
 --------
@@ -52,6 +56,7 @@ from __future__ import annotations
 import math
 import os
 import pathlib
+import textwrap
 from collections.abc import Iterable
 from typing import TYPE_CHECKING
 
@@ -132,6 +137,9 @@ class Scene:
 
         self.sweep, self.ax = sweep, ax
         self.layout = layout = Layout(sweep, traces)
+        # the artists are made at the origin and moved later: the view is the layout's
+        # bounds (see setup_axes), not theirs, with whatever the axes held before
+        limits, ignored = ax.dataLim.frozen(), ax.ignore_existing_data_limits
         self.linewidth = 5.0
         self.mechanism: list[Artist] = []  # artists faded at samples that cannot be assembled
 
@@ -219,12 +227,20 @@ class Scene:
                               bbox=dict(boxstyle="round,pad=0.3", fc="white", ec="#bbbbbb",
                                         alpha=0.9))
         self._alpha = {id(a): a.get_alpha() for a in self.mechanism}
+        ax.dataLim.set(limits)
+        ax.ignore_existing_data_limits = ignored
 
     @property
     def artists(self) -> list[Artist]:
         """Every artist of the drawing."""
         return [*self.trace_lines, *self.mechanism, self.joints, self.loose,
                 self.reference_marks, self.status]
+
+    @property
+    def drawn_paths(self) -> list[Artist]:
+        """The paths of :attr:`trace_lines` with a sample to show, for the legend."""
+        return [line for name, line in zip(self.layout.traces, self.trace_lines, strict=True)
+                if np.isfinite(self.sweep.points[name]).all(axis=1).any()]
 
     def update(self, index: int, *, grow: bool = False) -> None:
         """Draw sample ``index``; with ``grow`` the paths end at that sample."""
@@ -235,20 +251,25 @@ class Scene:
             artist.set_data(xy[:, 0], xy[:, 1])
         text = input_text(sweep, index)
         pose = layout.pose_index(index)
-        if not sweep.valid[index]:
+        if pose is None and layout.unassembled:
+            text += "\n" + _wrapped(layout.unassembled)
+        elif not sweep.valid[index]:
             text += (f"\ncannot be assembled at {sweep.failed_node[index]!r}:\n"
                      f"{sweep.failure_reason[index]}")
         self.status.set_text(text)
         box = self.status.get_bbox_patch()
         if box is not None:
             box.set_edgecolor("#bbbbbb" if sweep.valid[index] else INPUT_COLOR)
-        for artist in [*self.mechanism, self.joints, self.loose, self.reference_marks]:
-            artist.set_visible(pose is not None)
         if pose is None:
-            return
-        at = {name: sweep.points[name][pose] for name in layout.nodes}
-        self._draw_pose(at, pose)
-        faded = not sweep.valid[index]
+            # nothing assembles: no pose to borrow, so this sample's own, as far as it
+            # is known (NaN beyond the failing node)
+            at = {name: np.array([c[index] for c in sweep.points.xy(name)])
+                  for name in layout.nodes}
+            self._draw_pose(at, index)
+            faded = False
+        else:
+            self._draw_pose({name: sweep.points[name][pose] for name in layout.nodes}, pose)
+            faded = not sweep.valid[index]
         for artist in self.mechanism:
             alpha = self._alpha[id(artist)]
             artist.set_alpha(0.2 * (alpha or 1.0) if faded else alpha)
@@ -256,8 +277,14 @@ class Scene:
             artist.set_alpha(0.2 if faded else None)
 
     def _draw_pose(self, at, pose):
+        """Draw the points at ``at`` (name to x, y); what is not finite there is hidden."""
         layout = self.layout
+        known = {name for name, xy in at.items() if np.isfinite(xy).all()}
         for name, (triangle, hatch, base) in zip(layout.pivots, self.ground, strict=True):
+            for artist in (triangle, hatch, base):
+                artist.set_visible(name in known)
+            if name not in known:
+                continue
             # the triangle's tip on the pivot, its hatched base on the side chosen for it
             angle, g = layout.ground_directions[name], layout.ground_sizes[name]
             d = np.array([math.cos(angle), math.sin(angle)])
@@ -270,6 +297,7 @@ class Scene:
                           middle - width + depth])
             base.set_data(*np.array([middle - width, middle + width]).T)
         for points, artist in self.bars:
+            artist.set_visible(known.issuperset(points))
             xy = np.array([at[p] for p in points])
             if hasattr(artist, "set_data"):
                 artist.set_data(xy[:, 0], xy[:, 1])
@@ -278,32 +306,42 @@ class Scene:
         self._on_blocks = {}
         self._grounds = []  # the middle lines of the hatched grounds under fixed guides
         for slider, block, guide, surface, hatch in self.blocks:
-            self._draw_slider(at, slider, block, guide, surface, hatch)
-        self.joints.set_data(*np.array([at[p] for p in self.joint_names] or
-                                       np.empty((0, 2))).reshape(-1, 2).T)
-        self.loose.set_data(*np.array([at[p] for p in self.loose_names] or
-                                      np.empty((0, 2))).reshape(-1, 2).T)
-        self.reference_marks.set_data(*np.array([at[p] for p in layout.references] or
-                                                np.empty((0, 2))).reshape(-1, 2).T)
+            shown = known.issuperset((slider.point, *slider.along))
+            for artist in (block, guide, surface, hatch):
+                if artist is not None:
+                    artist.set_visible(shown)
+            if shown:
+                self._draw_slider(at, slider, block, guide, surface, hatch)
+
+        def marks(names):
+            return np.array([at[p] for p in names if p in known] or
+                            np.empty((0, 2))).reshape(-1, 2).T
+
+        for artist, names in ((self.joints, self.joint_names), (self.loose, self.loose_names),
+                              (self.reference_marks, layout.references)):
+            artist.set_data(*marks(names))
+            artist.set_visible(True)
         self._arrow_points = np.empty((0, 2))
         if self.crank_arrow is not None:
-            self._draw_crank(at, pose)
-        centre = np.mean([at[p] for p in layout.shown], axis=0)
+            crank = layout.crank
+            self.crank_arrow.set_visible(known.issuperset((crank.origin, crank.tip)))
+            if self.crank_arrow.get_visible():
+                self._draw_crank(at, pose)
+        for name, label in self.labels.items():
+            label.set_visible(name in known)
+        centre = np.mean([at[p] for p in layout.shown if p in known] or [np.zeros(2)], axis=0)
         # each label where it is clear of the others: placed one by one (the labels on
-        # blocks first, which do not move), then each placed again knowing where all are
+        # blocks first, which have fewer places), then each placed again knowing where
+        # all are
         reach = _LABEL_REACH * layout.size
         placed: dict[str, tuple[np.ndarray, np.ndarray]] = {}
-        for name in sorted(self.labels, key=lambda name: name not in self._on_blocks):
-            if name in self._on_blocks:
-                placed[name] = self._on_blocks[name]  # above the block, clear of it
-                continue
+        for name in sorted((p for p in self.labels if p in known),
+                           key=lambda name: name not in self._on_blocks):
             self._placed = [a + reach * d for a, d in placed.values()]
-            placed[name] = at[name], self._label_direction(name, at, centre)
+            placed[name] = self._label_place(name, at, centre)
         for name in placed:
-            if name not in self._on_blocks:
-                self._placed = [a + reach * d for other, (a, d) in placed.items()
-                                if other != name]
-                placed[name] = at[name], self._label_direction(name, at, centre)
+            self._placed = [a + reach * d for other, (a, d) in placed.items() if other != name]
+            placed[name] = self._label_place(name, at, centre)
         for name, (anchor, direction) in placed.items():
             label = self.labels[name]
             label.xy = tuple(anchor)
@@ -315,14 +353,16 @@ class Scene:
             label.set_verticalalignment("bottom" if dy > 0.3 else "top" if dy < -0.3
                                         else "center")
 
-    def _label_direction(self, name, at, centre):
-        """Return a unit vector from a point to its label.
+    def _label_place(self, name, at, centre):
+        """Return where a point's label goes: its anchor, and a unit vector from there.
 
         Into the widest gap between its bars and its ground symbol, and
         clear of the other points, the ground symbols and the labels placed
         before it: two points close together get their labels on different
-        sides. Distances are judged in symbol sizes, which are a fixed part
-        of the drawing.
+        sides. The anchor is the point, or for a point on blocks the edge of
+        its blocks that way, so the label is beside them, not on them.
+        Distances are judged in symbol sizes, which are a fixed part of the
+        drawing.
         """
         layout, here = self.layout, at[name]
         s = layout.size
@@ -334,16 +374,17 @@ class Scene:
         if name in layout.pivots:  # the ground symbol
             side = layout.ground_directions[name]
             pulls += [side - math.radians(35), side, side + math.radians(35)]
-        others = [at[p] for p in layout.shown if p != name]
+        others = [at[p] for p in layout.shown if p != name and np.isfinite(at[p]).all()]
         # the ground symbols, and the hatched grounds of fixed guides; of its own symbol,
         # which is among the pulls, only the far strip
-        symbols = [line for p in layout.pivots
+        symbols = [line for p in layout.pivots if np.isfinite(at[p]).all()
                    for line in layout.symbol_lines(p, at[p])[p == name:]]
         symbols += self._grounds
         if not pulls and not others and not self._placed:
             away = here - centre
             norm = np.hypot(*away)
-            return away / norm if norm > 1e-9 else np.array([0.7071, 0.7071])
+            d = away / norm if norm > 1e-9 else np.array([0.7071, 0.7071])
+            return here + self._past_blocks(name, d[None, :])[0] * d, d
         # every candidate at once: 16 directions, from up-right round
         angles = np.radians(np.arange(45, 405, 22.5))
         c = np.column_stack([np.cos(angles), np.sin(angles)])
@@ -351,7 +392,8 @@ class Scene:
             gap = np.min(np.abs(signed_turn(angles[:, None], np.array(pulls)[None, :])), axis=1)
         else:
             gap = np.full(len(angles), math.pi)
-        labels = here + _LABEL_REACH * s * c
+        clear = self._past_blocks(name, c)
+        labels = here + (clear + _LABEL_REACH * s)[:, None] * c
 
         def crowding(distances, reach):
             """How far into the reach of each obstacle each candidate comes, summed."""
@@ -361,7 +403,9 @@ class Scene:
             points = np.asarray(points, dtype=float).reshape(-1, 2)
             return np.hypot(*(labels[:, None, :] - points[None, :, :]).transpose(2, 0, 1))
 
-        crowded = crowding(to_points(others), 1.2 * s)  # on another point's marker
+        # on another point's marker; a label beside blocks, away from its point, keeps
+        # further from the others, so that it is not read as theirs
+        crowded = crowding(to_points(others), (1.2 * s + clear)[:, None])
         crowded += 1.5 * crowding(to_points(self._placed), 2.4 * s)  # on another label
         if symbols:  # on a ground symbol or a guide's hatched ground
             ends = np.array(symbols, dtype=float)  # (m, 2, 2)
@@ -370,7 +414,17 @@ class Scene:
         if len(self._arrow_points):  # on the input's arrow
             near = np.min(to_points(self._arrow_points), axis=1)
             crowded += 1.5 * np.maximum(0.0, 1.0 - near / (1.5 * s))
-        return c[int(np.argmax(gap - 2.5 * crowded))]
+        best = int(np.argmax(gap - 2.5 * crowded))
+        return here + clear[best] * c[best], c[best]
+
+    def _past_blocks(self, name, directions):
+        """Return how far from a point each direction (k, 2) leaves the blocks on it: 0 if none."""
+        clear = np.zeros(len(directions))
+        for u, n, half_l, half_h in self._on_blocks.get(name, ()):
+            with np.errstate(divide="ignore"):  # straight along a side: the other side decides
+                out = np.minimum(half_l / np.abs(directions @ u), half_h / np.abs(directions @ n))
+            clear = np.maximum(clear, out)
+        return clear
 
     def _draw_slider(self, at, slider, block, guide, surface, hatch):
         """Draw a block centred on its point, along the guide's current direction."""
@@ -382,7 +436,7 @@ class Scene:
         n = np.array([-u[1], u[0]])
         centre = at[slider.point]
         half_l, half_h = 1.6 * s, 1.0 * s
-        self._on_blocks[slider.point] = (centre + half_h * n, n)
+        self._on_blocks.setdefault(slider.point, []).append((u, n, half_l, half_h))
         block.set_xy([centre - half_l * u - half_h * n, centre + half_l * u - half_h * n,
                       centre + half_l * u + half_h * n, centre - half_l * u + half_h * n])
         # the block's travel along its guide, not the whole line across the mechanism
@@ -415,8 +469,9 @@ class Scene:
     def _crank_sense(self, pose):
         """+1 if the crank turns counter-clockwise at ``pose``, -1 if clockwise."""
         crank = self.layout.crank
-        d = self.sweep.points[crank.tip] - self.sweep.points[crank.origin]
-        angle = np.arctan2(d[:, 1], d[:, 0])
+        # as evaluated: the crank is known where a node after it fails
+        (x0, y0), (x1, y1) = self.sweep.points.xy(crank.origin), self.sweep.points.xy(crank.tip)
+        angle = np.arctan2(y1 - y0, x1 - x0)
         n = len(angle)
         for i, j in ((pose, pose + 1), (pose - 1, pose)):
             if 0 <= i and j < n:
@@ -424,6 +479,22 @@ class Scene:
                 if np.isfinite(step) and step != 0:
                     return 1.0 if step > 0 else -1.0
         return 1.0
+
+
+def _wrapped(text: str, width: int = 44) -> str:
+    """Break a message into short lines for a figure's corner, at its colons where it can.
+
+    Examples
+    --------
+    >>> print(_wrapped("no sample can be assembled: node 'B' fails at all 361 samples: "
+    ...                "no intersection: the curves do not meet"))
+    no sample can be assembled:
+    node 'B' fails at all 361 samples:
+    no intersection: the curves do not meet
+    """
+    parts = text.split(": ", 2)
+    return "\n".join(textwrap.fill(part + (":" if k < len(parts) - 1 else ""), width)
+                     for k, part in enumerate(parts))
 
 
 def setup_axes(ax: Axes, layout: Layout, title: str | None) -> None:
@@ -479,7 +550,9 @@ def plot_mechanism(sweep: Sweep, index: int | None = None, *, ax: Axes | None = 
     index : int, optional
         The sample to draw (negative counts from the end); by default the
         first sample that can be assembled. A sample that cannot be
-        assembled shows the nearest assembled pose, faded, and the reason.
+        assembled shows the nearest assembled pose, faded, and the reason;
+        if none can be, what is known at this one (the ground pivots, the
+        points found before the node that fails) and why none can be.
     ax : matplotlib.axes.Axes, optional
         Where to draw; the current axes by default.
     title : str, optional
@@ -528,8 +601,8 @@ def plot_mechanism(sweep: Sweep, index: int | None = None, *, ax: Axes | None = 
     scene = Scene(sweep, ax, traces)
     scene.update(index)
     setup_axes(ax, scene.layout, title)
-    if scene.trace_lines:
-        ax.legend(handles=scene.trace_lines, loc="best", fontsize=9, framealpha=0.9)
+    if scene.drawn_paths:
+        ax.legend(handles=scene.drawn_paths, loc="best", fontsize=9, framealpha=0.9)
     return ax
 
 
