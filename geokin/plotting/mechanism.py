@@ -223,7 +223,7 @@ class Scene:
                 bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.75))
             self.mechanism.append(self.labels[name])
         self.status = ax.text(0.015, 0.985, "", transform=ax.transAxes, ha="left", va="top",
-                              fontsize=10, zorder=_Z_LABEL + 1,
+                              fontsize=10, zorder=_Z_LABEL + 1, parse_math=False,
                               bbox=dict(boxstyle="round,pad=0.3", fc="white", ec="#bbbbbb",
                                         alpha=0.9))
         self._alpha = {id(a): a.get_alpha() for a in self.mechanism}
