@@ -227,7 +227,7 @@ def _candidates(step: _PlannedStep, coords, values, origin, guess=None, sketch=N
     return cand
 
 
-BLOCK_SAMPLES = 2**14
+BLOCK_SAMPLES = 2**15
 """How many samples an evaluation that tracks no branch takes at a time (the
 finite differences of kinematics, the bisections of limits): its temporary
 arrays then stay in the processor's cache and are reused, and memory beyond
@@ -290,9 +290,11 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         each point it finds, absolute) to start the continuation from at the
         first sample, instead of the group's sketch: a circuit continues a
         group from where its last pass ended, or across a fold.
-    parameters : mapping of str to ndarray, shape (N,), optional
+    parameters : mapping of str to ndarray, shape (N,) or (paths,), optional
         Values of some parameters at every sample, instead of the
-        construction's own (design variants).
+        construction's own (design variants); over several paths, they may
+        instead be given once per path, and are then left out of the
+        result's ``parameters``.
     paths : int
         The samples are this many paths of N / paths samples, one after the
         other (the variants of a design): branches are tracked along each
@@ -304,8 +306,13 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
     Sweep
     """
     compiled = as_compiled(construction)
-    varied = {name: np.broadcast_to(np.asarray(values, dtype=float), (n,))
-              for name, values in (parameters or {}).items()}
+    varied = {name: np.asarray(values, dtype=float) for name, values in (parameters or {}).items()}
+    per_path = (paths > 1 and n != paths and bool(varied)
+                and all(v.shape == (paths,) for v in varied.values()))
+    if per_path and any(step.node.continued for step in compiled.steps):
+        varied, per_path = {k: _repeated(v, n // paths) for k, v in varied.items()}, False
+    if not per_path:
+        varied = {k: np.broadcast_to(v, (n,)) for k, v in varied.items()}
     plan = _plan(compiled, frozenset(varied))
     chosen = {**(start or {}), **(held or {})}
     if (not track and n > BLOCK_SAMPLES and paths == 1
@@ -316,7 +323,7 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
                                     origin)
     else:
         parts = _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track, sketches,
-                                varied, paths)
+                                varied, paths, per_path)
 
     def per_sample(array, dtype=float):
         array = np.asarray(array, dtype=dtype)
@@ -332,11 +339,12 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         events=tuple(parts.events),
         margins={name: per_sample(margin) for name, margin in parts.margins.items()},
         line_parameters={name: per_sample(t) for name, t in parts.parameters.items()},
-        parameters={name: read_only(values) for name, values in varied.items()})
+        parameters={} if per_path else {name: read_only(values)
+                                        for name, values in varied.items()})
 
 
 def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
-                    sketches=None, varied=None, paths=1) -> _Evaluated:
+                    sketches=None, varied=None, paths=1, per_path=False) -> _Evaluated:
     """Evaluate every step for all N samples at once, tracking branches if asked.
 
     Over several paths with the same inputs and parameters constant along
@@ -345,14 +353,15 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
     broadcast against each other, as one would write it by hand: what
     depends on the inputs alone is computed once for all paths.
     """
-    env = _environment(compiled, {**inputs, **(varied or {})})
     rows = None
     if paths > 1 and varied and not any(step.node.continued for step in plan):
         rows = (paths, n // paths)
         env = _environment(compiled, {
             **{k: np.broadcast_to(v, (n,))[:rows[1]].reshape(1, -1) for k, v in inputs.items()},
-            **{k: v[::rows[1]].reshape(-1, 1) for k, v in varied.items()}})
+            **{k: (v if per_path else v[::rows[1]]).reshape(-1, 1) for k, v in varied.items()}})
         by_rows: dict[str, tuple] = {}
+    else:
+        env = _environment(compiled, {**inputs, **(varied or {})})
     coords: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     label: np.ndarray | int | None
     labels: dict[str, np.ndarray | int] = {}
@@ -363,7 +372,7 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
     failed_step = np.zeros(n, dtype=np.int32)
     reason_code = np.zeros(n, dtype=np.int8)
     with np.errstate(all="ignore"):
-        tracker = (_Tracker(compiled, plan, inputs, n, origin, varied, paths)
+        tracker = (_Tracker(compiled, plan, inputs, n, origin, varied, paths, per_path)
                    if track and n // paths >= 2 else None)
         for position, step in enumerate(plan):
             node = step.node
@@ -693,9 +702,10 @@ def sweep(construction: Construction | Compiled,
                                  parameters={k: np.full(n, v[i]) for k, v in varied.items()})
                         for i in range(count)]).as_variants(count)
     flat = evaluate(compiled, {k: np.tile(v, count) for k, v in inputs.items()}, count * n,
-                    start=start, parameters={k: _repeated(v, n) for k, v in varied.items()},
-                    paths=count)
-    return flat.as_variants(count)
+                    start=start, parameters=varied, paths=count)
+    # each variant's values at its samples: a view, not a copy
+    return replace(flat.as_variants(count), parameters={
+        k: np.broadcast_to(v[:, None], (count, n)) for k, v in varied.items()})
 
 
 def _repeated(values: np.ndarray, times: int) -> np.ndarray:
@@ -856,11 +866,12 @@ class _Tracker:
     """
 
     def __init__(self, compiled: Compiled, plan, inputs, n: int, origin, varied=None,
-                 paths: int = 1):
+                 paths: int = 1, per_path: bool = False):
         self.compiled = compiled
         self.plan = plan
         self.inputs = {k: np.broadcast_to(v, (n,)) for k, v in inputs.items()}
         self.varied = varied or {}
+        self.per_path = per_path  # the varied parameters are given once per path
         self.n = n
         self.origin = origin
         # the steps from the end of one path to the start of the next (design variants):
@@ -1202,7 +1213,8 @@ class _Tracker:
         """
         inputs = {name: values[step] + fraction * (values[step + 1] - values[step])
                   for name, values in self.inputs.items()}
-        inputs.update({name: values[step] for name, values in self.varied.items()})
+        at = step // self.length if self.per_path else step
+        inputs.update({name: values[at] for name, values in self.varied.items()})
         env = _environment(self.compiled, inputs)
         coords = {}
         size = step.size

@@ -1,7 +1,7 @@
 """Benchmark the engine against a hand-written numpy four-bar, in the same run.
 
 Run with ``python tests/benchmark_engine.py`` (``... closure`` for the
-closure group's lines only); it prints a table of times,
+closure group's lines only, ``... variants`` for design variants); it prints a table of times,
 the engine-to-hand-written ratios and the peak memory per sample. The test
 suite does not run it: figures here are measured, never asserted.
 """
@@ -198,9 +198,67 @@ def closure_groups():
           f"{times['sixbar'] * 1e3:.0f} ms ({times['stephenson'] / times['sixbar']:.0f}x)")
 
 
+def hand_variants(lengths, theta):
+    """The benchmark four-bar's coupler point P for many variants, by hand: lengths (V, 1)."""
+    d, a, b, c, p = lengths
+    ax, ay = a * np.cos(theta), a * np.sin(theta)
+    dx, dy = d - ax, -ay
+    d2 = dx * dx + dy * dy
+    k = (d2 + b * b - c * c) / (2 * d2)
+    h = np.sqrt(b * b / d2 - k * k)
+    bx, by = ax + k * dx - h * dy, ay + k * dy + h * dx
+    s, cs, sn = p / b, np.cos(np.radians(30)), np.sin(np.radians(30))
+    ux, uy = bx - ax, by - ay
+    return ax + s * (cs * ux - sn * uy), ay + s * (sn * ux + cs * uy)
+
+
+def design_variants():
+    """Print 10,000 variants x 360 samples of the benchmark four-bar against hand broadcasting.
+
+    The lengths (ground, crank, coupler, rocker, coupler point) are drawn
+    uniformly around the benchmark's (crank-rockers all), as parameters of one
+    construction: ``geokin.sweep(..., parameters=...)`` against hand-written
+    numpy broadcasting (V, 1) lengths against (N,) angles, CPU time,
+    interleaved; and the peak memory per variant-sample.
+    """
+    from geokin import Construction
+
+    c = Construction("four-bar variants")
+    for name, value in (("d", 40), ("a", 10), ("b", 35), ("c", 30), ("p", 20)):
+        c.parameter(name, value)
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", "d", 0)
+    c.polar("A", "O2", "a", "theta")
+    c.circle_circle("B", ("A", "O4"), ("b", "c"), branch="left")
+    c.polar("P", "A", "p", np.radians(30), reference=("A", "B"))
+    rng = np.random.default_rng(0)
+    count, n = 10_000, 360
+    lengths = np.column_stack([rng.uniform(38, 42, count), rng.uniform(8, 12, count),
+                               rng.uniform(30, 40, count), rng.uniform(25, 35, count),
+                               rng.uniform(15, 25, count)])
+    values = {name: lengths[:, i] for i, name in enumerate("dabcp")}
+    theta = np.arange(n) * (2 * np.pi / n)
+    columns = [lengths[:, i:i + 1] for i in range(5)]
+    swept = sweep(c, theta, parameters=values)
+    px, py = hand_variants(columns, theta)
+    assert swept.valid.all() and np.allclose(swept["P"][..., 0], px, rtol=0, atol=1e-10)
+    times = interleaved_cpu({
+        "hand": lambda: hand_variants(columns, theta),
+        "engine": lambda: sweep(c, theta, parameters=values)}, rounds=7, seconds=0.5)
+    print(f"design variants: {count:,} variants x {n} samples: engine "
+          f"{times['engine'] * 1e3:.0f} ms vs hand-written broadcasting "
+          f"{times['hand'] * 1e3:.0f} ms ({times['engine'] / times['hand']:.2f}x)")
+    peak = peak_bytes(lambda: sweep(c, theta, parameters=values))
+    print(f"peak memory of that sweep: {peak / (count * n):.0f} bytes per variant-sample")
+
+
 if __name__ == "__main__":
     if sys.argv[1:] == ["closure"]:
         closure_groups()
+    elif sys.argv[1:] == ["variants"]:
+        design_variants()
     else:
         main()
         closure_groups()
+        design_variants()
