@@ -970,7 +970,15 @@ class _Tracker:
         node = self.plan[position].node
         n = self.n
         margin = np.broadcast_to(cand.margin, (n,))
-        if not self.any_coarse:
+        # the samples looked at closely below: all, or those of the paths (variants) that
+        # the quick test, each path on its own, does not settle
+        keep = None
+        if not self.any_coarse and self.cut is not None:
+            keep = self._unsettled(margin)
+            if keep.size == 0:
+                self.labels[node.name] = start
+                return start, []
+        elif not self.any_coarse:
             # rule 3's test over the whole sweep at once, which settles most sweeps: the
             # half-distance between the roots over the node's scale, u (the square
             # root of the margin; NaN where the roots do not exist, which sends the
@@ -978,8 +986,6 @@ class _Tracker:
             # margin itself, which spares a square root: |du| <= sqrt(|d(u**2)|)
             moved = self.scratch
             np.subtract(margin[1:], margin[:-1], out=moved)
-            if self.cut is not None:
-                moved[self.cut] = 0.0
             fastest = max(np.fmax.reduce(moved), -np.fmin.reduce(moved))
             if not self.even:
                 fastest = float(np.fmax.reduce(np.abs(moved) / self.travel)) * self.longest
@@ -988,8 +994,6 @@ class _Tracker:
                 return start, []
             apart = np.sqrt(margin)
             np.subtract(apart[1:], apart[:-1], out=moved)
-            if self.cut is not None:
-                moved[self.cut] = 0.0
             np.abs(moved, out=moved)
             if not self.even:
                 np.divide(moved, self.travel, out=moved)
@@ -997,43 +1001,62 @@ class _Tracker:
             if np.min(apart) > SAFETY * fastest:
                 self.labels[node.name] = start
                 return start, []
+        # per sample and per step, of the samples looked at: the step from sample i of
+        # them to sample i + 1 is step kept[i] of the sweep
+        if keep is None:
+            kept, m, inputs, cut = None, n, self.inputs, self.cut
+        else:
+            kept, m = keep[:-1], keep.size
+            margin = margin[keep]
+            inputs = {name: values[keep] for name, values in self.inputs.items()}
+            cut = np.zeros(m - 1, dtype=bool)
+            cut[self.length - 1::self.length] = True
+
+        def per_step(value):
+            return value if kept is None or np.ndim(value) == 0 else value[kept]
+
+        travel, turning, finite = per_step(self.travel), per_step(self.turning), per_step(
+            self.finite)
         # zero where they meet, also for roots within the primitives' tangency tolerance:
         # it folds at a graze like a V
         present = np.isfinite(np.broadcast_to(cand.x[0], (n,)))
+        if keep is not None:
+            present = present[keep]
         apart = np.where(present, np.sqrt(np.maximum(margin, 0.0)), np.nan)
         moved = np.abs(apart[1:] - apart[:-1])
-        if self.cut is not None:
-            moved[self.cut] = 0.0
+        if cut is not None:
+            moved[cut] = 0.0
         # what it could move per unit of travel, over each step and its neighbours
-        rate = moved if self.even else moved / self.travel
-        if n > 2:
+        rate = moved if self.even else moved / travel
+        if m > 2:
             # the rate over a step is at most the largest of it and its neighbours'
             rate = np.fmax(rate, np.concatenate([rate[1:], rate[-1:]]))
             rate = np.fmax(rate, np.concatenate([rate[:1], rate[:-1]]))
-        reach = rate if self.even else rate * self.travel
+        reach = rate if self.even else rate * travel
         both = present[:-1] & present[1:]
         # a step into or out of a gap is looked into up to the gap's edge
         edge = present[:-1] != present[1:]
         settled = np.fmin(apart[:-1], apart[1:]) > SAFETY * reach
-        if self.cut is not None:
-            both, edge = both & ~self.cut, edge & ~self.cut
+        if cut is not None:
+            both, edge = both & ~cut, edge & ~cut
         if not self.any_coarse and not ((both & ~settled) | edge).any():
             self.labels[node.name] = start
             return start, []
         # a step looked into is cut at half the resolution: a narrow dip of the roots'
         # distance shows at one cut at least
         assert self.angle_steps is not None  # __init__ sets it
-        pieces = np.ceil(self.angle_steps / (ANGLE_RESOLUTION / 2) - 1e-9)
-        coarse = self.turning | (self.angle_steps > ANGLE_RESOLUTION * (1 + 1e-9))
+        angle_steps = per_step(self.angle_steps)
+        pieces = np.ceil(angle_steps / (ANGLE_RESOLUTION / 2) - 1e-9)
+        coarse = turning | (angle_steps > ANGLE_RESOLUTION * (1 + 1e-9))
         if self.length_steps is not None:
             scale = _node_scale(cand, n)
-            pieces = np.fmax(pieces, np.ceil(self.length_steps
+            pieces = np.fmax(pieces, np.ceil(per_step(self.length_steps)
                                              / (LENGTH_RESOLUTION / 2 * scale)))
             coarse = coarse | (pieces > 1)
         # a step of more than MAX_PIECES pieces (hundreds of turns) is past resolving
-        doubtful = ((both & ~settled) | edge | coarse) & self.finite & (pieces <= MAX_PIECES)
-        if self.cut is not None:
-            doubtful &= ~self.cut
+        doubtful = ((both & ~settled) | edge | coarse) & finite & (pieces <= MAX_PIECES)
+        if cut is not None:
+            doubtful &= ~cut
         doubtful = np.flatnonzero(doubtful)
         at_sample = present & (apart <= MEET_RTOL)
         # each doubtful step is looked into at two pieces at least, so many steps at a
@@ -1042,23 +1065,26 @@ class _Tracker:
         block = np.cumsum(pieces) // PIECES_PER_BLOCK
         cuts = np.flatnonzero(np.diff(block)) + 1
         inner = np.concatenate([np.empty(0)] + [
-            self._meetings_inside(position, steps, counts, reach[steps], apart, at_sample)
+            self._meetings_inside(position, steps, counts, reach[steps], apart, at_sample, kept)
             for steps, counts in zip(np.split(doubtful, cuts), np.split(pieces, cuts),
                                      strict=True) if steps.size])
         inner.sort()
         # consecutive meeting samples are one meeting where the roots stay together
         # between them (looked at off the middle, where a meeting of its own would hide
         # their parting), and two where they part
-        together = np.zeros(n - 1, dtype=bool)
+        together = np.zeros(m - 1, dtype=bool)
         pairs = at_sample[:-1] & at_sample[1:]
-        if self.cut is not None:
-            pairs &= ~self.cut
+        if cut is not None:
+            pairs &= ~cut
         pairs = np.flatnonzero(pairs)
         if pairs.size:
-            inner_apart = self._apart(position, np.concatenate([pairs, pairs]),
+            inner_apart = self._apart(position, per_step(np.concatenate([pairs, pairs])),
                                       np.repeat([0.382, 0.618], pairs.size))
             together[pairs] = ~(inner_apart > MEET_RTOL).reshape(2, -1).any(axis=0)
-        flip_after = _flips_at_samples(at_sample, present, together, self.inputs, self.length)
+        flip_after = _flips_at_samples(at_sample, present, together, inputs, self.length)
+        if keep is not None:
+            flip_after, looked = np.zeros(n, dtype=bool), flip_after
+            flip_after[keep] = looked
         flips = flip_after[:-1].astype(np.int64)
         if inner.size:
             np.add.at(flips, np.floor(inner).astype(np.int64), 1)
@@ -1085,7 +1111,8 @@ class _Tracker:
                    for i, b, key in zip(steps, before, inner, strict=True)]
         return label, events
 
-    def _meetings_inside(self, position, steps, pieces, step_reach, apart, at_sample):
+    def _meetings_inside(self, position, steps, pieces, step_reach, apart, at_sample,
+                         kept=None):
         """Return where the roots meet inside the given steps, as step + fraction, sorted.
 
         Each step is cut into its pieces; pieces whose roots neither stay
@@ -1094,8 +1121,14 @@ class _Tracker:
         a whole step) is the largest seen over it, its neighbours and the
         step's neighbours, and never falls as pieces are halved. Meetings
         that touch a sample where the roots meet belong to that sample
-        (rule 4) and are left out here.
+        (rule 4) and are left out here. Where only some samples are looked
+        at, ``steps``, ``apart`` and ``at_sample`` are of those, and
+        ``kept`` gives the sweep's step of each; the meetings are returned
+        on the sweep's steps.
         """
+        def sweep_step(step):
+            return step if kept is None else kept[step]
+
         step = np.repeat(steps, pieces)
         first = np.repeat(np.cumsum(pieces) - pieces, pieces)
         k = np.arange(step.size) - first
@@ -1103,7 +1136,7 @@ class _Tracker:
         low, high = k / count, (k + 1) / count
         inside = low > 0
         at_low = apart[step]
-        at_low[inside] = self._apart(position, step[inside], low[inside])
+        at_low[inside] = self._apart(position, sweep_step(step[inside]), low[inside])
         # a piece ends where the next begins; the last piece ends at the next sample
         last = high == 1
         at_high = np.roll(at_low, -1)
@@ -1142,7 +1175,7 @@ class _Tracker:
             step, low, high, rate = step[open_], low[open_], high[open_], rate[open_]
             at_low, at_high = at_low[open_], at_high[open_]
             middle = 0.5 * (low + high)
-            at_middle = self._apart(position, step, middle)
+            at_middle = self._apart(position, sweep_step(step), middle)
             rate = np.fmax(rate, np.fmax(np.abs(at_middle - at_low),
                                          np.abs(at_high - at_middle)) / (middle - low))
             step, rate = np.concatenate([step, step]), np.concatenate([rate, rate])
@@ -1157,9 +1190,10 @@ class _Tracker:
         edges = tuple(map(np.concatenate, (edge_step, edge_low, edge_high)))
         return self._merge_meetings(position, steps, np.concatenate(found_step),
                                     np.concatenate(found_low), np.concatenate(found_high),
-                                    at_sample, edges)
+                                    at_sample, edges, sweep_step)
 
-    def _merge_meetings(self, position, steps, step, low, high, at_sample, edges):
+    def _merge_meetings(self, position, steps, step, low, high, at_sample, edges,
+                        sweep_step=None):
         """Return one meeting per place the roots meet, as step + fraction, sorted.
 
         Touching meeting pieces are one meeting; so are pieces apart by a gap
@@ -1188,7 +1222,8 @@ class _Tracker:
         joined = same & ~gap
         if gap.any():
             at = np.flatnonzero(gap)
-            middle = self._apart(position, step[at], 0.5 * (high[at] + low[at + 1]))
+            middle = self._apart(position, step[at] if sweep_step is None else sweep_step(step[at]),
+                                 0.5 * (high[at] + low[at + 1]))
             # roots that cannot be assembled between two pieces: the edge of a gap,
             # which flickers within rounding of the primitives' tangency test
             joined[at] = ~(middle > 4 * MEET_RTOL)
@@ -1203,7 +1238,32 @@ class _Tracker:
         g_owned = np.zeros(count, dtype=bool)
         np.logical_or.at(g_owned, group, owned)
         keep = ~g_owned
-        return np.sort(g_step[keep] + 0.5 * (g_low[keep] + g_high[keep]))
+        found = g_step[keep] if sweep_step is None else sweep_step(g_step[keep])
+        return np.sort(found + 0.5 * (g_low[keep] + g_high[keep]))
+
+    def _unsettled(self, margin):
+        """Return the samples of the paths that rule 3's quick test does not settle.
+
+        The test of :meth:`track` over a whole sweep, made on each path (each
+        variant) on its own: a path is settled by its own margins and rates,
+        as it is swept alone.
+        """
+        rows = margin.reshape(-1, self.length)
+        travel = np.broadcast_to(self.travel, (self.n - 1,))[:self.length - 1]
+        with np.errstate(invalid="ignore"):
+            moved = np.abs(np.diff(rows, axis=1))
+            if not self.even:
+                moved = moved / travel * self.longest
+            settled = np.min(rows, axis=1) > (SAFETY * SAFETY) * np.fmax.reduce(moved, axis=1)
+            if not settled.all():
+                open_ = np.flatnonzero(~settled)
+                apart = np.sqrt(rows[open_])
+                moved = np.abs(np.diff(apart, axis=1))
+                if not self.even:
+                    moved = moved / travel * self.longest
+                settled[open_] = np.min(apart, axis=1) > SAFETY * np.fmax.reduce(moved, axis=1)
+        unsettled = np.flatnonzero(~settled)
+        return (unsettled[:, None] * self.length + np.arange(self.length)).reshape(-1)
 
     def _apart(self, position, step, fraction):
         """Return how far apart a node's roots are at fractions of steps.
