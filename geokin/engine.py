@@ -1246,24 +1246,33 @@ class _Tracker:
 
         The test of :meth:`track` over a whole sweep, made on each path (each
         variant) on its own: a path is settled by its own margins and rates,
-        as it is swept alone.
+        as it is swept alone. A NaN margin leaves its path open.
         """
-        rows = margin.reshape(-1, self.length)
-        travel = np.broadcast_to(self.travel, (self.n - 1,))[:self.length - 1]
+        paths, length = self.n // self.length, self.length
+        # each path's steps in a row, the step to the next path last, where it is zero
+        moved = _scratch(self.n)
+        np.subtract(margin[1:], margin[:-1], out=moved[:-1])
+        moved = moved.reshape(paths, length)
+        moved[:, -1] = 0.0
+        np.abs(moved, out=moved)
+        per_travel = 1.0
+        if not self.even:
+            per_travel = np.ones(length)
+            per_travel[:-1] = self.longest / np.broadcast_to(self.travel, (self.n - 1,))[
+                :length - 1]
+            moved *= per_travel
+        rows = margin.reshape(paths, length)
         with np.errstate(invalid="ignore"):
-            moved = np.abs(np.diff(rows, axis=1))
-            if not self.even:
-                moved = moved / travel * self.longest
-            settled = np.min(rows, axis=1) > (SAFETY * SAFETY) * np.fmax.reduce(moved, axis=1)
+            settled = np.min(rows, axis=1) > (SAFETY * SAFETY) * np.max(moved, axis=1)
             if not settled.all():
                 open_ = np.flatnonzero(~settled)
                 apart = np.sqrt(rows[open_])
-                moved = np.abs(np.diff(apart, axis=1))
-                if not self.even:
-                    moved = moved / travel * self.longest
-                settled[open_] = np.min(apart, axis=1) > SAFETY * np.fmax.reduce(moved, axis=1)
+                moved = np.zeros_like(apart)
+                moved[:, :-1] = np.abs(np.diff(apart, axis=1))
+                moved *= per_travel
+                settled[open_] = np.min(apart, axis=1) > SAFETY * np.max(moved, axis=1)
         unsettled = np.flatnonzero(~settled)
-        return (unsettled[:, None] * self.length + np.arange(self.length)).reshape(-1)
+        return (unsettled[:, None] * length + np.arange(length)).reshape(-1)
 
     def _apart(self, position, step, fraction):
         """Return how far apart a node's roots are at fractions of steps.
