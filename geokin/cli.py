@@ -77,12 +77,13 @@ from .analysis import analyze, degrees_of_freedom
 from .atomic import require_folder
 from .circuits import circuit
 from .construction import MAX_SAMPLES, Construction, whole_steps
-from .engine import evaluate
+from .engine import STREAM_BLOCK_SAMPLES, evaluate, sweep_in_blocks
 from .engine import sweep as run_sweep
 from .errors import AssemblyError, GeokinError, did_you_mean, quote
 from .io import (
     EXPORT_FORMATS,
     columns,
+    export_blocks,
     export_sweep,
     load,
     script_steps,
@@ -90,7 +91,7 @@ from .io import (
     write_csv,
 )
 from .kinematics import motion
-from .results import Sweep
+from .results import Sweep, failure_causes, unassembled_error
 from .terminal import escape, one_line, shorten
 from .units import from_script, to_script, to_script_array
 
@@ -127,8 +128,19 @@ class ScriptSweep:
 
 
 def _sample(lo, hi, samples=None, step=None, *, label="--range") -> np.ndarray:
+    count, between = _sampling(lo, hi, samples, step, label=label)
+    return between(0, count)
+
+
+def _sampling(lo, hi, samples=None, step=None, *, label="--range", most=MAX_SAMPLES):
+    """Return how many samples the sweep options make, and a function giving samples i to j - 1.
+
+    The values are made as they are asked for, the same numbers as made all
+    at once (those of ``numpy.linspace`` for a number of samples): a sweep
+    too long to hold whole is walked block by block.
+    """
     if samples == 1:  # one configuration: the start of the range
-        return np.array([float(lo)])
+        return 1, lambda i, j: np.array([float(lo)])[i:j]
     if lo == hi:
         raise UsageError(f"{label} {lo:g} {hi:g}: the two ends are equal, nothing to sweep "
                          "(--samples 1 gives that one value)")
@@ -140,13 +152,21 @@ def _sample(lo, hi, samples=None, step=None, *, label="--range") -> np.ndarray:
             raise UsageError(f"--step must be a non-zero number, got {step:g}")
         step = math.copysign(step, hi - lo)  # its size counts: the range gives the direction
         count = whole_steps(lo, hi, step)
-        if not count + 1 <= MAX_SAMPLES:
+        if not count + 1 <= most:
             shown = (f"{math.floor(count) + 1}" if count < 1e15
                      else f"about {count:.1e}" if math.isfinite(count) else "too many")
             raise UsageError(f"--step {shortest_text(step)} makes {shown} samples; at most "
-                             f"{MAX_SAMPLES}")
-        return lo + step * np.arange(math.floor(count) + 1)
-    return np.linspace(lo, hi, samples)
+                             f"{most}")
+        return math.floor(count) + 1, lambda i, j: lo + step * np.arange(i, j)
+    spacing = (hi - lo) / (samples - 1)
+
+    def between(i, j):
+        values = np.arange(i, j, dtype=float) * spacing + lo
+        if j == samples and j > i:
+            values[-1] = hi  # the end exactly, as numpy.linspace has it
+        return values
+
+    return samples, between
 
 
 def _range_asked(first, args) -> tuple[float, float]:
@@ -158,28 +178,41 @@ def _range_asked(first, args) -> tuple[float, float]:
 
 def sweep_values(construction: Construction, args: argparse.Namespace) -> dict[str, np.ndarray]:
     """Return the input values, in script units, asked for by the sweep options."""
+    count, between = sweep_sampling(construction, args)
+    return between(0, count)
+
+
+def sweep_sampling(construction: Construction, args: argparse.Namespace, *,
+                   most: int = MAX_SAMPLES):
+    """Return how many samples the sweep options ask for, and a function giving some.
+
+    ``between(i, j)`` gives the input values of samples i to j - 1, in
+    script units: the values :func:`sweep_values` gives all at once.
+    """
     inputs = list(construction.inputs.values())
     given = any(getattr(args, k, None) is not None for k in ("samples", "step", "range"))
     if not inputs:
         if given:
             raise UsageError("this construction has no input to sweep")
-        return {}
+        return 1, lambda i, j: {}
     first, *others = inputs
     lo, hi = _range_asked(first, args)
     label = "--range" if args.range is not None else f"input {first.name}: range"
     if args.samples is not None:
-        values = _sample(lo, hi, samples=args.samples, label=label)
+        count, values = _sampling(lo, hi, samples=args.samples, label=label, most=most)
     elif args.step is not None:
-        values = _sample(lo, hi, step=args.step, label=label)
+        count, values = _sampling(lo, hi, step=args.step, label=label, most=most)
     elif first.step is not None:
-        values = _sample(lo, hi, step=to_script(first, first.step), label=label)
+        count, values = _sampling(lo, hi, step=to_script(first, first.step), label=label,
+                                  most=most)
     else:
-        values = _sample(lo, hi, samples=first.samples, label=label)
-    result = {first.name: values}
+        count, values = _sampling(lo, hi, samples=first.samples, label=label, most=most)
+    parts = {first.name: values}
     for inp in others:
-        result[inp.name] = _sample(to_script(inp, inp.range[0]), to_script(inp, inp.range[1]),
-                                   samples=len(values), label=f"input {inp.name}: range")
-    return result
+        parts[inp.name] = _sampling(to_script(inp, inp.range[0]), to_script(inp, inp.range[1]),
+                                    samples=count, label=f"input {inp.name}: range",
+                                    most=most)[1]
+    return count, lambda i, j: {name: part(i, j) for name, part in parts.items()}
 
 
 def motion_of(path: str | os.PathLike[str], args: argparse.Namespace,
@@ -390,21 +423,36 @@ def _inputs_text(c, values, i) -> str:
 # -- trace -------------------------------------------------------------------------
 
 
-def _positive_int(text, least=2):
+TRACE_BLOCK_SAMPLES = STREAM_BLOCK_SAMPLES
+"""How many samples ``geokin trace`` sweeps and writes at a time (see
+:func:`geokin.engine.sweep_in_blocks`); a sweep of no more is made whole."""
+
+TRACE_MAX_SAMPLES = 10**9
+"""The most samples ``geokin trace`` sweeps: a trace to CSV or NPZ longer than
+one block is swept and written block by block, in bounded memory; every
+other command holds its sweep whole, up to :data:`MAX_SAMPLES`."""
+
+
+def _positive_int(text, least=2, most=MAX_SAMPLES):
     try:
         value = int(text)
     except ValueError:  # also for more digits than Python reads
         raise argparse.ArgumentTypeError(f"expected an integer, got {shorten(text)!r}") from None
     if value < least:
         raise argparse.ArgumentTypeError(f"expected at least {least}, got {value}")
-    if value > MAX_SAMPLES:
-        raise argparse.ArgumentTypeError(f"at most {MAX_SAMPLES}, got {value}")
+    if value > most:
+        raise argparse.ArgumentTypeError(f"at most {most}, got {value}")
     return value
 
 
 def _sample_count(text):
     """Read the value of --samples: one sample is one configuration."""
     return _positive_int(text, least=1)
+
+
+def _trace_sample_count(text):
+    """Read the value of --samples of ``trace``, which streams long sweeps."""
+    return _positive_int(text, least=1, most=TRACE_MAX_SAMPLES)
 
 
 def _finite(text):
@@ -417,13 +465,13 @@ def _finite(text):
     return value
 
 
-def _add_sweep_options(p):
+def _add_sweep_options(p, count=_sample_count):
     group = p.add_argument_group("sweep", "of the first input, in script units "
                                           "(degrees for an angle)")
     group.add_argument("--range", nargs=2, type=_finite, metavar=("A", "B"),
                        help="sweep from A to B instead of the declared range")
     spacing = group.add_mutually_exclusive_group()
-    spacing.add_argument("--samples", type=_sample_count, metavar="N",
+    spacing.add_argument("--samples", type=count, metavar="N",
                          help="N samples, both ends included (1: the start of the range "
                               "alone)")
     spacing.add_argument("--step", type=_finite, metavar="S",
@@ -460,7 +508,7 @@ def add_trace(subparsers: Subparsers) -> None:
                         ".velocity and .acceleration along the guide)")
     p.add_argument("--derivatives", action="store_true",
                    help="add velocities and accelerations per second")
-    _add_sweep_options(p)
+    _add_sweep_options(p, count=_trace_sample_count)
     p.set_defaults(run=run_trace)
 
 
@@ -510,6 +558,9 @@ def run_trace(args: argparse.Namespace) -> int:
     if args.output is not None:
         _output_kind(args.output, EXPORT_FORMATS, "a trace")
         require_folder(args.output)  # say so before a long sweep, not after
+    long = None if args.circuit else _long_sweep(args)
+    if long is not None:
+        return _trace_in_blocks(args, *long)
     # where nothing assembles, the ground points are still known: write them, then say so
     m, _ = motion_of(args.script, args, assembled=False)
     points = _selected(m.construction, args.points, "point")
@@ -534,6 +585,118 @@ def run_trace(args: argparse.Namespace) -> int:
         print(escape(f"wrote {path}: {len(m.sweep)} samples, {len(table)} columns"),
               file=sys.stderr)
     return 0
+
+
+def _long_sweep(args):
+    """Return the construction and sampling of a trace too long to hold whole, else None.
+
+    A sweep of more samples than a block, written to CSV or NPZ, is traced
+    block by block; JSON (one object) and shorter sweeps are made whole.
+    """
+    if args.output is not None and pathlib.Path(args.output).suffix.lower() == ".json":
+        if args.samples is not None and args.samples > MAX_SAMPLES:
+            raise UsageError(f"--samples {args.samples}: a JSON trace holds at most "
+                             f"{MAX_SAMPLES} samples; write CSV or NPZ for more")
+        return None
+    construction = load(args.script)
+    count, between = sweep_sampling(construction, args, most=TRACE_MAX_SAMPLES)
+    if count <= TRACE_BLOCK_SAMPLES:
+        return None
+    return construction, count, between
+
+
+def _trace_in_blocks(args, construction, count, between) -> int:
+    """Trace a long sweep block by block: swept, differentiated and written as it goes."""
+    points = _selected(construction, args.points, "point")
+    links = _selected(construction, args.links, "link")
+    sliders = _selected(construction, args.sliders, "slider")
+    if args.derivatives and not construction.inputs:
+        raise UsageError("--derivatives needs a construction with an input")
+    inputs = construction.inputs
+
+    def radians(i, j):
+        return {name: from_script(inputs[name], v) for name, v in between(i, j).items()}
+
+    progress = _Progress(count, "trace")
+    causes: list = []
+    state: dict = {"assembled": False, "lo": 0, "angles": {}, "time": None, "columns": 0}
+
+    def tables():
+        blocks = sweep_in_blocks(construction, radians, count, block_samples=TRACE_BLOCK_SAMPLES)
+        for block in blocks:
+            lo = state["lo"]
+            rates = motion(block, next(iter(inputs))) if args.derivatives else None
+            table = columns(block, points, motion=rates, inputs=between(lo, lo + len(block)),
+                            links=links, sliders=sliders, degrees=True)
+            _continue_block(table, links, state, rates, block)
+            state["assembled"] |= bool(block.valid.any())
+            causes.extend(failure_causes(block, lo))
+            state["lo"], state["columns"] = lo + len(block), len(table)
+            progress.show(state["lo"])
+            yield table
+
+    try:
+        if args.output is None:
+            for i, table in enumerate(tables()):
+                write_csv(table, sys.stdout, header=i == 0)
+            sys.stdout.flush()
+        else:
+            path = export_blocks(tables(), args.output, count)
+    finally:
+        progress.close()
+    if not state["assembled"]:
+        raise unassembled_error(construction.compile(), causes, count)
+    if args.output is not None:
+        print(escape(f"wrote {path}: {count} samples, {state['columns']} columns"),
+              file=sys.stderr)
+    return 0
+
+
+def _continue_block(table, links, state, rates, block):
+    """Make a block's columns go on from the last block's: link angles and time.
+
+    A link's angle is unwrapped within a block; it goes on by whole turns
+    from where the last block left it. Time runs on from the last block's
+    last sample at the input's speed.
+    """
+    for link in links:
+        angle = table[f"{link}.angle"]
+        finite = np.flatnonzero(np.isfinite(angle))
+        last = state["angles"].get(link)
+        if finite.size and last is not None:
+            turns = np.round((last - angle[finite[0]]) / 360.0)
+            if turns:
+                table[f"{link}.angle"] = angle = angle + 360.0 * turns
+        if finite.size:
+            state["angles"][link] = angle[finite[-1]]
+    if rates is not None:
+        values = next(iter(block.inputs.values()))
+        previous = state["time"]
+        if previous is not None:
+            last_time, last_value = previous
+            step = abs(values[0] - last_value) / abs(rates.speed[0])
+            table["time"] = table["time"] + (last_time + step)
+        state["time"] = (float(table["time"][-1]), float(values[-1]))
+
+
+class _Progress:
+    """A progress line on a terminal's standard error (nothing elsewhere)."""
+
+    def __init__(self, total: int, what: str) -> None:
+        self.total, self.what = total, what
+        self.shown = -1
+        self.on = sys.stderr.isatty()
+
+    def show(self, done: int) -> None:
+        percent = 100 * done // self.total
+        if self.on and percent != self.shown:
+            self.shown = percent
+            print(f"\r{self.what}: {percent}% of {self.total:,} samples", end="",
+                  file=sys.stderr, flush=True)
+
+    def close(self) -> None:
+        if self.on and self.shown >= 0:
+            print("\r\033[K", end="", file=sys.stderr, flush=True)
 
 
 # -- plot and animate --------------------------------------------------------------

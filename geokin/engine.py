@@ -44,7 +44,7 @@ from __future__ import annotations
 
 import threading
 import weakref
-from collections.abc import Mapping
+from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, replace
 
 import numpy as np
@@ -59,7 +59,7 @@ from .nodes import Node, failure_reasons
 from .results import BranchEvent, PointTable, Sweep
 
 __all__ = ["assembly_guesses", "evaluate", "input_arrays", "start_labels", "sweep",
-           "variant_values"]
+           "sweep_in_blocks", "variant_values"]
 
 MEET_RTOL = 1e-7
 """Roots closer than this times the node's scale meet (a graze or a toggle).
@@ -789,6 +789,115 @@ def _joined(sweeps: list[Sweep]) -> Sweep:
                          for k in first.line_parameters},
         parameters={k: joined([s.parameters[k] for s in sweeps]) for k in first.parameters})
 
+
+STREAM_BLOCK_SAMPLES = 2**18
+"""How many samples :func:`sweep_in_blocks` yields at a time by default: a
+block's sweep holds a few hundred bytes per sample."""
+
+LOOK_BACK = 3
+"""How many samples before a block its evaluation starts at: the branch rules
+decide what happens at a sample and on a step from the samples and steps on
+either side, so a block sees the two steps before its first sample."""
+
+
+def sweep_in_blocks(construction: Construction | Compiled,
+                    values_between: Callable[[int, int], Mapping[str, np.ndarray]],
+                    samples: int, *, start_branches: Mapping[str, object] | None = None,
+                    block_samples: int = STREAM_BLOCK_SAMPLES) -> Iterator[Sweep]:
+    """Evaluate a long sweep block by block, each block as the whole sweep has it.
+
+    For sweeps too long to hold whole (10**8 samples): memory stays that of
+    one block. Each block is evaluated from :data:`LOOK_BACK` samples before
+    it, starting on the branches the sweep has there (and a closure group
+    from its solution there), and two samples beyond it, so that every
+    branch change at its samples and on its steps is decided as it is in
+    one sweep of all samples. Its branches are checked against the last
+    block's on the samples they share, and it is evaluated again from
+    corrected branches where they differ.
+
+    Parameters
+    ----------
+    construction : Construction or Compiled
+    values_between : callable
+        ``values_between(start, stop)`` returns the input values (radians
+        for an angle) of samples ``start`` to ``stop - 1``, a mapping of
+        input names to arrays: the path is made as it is walked.
+    samples : int
+        How many samples the whole sweep has.
+    start_branches : mapping of str to str or int, optional
+        As for :func:`sweep`.
+    block_samples : int
+        Samples per block.
+
+    Yields
+    ------
+    Sweep
+        The sweep of each block's samples, in order: its arrays those of the
+        whole sweep there, its events those on its steps and on the step into
+        its first sample (index 0).
+
+    Examples
+    --------
+    >>> from geokin import Construction
+    >>> c = Construction()
+    >>> c.input("theta")
+    >>> c.fixed("O2", 0, 0)
+    >>> c.fixed("O4", 10, 0)
+    >>> c.polar("A", "O2", 4, "theta")
+    >>> c.circle_circle("B", ("A", "O4"), (10, 4), branch="left")
+    >>> theta = np.linspace(0, 4 * np.pi, 101)
+    >>> blocks = list(sweep_in_blocks(c, lambda i, j: {"theta": theta[i:j]}, 101,
+    ...                               block_samples=10))
+    >>> whole = sweep(c, theta)
+    >>> np.array_equal(np.concatenate([b.branches["B"] for b in blocks]), whole.branches["B"])
+    True
+    >>> [e.index for b in blocks for e in b.events] == [e.index % 10 for e in whole.events]
+    True
+    """
+    compiled = as_compiled(construction)
+    if block_samples < 1:
+        raise ValueError(f"a block needs at least one sample, got {block_samples}")
+    start = start_labels(compiled, start_branches)
+    two_root = [step.node.name for step in compiled.steps if step.node.roots == 2]
+    window: Sweep | None = None
+    begin = 0
+    for lo in range(0, samples, block_samples):
+        hi = min(lo + block_samples, samples)
+        stop = min(hi + 2, samples)
+        if window is None:
+            begin = 0
+            window = evaluate(compiled, values_between(0, stop), stop, start=start)
+        else:
+            window, begin = _next_window(compiled, values_between, window, begin, lo, stop,
+                                         two_root), max(lo - LOOK_BACK, 0)
+        yield window.part(lo - begin, hi - begin)
+
+
+def _next_window(compiled, values_between, last, last_begin, lo, stop, two_root):
+    """Evaluate samples ``lo - LOOK_BACK`` to ``stop - 1`` on the branches ``last`` has there."""
+    begin = max(lo - LOOK_BACK, 0)
+
+    def label(sweep, offset, name, i):
+        return int(np.broadcast_to(sweep.branches[name], (len(sweep),))[i - offset])
+
+    # on the first step the branch is the one after any change at its first sample
+    changed = {e.node for e in last.events
+               if e.index + last_begin == begin + 1 and e.fraction == 0}
+    first = {name: label(last, last_begin, name, begin) ^ (name in changed) for name in two_root}
+    sketches = {name: guess[0] for name, guess in
+                assembly_guesses(last, slice(begin - last_begin, begin - last_begin + 1)).items()}
+    inputs = values_between(begin, stop)
+    for _ in range(4):
+        window = evaluate(compiled, inputs, stop - begin, start=first, sketches=sketches or None)
+        wrong = {name: label(last, last_begin, name, lo - 1) ^ label(window, begin, name, lo - 1)
+                 for name in two_root}
+        wrong = {name: flip for name, flip in wrong.items() if flip}
+        if not wrong:
+            break
+        # the first step was decided otherwise than with the step before it in view
+        for name, flip in wrong.items():
+            first[name] ^= flip
+    return window
 
 def start_labels(compiled: Compiled,
                  start_branches: Mapping[str, object] | None) -> dict[str, int] | None:

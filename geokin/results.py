@@ -23,7 +23,8 @@ from .frozen import Frozen, read_only
 from .nodes import REASONS
 from .terminal import shorten
 
-__all__ = ["BranchEvent", "PointTable", "Sweep", "short_name"]
+__all__ = ["BranchEvent", "PointTable", "Sweep", "failure_causes", "short_name",
+           "unassembled_error"]
 
 
 def short_name(name: str | None) -> str:
@@ -194,6 +195,51 @@ class Sweep(Frozen):
                          if e.variant == index),
             margins={k: row(v) for k, v in self.margins.items()},
             line_parameters={k: row(v) for k, v in self.line_parameters.items()})
+
+    def part(self, start: int, stop: int) -> Sweep:
+        """Return the sweep of samples ``start`` to ``stop - 1`` of this one, as they are in it.
+
+        Its arrays are views of this sweep's; its events are those between
+        its samples and on the step into its first (index 0 there), indexed
+        from ``start``.
+
+        Examples
+        --------
+        >>> from geokin import Construction, sweep
+        >>> c = Construction()
+        >>> c.input("theta")
+        >>> c.fixed("O2", 0, 0)
+        >>> c.fixed("O4", 10, 0)
+        >>> c.polar("A", "O2", 4, "theta")
+        >>> c.circle_circle("B", ("A", "O4"), (10, 4), branch="left")
+        >>> s = sweep(c, np.radians([160.0, 170.0, 190.0, 200.0]))
+        >>> later = s.part(2, 4)
+        >>> len(later), later.named_branches("B").tolist(), later.events[0].index
+        (2, ['right', 'right'], 0)
+        """
+        if self.variants is not None:
+            raise ValueError("a part of a sweep of variants: take a variant first")
+        n = len(self)
+        start, stop, _ = slice(start, stop).indices(n)
+        stop = max(start, stop)
+
+        def part(array):
+            array = np.asarray(array)
+            return array if array.ndim == 0 else np.broadcast_to(array, (n,))[start:stop]
+
+        coords = {name: tuple(part(c) for c in self.points.coords(name)) for name in self.points}
+        valid = self.valid[start:stop]
+        return Sweep(
+            construction=self.construction,
+            inputs={k: v[start:stop] for k, v in self.inputs.items()},
+            points=PointTable(coords, valid), valid=valid,
+            failed_step=self.failed_step[start:stop], reason_code=self.reason_code[start:stop],
+            branches={k: part(v) for k, v in self.branches.items()},
+            events=tuple(replace(e, index=e.index - start) for e in self.events
+                         if start <= e.index < stop),
+            margins={k: part(v) for k, v in self.margins.items()},
+            line_parameters={k: part(v) for k, v in self.line_parameters.items()},
+            parameters={k: part(v) for k, v in self.parameters.items()})
 
     def flat(self) -> Sweep:
         """Return a sweep of V variants as one sweep of V * N samples, variant after variant.
@@ -455,26 +501,9 @@ class Sweep(Frozen):
         geokin.errors.AssemblyError: no sample can be assembled: node 'B' fails at all 3
         samples: no intersection: the curves do not meet
         """
-        n = len(self)
-        if n == 0 or self.valid.any():
+        if self.valid.size == 0 or self.valid.any():
             return self
-        key = self.failed_step.astype(np.int64) * 256 + self.reason_code.astype(np.int64)
-        keys, first, counts = np.unique(key, return_index=True, return_counts=True)
-        order = sorted(range(len(keys)), key=lambda i: (-counts[i], first[i]))
-        names, reasons = self.failed_node, self.failure_reason
-        causes = [(names[first[i]], reasons[first[i]], int(counts[i])) for i in order]
-        node, reason, count = causes[0]
-        if len(causes) == 1:
-            where = "the one sample" if n == 1 else f"all {n:,} samples"
-            text = f"node {quote(node)} fails at {where}: {reason}"
-        else:
-            shown = [f"node {quote(name)} at {k:,} of {n:,} samples ({why})"
-                     for name, why, k in causes[:3]]
-            if len(causes) > 3:
-                rest = sum(k for _, _, k in causes[3:])
-                shown.append(f"{len(causes) - 3} other cause(s) at {rest:,}")
-            text = "nodes fail: " + ", ".join(shown)
-        raise AssemblyError(f"no sample can be assembled: {text}", node=node)
+        raise unassembled_error(self.construction, failure_causes(self), self.valid.size)
 
     def explain(self, index: int) -> str:
         """Say in words whether sample ``index`` is assembled, and if not why.
@@ -515,6 +544,52 @@ class Sweep(Frozen):
         if self.construction.inputs[name].kind == "angle":
             return f"{math.degrees(value):g} deg"
         return f"{value:g}"
+
+
+def failure_causes(sweep: Sweep, offset: int = 0) -> list[tuple[int, int, int, int]]:
+    """Return why a sweep's samples cannot be assembled, one entry per cause.
+
+    Each cause is (step, reason code, number of samples, first sample,
+    counted from ``offset``), as :func:`unassembled_error` takes them; the
+    causes of consecutive parts of a long sweep add up.
+    """
+    failing = ~sweep.valid.reshape(-1)
+    key = (sweep.failed_step.reshape(-1)[failing].astype(np.int64) * 256
+           + sweep.reason_code.reshape(-1)[failing].astype(np.int64))
+    keys, first, counts = np.unique(key, return_index=True, return_counts=True)
+    where = np.flatnonzero(failing)[first] + offset
+    return [(int(k // 256), int(k % 256), int(c), int(w))
+            for k, c, w in zip(keys, counts, where, strict=True)]
+
+
+def unassembled_error(construction: Compiled, causes: list[tuple[int, int, int, int]],
+                      samples: int) -> AssemblyError:
+    """Return the error that says no sample of a sweep can be assembled, and why.
+
+    ``causes`` are :func:`failure_causes`, of the whole sweep or added up
+    over its parts (a cause met in several parts is summed); the most
+    frequent is named first (up to three).
+    """
+    merged: dict[tuple[int, int], list[int]] = {}
+    for step, reason, count, first in causes:
+        entry = merged.setdefault((step, reason), [0, first])
+        entry[0] += count
+        entry[1] = min(entry[1], first)
+    order = sorted(merged.items(), key=lambda item: (-item[1][0], item[1][1]))
+    names = ["", *construction.point_names]
+    shown = [(names[step], REASONS[reason], count) for (step, reason), (count, _) in order]
+    node, why, _ = shown[0]
+    if len(shown) == 1:
+        where = "the one sample" if samples == 1 else f"all {samples:,} samples"
+        text = f"node {quote(node)} fails at {where}: {why}"
+    else:
+        parts = [f"node {quote(name)} at {k:,} of {samples:,} samples ({why})"
+                 for name, why, k in shown[:3]]
+        if len(shown) > 3:
+            rest = sum(k for _, _, k in shown[3:])
+            parts.append(f"{len(shown) - 3} other cause(s) at {rest:,}")
+        text = "nodes fail: " + ", ".join(parts)
+    return AssemblyError(f"no sample can be assembled: {text}", node=node)
 
 
 class PointTable(Mapping):

@@ -994,3 +994,75 @@ def test_check_prints_angles_in_the_scripts_degrees(capsys):
     status, out, err = run(capsys, "check", str(CONSTRUCTIONS / "triple_rocker_coupler.toml"))
     assert status == 0
     assert "B  = polar(C, r3, theta3 + 180)" in out  # held as theta3 + pi inside
+
+
+# -- long traces, block by block ---------------------------------------------------
+
+
+@pytest.mark.parametrize("suffix", [".csv", ".npz"])
+def test_a_long_trace_written_in_blocks_is_the_trace_made_whole(capsys, tmp_path, monkeypatch,
+                                                                 suffix):
+    import geokin.cli as cli
+
+    options = ["--samples", "2001", "--links", "crank,output", "--sliders", "block",
+               "--derivatives"]
+    whole, blocks = tmp_path / f"whole{suffix}", tmp_path / f"blocks{suffix}"
+    assert run(capsys, "trace", SIXBAR, *options, "-o", whole)[0] == 0
+    # blocks of 150 samples: their edges fall on the crank's turns and the output's
+    # branch changes over five turns
+    monkeypatch.setattr(cli, "TRACE_BLOCK_SAMPLES", 150)
+    status, _, err = run(capsys, "trace", SIXBAR, *options, "-o", blocks)
+    assert status == 0 and "2001 samples" in err
+    if suffix == ".csv":
+        names, a = read_csv(whole.read_text())
+        names_b, b = read_csv(blocks.read_text())
+        assert names == names_b
+    else:
+        data_a, data_b = np.load(whole), np.load(blocks)
+        names = list(data_a)
+        assert names == list(data_b)
+        a = np.column_stack([data_a[k].astype(float) for k in names])
+        b = np.column_stack([data_b[k].astype(float) for k in names])
+    exact = [i for i, k in enumerate(names) if not k.endswith((".vx", ".vy", ".ax", ".ay",
+                                                               ".omega", ".alpha", ".velocity",
+                                                               ".acceleration", "time", ".angle"))]
+    # positions, slider positions and flags exactly; rates to rounding (each block is
+    # differentiated in its own frame), angles too (each block unwrapped on its own,
+    # then turned on by whole turns)
+    np.testing.assert_array_equal(a[:, exact], b[:, exact])
+    scale = np.nanmax(np.abs(a), axis=0)
+    np.testing.assert_allclose(b, a, rtol=0, atol=1e-9 * np.max(scale))
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted([whole.name, blocks.name])
+
+
+def test_a_long_trace_to_standard_output_has_one_header(capsys, monkeypatch):
+    import geokin.cli as cli
+
+    monkeypatch.setattr(cli, "TRACE_BLOCK_SAMPLES", 40)
+    status, out, _ = run(capsys, "trace", CRANK, "--samples", "101", "--points", "C")
+    names, rows = read_csv(out)
+    assert status == 0 and names == ["theta2", "valid", "C.x", "C.y"] and len(rows) == 101
+    monkeypatch.setattr(cli, "TRACE_BLOCK_SAMPLES", 1000)
+    assert run(capsys, "trace", CRANK, "--samples", "101", "--points", "C")[1] == out
+
+
+def test_a_long_trace_that_never_assembles_says_so_once(capsys, tmp_path, monkeypatch):
+    import geokin.cli as cli
+
+    script = tmp_path / "short.toml"
+    script.write_text((CONSTRUCTIONS / "crank_rocker.toml").read_text().replace(
+        "l3 = { value = 35", "l3 = { value = 12").replace("l4 = { value = 30", "l4 = { value = 10"))
+    whole = run(capsys, "trace", script, "--samples", "500", "-o", tmp_path / "w.npz")
+    monkeypatch.setattr(cli, "TRACE_BLOCK_SAMPLES", 64)
+    blocks = run(capsys, "trace", script, "--samples", "500", "-o", tmp_path / "b.npz")
+    assert whole[0] == blocks[0] == 1
+    assert blocks[2] == whole[2] and blocks[2].count("\n") == 1
+    a, b = np.load(tmp_path / "w.npz"), np.load(tmp_path / "b.npz")
+    assert all(np.array_equal(a[k], b[k], equal_nan=True) for k in a)
+
+
+def test_only_a_trace_takes_more_samples_than_a_sweep_held_whole(capsys):
+    status, _, err = run(capsys, "plot", SIXBAR, "--samples", "2000000", "-o", "x.png")
+    assert status == 2 and "at most 1000000" in err
+    status, _, err = run(capsys, "trace", SIXBAR, "--samples", "2000000", "-o", "x.json")
+    assert status == 2 and "CSV or NPZ" in err

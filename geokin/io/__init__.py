@@ -11,6 +11,7 @@ from ..budgets import MAX_SCRIPT_BYTES
 from .export import (
     EXPORT_FORMATS,
     columns,
+    export_blocks,
     export_sweep,
     shortest_text,
     write_csv,
@@ -25,6 +26,7 @@ __all__ = [
     "OPS",
     "columns",
     "dump",
+    "export_blocks",
     "export_sweep",
     "load",
     "loads",

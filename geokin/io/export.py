@@ -80,12 +80,15 @@ theta,valid,A.x,A.y
 
 from __future__ import annotations
 
+import contextlib
 import csv
 import json
 import os
 import pathlib
+import shutil
+import tempfile
 import zipfile
-from collections.abc import Mapping, Sequence
+from collections.abc import Iterable, Mapping, Sequence
 from typing import IO, TextIO
 
 import numpy as np
@@ -98,8 +101,8 @@ from ..kinematics import Motion, link_angles, slider_positions
 from ..results import Sweep
 from ..units import angles_to_script, to_script_array
 
-__all__ = ["EXPORT_FORMATS", "columns", "export_sweep", "shortest_text", "write_csv", "write_json",
-           "write_npz"]
+__all__ = ["EXPORT_FORMATS", "columns", "export_blocks", "export_sweep", "shortest_text",
+           "write_csv", "write_json", "write_npz"]
 
 EXPORT_FORMATS = (".csv", ".json", ".npz")
 """The suffixes :func:`export_sweep` writes, in any case."""
@@ -316,7 +319,7 @@ def _csv_cells(array: np.ndarray) -> list[str]:
 
 
 def write_csv(columns: Mapping[str, ArrayLike], stream: TextIO, *,
-              rows_per_write: int = 10_000) -> None:
+              rows_per_write: int = 10_000, header: bool = True) -> None:
     """Write a table as CSV: a header of names, then one row per sample.
 
     Parameters
@@ -329,6 +332,9 @@ def write_csv(columns: Mapping[str, ArrayLike], stream: TextIO, *,
     rows_per_write : int, optional
         Rows formatted and written at a time, so a long table never exists
         whole as text in memory.
+    header : bool, optional
+        Whether to write the names first: not for the rows of a table
+        written block by block after its first block.
 
     Examples
     --------
@@ -344,8 +350,9 @@ def write_csv(columns: Mapping[str, ArrayLike], stream: TextIO, *,
     20,-2.5,1
     """
     arrays = _arrays(columns)
-    # names are quoted only where CSV needs it: a comma, a quote, a line break
-    csv.writer(stream, lineterminator="\n").writerow(arrays)
+    if header:
+        # names are quoted only where CSV needs it: a comma, a quote, a line break
+        csv.writer(stream, lineterminator="\n").writerow(arrays)
     blocks = list(arrays.values())
     total = len(blocks[0]) if blocks else 0
     for start in range(0, total, rows_per_write):
@@ -431,6 +438,86 @@ def write_npz(columns: Mapping[str, ArrayLike], file: IO[bytes]) -> None:
         for name, array in arrays.items():
             with archive.open(f"{name}.npy", mode="w", force_zip64=True) as member:
                 npy_format.write_array(member, array, allow_pickle=False)
+
+
+def export_blocks(tables: Iterable[Mapping[str, ArrayLike]], path: str | os.PathLike[str],
+                  rows: int) -> pathlib.Path:
+    """Write a table made block by block (its rows in order) to a CSV or NPZ file.
+
+    For tables too long to hold whole: each block is written as it comes,
+    and memory stays that of one block. The file is the one
+    :func:`export_sweep` writes of the whole table, written whole or not at
+    all (an NPZ's columns wait in hidden files beside it until the last block).
+
+    Parameters
+    ----------
+    tables : iterable of mappings of str to array_like
+        The blocks: the same columns in the same order, consecutive rows.
+    path : str or os.PathLike
+        A ``.csv`` or ``.npz`` file; its folder must exist.
+    rows : int
+        The rows of all blocks together.
+
+    Returns
+    -------
+    pathlib.Path
+
+    Raises
+    ------
+    ValueError
+        For another suffix, or blocks whose rows do not add up to ``rows``.
+
+    Examples
+    --------
+    >>> import pathlib, tempfile
+    >>> folder = pathlib.Path(tempfile.mkdtemp())
+    >>> blocks = ({"i": np.arange(k, k + 2.0), "ok": np.ones(2, bool)} for k in (0, 2, 4))
+    >>> path = export_blocks(blocks, folder / "t.npz", 6)
+    >>> np.load(path)["i"].tolist(), sorted(p.name for p in folder.iterdir())
+    ([0.0, 1.0, 2.0, 3.0, 4.0, 5.0], ['t.npz'])
+    """
+    path = pathlib.Path(path)
+    kind = path.suffix.lower()
+    if kind not in (".csv", ".npz"):
+        raise ValueError(f"cannot write {str(path)!r} block by block: use a .csv or .npz file")
+    written = 0
+    if kind == ".csv":
+        with replacing(path, "w", encoding="utf-8", newline="") as f:
+            for table in tables:
+                arrays = _arrays(table)
+                write_csv(arrays, f, header=written == 0)
+                written += len(next(iter(arrays.values()), ()))
+            if written != rows:
+                raise ValueError(f"the blocks hold {written} rows, not {rows}")
+        return path
+    with tempfile.TemporaryDirectory(dir=path.parent, prefix=f".{path.name}.") as folder, \
+            contextlib.ExitStack() as files:
+        # each column an .npy file of all rows, appended to as the blocks come
+        columns_written: dict[str, IO[bytes]] = {}
+        for table in tables:
+            arrays = _arrays(table)
+            size = len(next(iter(arrays.values()), ()))
+            for name, array in arrays.items():
+                if name not in columns_written:
+                    file: IO[bytes] = files.enter_context(
+                        open(os.path.join(folder, f"{len(columns_written)}.npy"), "wb"))
+                    header = npy_format.header_data_from_array_1_0(array)
+                    header["shape"] = (rows,)
+                    npy_format.write_array_header_1_0(file, header)
+                    columns_written[name] = file
+                columns_written[name].write(np.ascontiguousarray(array).tobytes())
+            written += size
+        if written != rows:
+            raise ValueError(f"the blocks hold {written} rows, not {rows}")
+        for written_file in columns_written.values():
+            written_file.flush()
+        with replacing(path, "wb") as f, zipfile.ZipFile(
+                f, mode="w", compression=zipfile.ZIP_STORED, allowZip64=True) as archive:
+            for i, name in enumerate(columns_written):
+                with archive.open(f"{name}.npy", mode="w", force_zip64=True) as member, \
+                        open(os.path.join(folder, f"{i}.npy"), "rb") as source:
+                    shutil.copyfileobj(source, member, 2**22)
+    return path
 
 
 def export_sweep(data: Sweep | Mapping[str, ArrayLike], path: str | os.PathLike[str],

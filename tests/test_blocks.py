@@ -1,0 +1,84 @@
+"""A long sweep evaluated block by block gives what one sweep of all samples gives.
+
+Blocks are made small here, so that their boundaries fall on branch changes,
+on samples where roots meet, on gaps and on the turns of random paths; every
+block must agree with the sweep of the whole path, exactly.
+"""
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+from hypothesis import given
+from hypothesis import strategies as st
+from mechanisms import coupler_fourbar, fourbar, sixbar
+
+import geokin
+from geokin.engine import sweep_in_blocks
+
+
+def assert_blocks_equal_whole(construction, values, block):
+    whole = geokin.sweep(construction, values)
+    n = len(values)
+    blocks = list(sweep_in_blocks(construction, lambda i, j: {"theta": values[i:j]}, n,
+                                  block_samples=block))
+    assert [len(b) for b in blocks] == [min(block, n - lo) for lo in range(0, n, block)]
+    joined = {name: np.concatenate([np.broadcast_to(b.branches[name], (len(b),))
+                                    for b in blocks]) for name in whole.branches}
+    for name, labels in joined.items():
+        np.testing.assert_array_equal(labels, whole.branches[name], err_msg=name)
+    np.testing.assert_array_equal(np.concatenate([b.valid for b in blocks]), whole.valid)
+    np.testing.assert_array_equal(np.concatenate([b.reason_code for b in blocks]),
+                                  whole.reason_code)
+    for point in whole.points:
+        np.testing.assert_allclose(np.concatenate([b[point] for b in blocks]), whole[point],
+                                   rtol=0, atol=1e-12, err_msg=point)
+    events = [(e.node, e.index + lo, e.before, e.after)
+              for lo, b in zip(range(0, n, block), blocks, strict=True) for e in b.events]
+    assert events == [(e.node, e.index, e.before, e.after) for e in whole.events]
+    fractions = [e.fraction for b in blocks for e in b.events]
+    np.testing.assert_allclose(fractions, [e.fraction for e in whole.events], atol=1e-9)
+
+
+@pytest.mark.parametrize("block", [1, 2, 3, 5, 8, 64])
+def test_a_parallelogram_through_its_change_points_at_block_edges(block):
+    # change points at 0 and 180 degrees fall on samples (roots meeting at a sample)
+    values = np.radians(np.arange(0.0, 1081.0, 10.0))
+    assert_blocks_equal_whole(fourbar(10, 4, 10, 4), values, block)
+
+
+@pytest.mark.parametrize("block", [2, 7, 50])
+def test_the_seed_six_bar_over_five_turns(block):
+    values = np.radians(np.linspace(0, 1800, 451))
+    assert_blocks_equal_whole(sixbar(), values, block)
+
+
+@pytest.mark.parametrize("block", [1, 4, 9])
+def test_gaps_and_toggles_of_a_triple_rocker(block):
+    values = np.linspace(0, 6 * np.pi, 200)
+    assert_blocks_equal_whole(fourbar(7, 5, 6, 5), values, block)
+
+
+@given(st.lists(st.floats(-1.5, 1.5), min_size=2, max_size=60),
+       st.sampled_from([(10, 4, 10, 4), (7, 5, 6, 5), (24, 10.55, 25, 14), (10, 8, 3, 9)]),
+       st.integers(1, 12))
+def test_blocks_along_random_paths(steps, lengths, block):
+    values = np.cumsum(steps)
+    assert_blocks_equal_whole(fourbar(*lengths), values, block)
+
+
+def test_blocks_of_a_closure_group():
+    script = Path(__file__).resolve().parents[1] / "constructions" / "stephenson3.toml"
+    construction = geokin.load(script)
+    values = np.linspace(0, 4 * np.pi, 301)
+    whole = geokin.sweep(construction, values)
+    blocks = list(sweep_in_blocks(construction, lambda i, j: {"theta": values[i:j]}, 301,
+                                  block_samples=37))
+    for point in whole.points:
+        np.testing.assert_allclose(np.concatenate([b[point] for b in blocks]), whole[point],
+                                   rtol=0, atol=1e-9, err_msg=point)
+
+
+def test_a_block_of_the_benchmark_four_bar_is_a_view_of_the_same_numbers():
+    values = np.linspace(0, 2 * np.pi, 1000)
+    assert_blocks_equal_whole(coupler_fourbar(), values, 333)
