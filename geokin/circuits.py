@@ -550,7 +550,7 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
             if groups:
                 across = _continuing(compiled, name, held, passes[-1], target)
             if target.kind == "tangent":
-                ends = {k: v[-1:] for k, v in passes[-1][2].items()}
+                ends = {k: _last_solved(v)[None] for k, v in passes[-1][2].items()}
                 labels = _through_toggle(compiled, name, held, labels, target, ends)
                 for node in set(target.nodes or (target.node,)) & set(groups):
                     sheets[node] ^= 1
@@ -586,28 +586,42 @@ def _continuing(compiled, name, held, last_pass, limit: Limit, folded: str | Non
     The function takes the pass's second input value and gives each group's
     positions to start its continuation from there: where the last pass
     ended, except for the group ``folded`` that passes its fold at
-    ``limit``. Near a fold at z_L the two solutions at an input just inside
-    it are z_L +- s v + O(s**2) (v the Jacobian's null vector), so the
-    reflection 2 z_L - z of the solution z the last pass arrived on, at
-    that input, starts Newton on the other side of the fold.
+    ``limit``. Near a fold at input q_L the group's two solutions are
+    z_L +- sqrt(q_L - q) w + O(q_L - q) (w along the Jacobian's null vector):
+    z_L and w are read from the last two solutions the pass found, and the
+    other side of the fold, z_L - sqrt(q_L - q) w, starts Newton there.
     """
     values, branches, solved = last_pass
-    ends = {k: v[-1] for k, v in solved.items()}
-    labels = {k: int(b[-1]) for k, b in branches.items()}
+    ends = {k: _last_solved(v) for k, v in solved.items()}
     if folded is None or len(values) < 2:
         return lambda value: ends
-    arrived = solved[folded][-2]
+    rows = solved[folded]
+    found = np.flatnonzero(np.isfinite(rows).all(axis=1))
+    if found.size < 2:
+        return lambda value: ends
+    last, before = found[-1], found[-2]
+    reach = np.sqrt(np.abs(limit.value - values[[last, before]]))
+    if not reach[1] > reach[0]:
+        return lambda value: ends
+    along = (rows[last] - rows[before]) / (reach[0] - reach[1])
+    fold = rows[last] - reach[0] * along
 
     def across(value):
-        here = _evaluate_at(compiled, name, [value], held,
-                            {**labels, **{k: v[None] for k, v in ends.items()},
-                             folded: arrived[None]})
-        z = assembly_guesses(here)[folded][0]
-        if not np.isfinite(z).all():
-            return ends
-        return {**ends, folded: 2 * ends[folded] - z}
+        return {**ends, folded: fold - np.sqrt(abs(limit.value - value)) * along}
 
     return across
+
+
+def _last_solved(rows: np.ndarray, before: int = 0) -> np.ndarray:
+    """Return the last solution a pass found (``before`` solutions earlier), NaN if none.
+
+    A pass's last sample lies at a limit within bisection's tolerance; at a
+    group's fold its Jacobian is all but singular there, and the
+    continuation may stop a sample short of it: the last solution found is
+    then the nearest to the fold.
+    """
+    solved = np.flatnonzero(np.isfinite(rows).all(axis=1))
+    return rows[solved[-1 - before]] if solved.size > before else rows[-1 - before]
 
 
 def _through_toggle(compiled, name, held, labels, limit: Limit, ends=None) -> dict:

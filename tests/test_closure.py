@@ -360,6 +360,37 @@ def test_circuit_passes_a_group_through_its_folds():
 
 
 
+def test_circuit_passes_a_triad_through_its_folds():
+    """The Stephenson III with a crank of 2 rocks: its triad folds at both limits.
+
+    The circuit runs to each fold and back on the triad's other assembly,
+    and ends where it began; every sample keeps every link's length, and
+    the two passes are two assemblies at the same input.
+    """
+    text = (ROOT / "constructions" / "stephenson3.toml").read_text().replace(
+        "\nGF = 1\n", "\nGF = 2\n")
+    c = geokin.loads(text)
+    found = geokin.limits(c)
+    assert not found.full_turn and found.intervals[0][1].kind == "tangent"
+    s = geokin.circuit(c, samples_per_pass=181)
+    # at most the sample at each fold, within bisection's tolerance of it, is left
+    assert (~s.valid).sum() <= 2
+    for p in ("D", "E", "A", "B"):
+        assert np.allclose(s[p][0], s[p][-1], atol=1e-9), p
+    lengths = {name: link for name, link in c.parameters.items()}
+    assert lengths
+    for a, b in (("F", "D"), ("F", "E"), ("D", "E"), ("C", "A"), ("C", "B"), ("A", "B"),
+                 ("D", "A"), ("E", "B")):
+        d = np.hypot(*(s[a] - s[b])[s.valid].T)
+        assert np.ptp(d) < 1e-9, a + b
+    values = s.input_values
+    turn = int(np.argmax(values))
+    here = turn // 2  # on the way out, and the same input on the way back
+    back = turn + int(np.argmin(np.abs(values[turn:] - values[here])))
+    assert abs(values[back] - values[here]) < 2e-2
+    assert np.hypot(*(s["D"][here] - s["D"][back])) > 0.1
+
+
 def test_newton_from_a_singular_solution_stays_there():
     """The step that polishes a converged solution is not taken where it flies off.
 
