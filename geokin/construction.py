@@ -424,10 +424,10 @@ class Compiled(Frozen):
         >>> longer = c.compile().with_parameters({"r": 12})
         >>> longer.parameters["r"], c.compile().parameters["r"]
         (12.0, 10.0)
-        >>> c.compile().with_parameters({"R": 12})
+        >>> c.compile().with_parameters({"R": 12})  # doctest: +ELLIPSIS
         Traceback (most recent call last):
         ...
-        geokin.errors.ConstructionError: node 'R': no parameter 'R'; did you mean 'r'? (parameters: r)
+        geokin.errors.ConstructionError: node 'R': no parameter 'R'; did you mean 'r'? ...
         """
         names = list(self.parameters)
         new = dict(self.parameters)
