@@ -55,7 +55,6 @@ from __future__ import annotations
 import argparse
 import contextlib
 import json
-import logging
 import math
 import os
 import pathlib
@@ -73,7 +72,13 @@ import numpy as np
 
 from . import __version__
 from .analysis import analyze, degrees_of_freedom
-from .analysis.tolerance import DISTRIBUTIONS, Tolerance, dask_distributed, tolerance
+from .analysis.tolerance import (
+    DISTRIBUTIONS,
+    Tolerance,
+    dask_distributed,
+    local_cluster,
+    tolerance,
+)
 from .atomic import require_folder
 from .circuits import circuit
 from .construction import MAX_SAMPLES, Compiled, Construction, whole_steps
@@ -798,26 +803,17 @@ def _cluster(args: argparse.Namespace):
         yield None
         return
     distributed = dask_distributed()
-    cluster = None
-    try:
-        if args.scheduler is not None:
-            try:
-                client = distributed.Client(args.scheduler, timeout="10s")
-            except (OSError, ValueError, TypeError) as err:
-                raise UsageError(f"--scheduler {shorten(args.scheduler)!r}: cannot connect: "
-                                 f"{_describe(err)}") from None
-        else:
-            cluster = distributed.LocalCluster(n_workers=args.workers, threads_per_worker=1,
-                                               processes=True, dashboard_address=None,
-                                               silence_logs=logging.ERROR)
-            client = distributed.Client(cluster)
-        try:
+    if args.workers is not None:
+        with local_cluster(args.workers) as client:
             yield client
-        finally:
-            client.close()
-    finally:
-        if cluster is not None:
-            cluster.close()
+        return
+    try:
+        client = distributed.Client(args.scheduler, timeout="10s")
+    except (OSError, ValueError, TypeError) as err:
+        raise UsageError(f"--scheduler {shorten(args.scheduler)!r}: cannot connect: "
+                         f"{_describe(err)}") from None
+    with client:
+        yield client
 
 
 def _tolerance_text(result: Tolerance, construction: Construction) -> str:

@@ -238,9 +238,19 @@ def test_a_real_local_cluster_gives_the_figures_found_in_process():
     with distributed.LocalCluster(n_workers=2, processes=True, threads_per_worker=1,
                                   dashboard_address=None) as cluster, \
             distributed.Client(cluster) as client:
+        assert len(client.scheduler_info()["workers"]) == 2
         there = tolerance(c, PLUS_MINUS_3, n=n, seed=5, client=client,
                           chunk_size=BLOCK_VARIANTS)
     assert_same(here, there)
+
+
+def test_the_command_runs_on_two_local_workers(capsys):
+    pytest.importorskip("dask.distributed")
+    argv = ["tolerance", FOURBAR, "--tol", "c=2", "--tol", "d=2", "-n", "1200", "--json"]
+    status, here, _ = run(capsys, *argv)
+    status_there, there, err = run(capsys, *argv, "--workers", "2")
+    assert status == status_there == 0 and err == ""
+    assert json.loads(here) == json.loads(there)
 
 
 # -- pictures and the command line ----------------------------------------------------
