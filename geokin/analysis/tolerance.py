@@ -18,7 +18,7 @@ cluster, however many and in whatever order they finish.
 Examples
 --------
 >>> import geokin
->>> c = geokin.load("constructions/fourbar_open.toml")
+>>> c = geokin.load(f"{geokin.__path__[0]}/../constructions/fourbar_open.toml")
 >>> t = tolerance(c, {"a": 0.1, "b": 0.1}, n=200, seed=1)
 >>> t
 <Tolerance of 'four-bar, open': 200 variants, 100.0% assemble; a ±0.1, b ±0.1 (normal)>
@@ -645,7 +645,8 @@ def envelope_outline(result: Tolerance, point: str, *, which: str = "envelope"):
     Examples
     --------
     >>> import geokin
-    >>> t = tolerance(geokin.load("constructions/fourbar_open.toml"), {"c": 0.2}, n=50, seed=0)
+    >>> c = geokin.load(f"{geokin.__path__[0]}/../constructions/fourbar_open.toml")
+    >>> t = tolerance(c, {"c": 0.2}, n=50, seed=0)
     >>> band = envelope_outline(t, "B")
     >>> band.geom_type, band.area > 0
     ('Polygon', True)
@@ -798,7 +799,7 @@ def local_cluster(workers: int) -> Iterator[Any]:
     --------
     >>> import geokin
     >>> with local_cluster(2) as client:  # doctest: +SKIP
-    ...     t = geokin.tolerance("constructions/fourbar_open.toml", {"a": 1}, client=client)
+    ...     t = geokin.tolerance(geokin.load("fourbar.toml"), {"a": 1}, client=client)
     """
     distributed = dask_distributed()
     import dask
@@ -880,7 +881,7 @@ def tolerance(construction: Construction | Compiled, tolerances: Mapping[str, fl
     Examples
     --------
     >>> import geokin
-    >>> c = geokin.load("constructions/fourbar_open.toml")
+    >>> c = geokin.load(f"{geokin.__path__[0]}/../constructions/fourbar_open.toml")
     >>> t = tolerance(c, {"a": 3, "b": 3, "c": 3, "d": 3}, n=2000, seed=4)
     >>> t.assemblable_fraction, round(t.assemblable_error, 4)
     (0.8685, 0.0076)

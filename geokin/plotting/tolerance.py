@@ -73,7 +73,8 @@ def plot_envelope(result: Tolerance, point: str | None = None, *, ax: Axes | Non
     >>> import matplotlib.pyplot as plt
     >>> import geokin
     >>> from geokin.analysis.tolerance import tolerance
-    >>> t = tolerance(geokin.load("constructions/fourbar_open.toml"), {"c": 0.3}, n=30)
+    >>> c = geokin.load(f"{geokin.__path__[0]}/../constructions/fourbar_open.toml")
+    >>> t = tolerance(c, {"c": 0.3}, n=30)
     >>> fig, ax = plt.subplots()
     >>> ax = plot_envelope(t, ax=ax)
     >>> [text.get_text() for text in ax.get_legend().get_texts()][:2]
@@ -137,7 +138,8 @@ def spread_output(result: Tolerance) -> str | None:
     --------
     >>> import geokin
     >>> from geokin.analysis.tolerance import tolerance
-    >>> t = tolerance(geokin.load("constructions/fourbar_open.toml"), {"c": 0.3}, n=30)
+    >>> c = geokin.load(f"{geokin.__path__[0]}/../constructions/fourbar_open.toml")
+    >>> t = tolerance(c, {"c": 0.3}, n=30)
     >>> spread_output(t)
     'rocker.angle'
     """
@@ -176,7 +178,8 @@ def plot_histogram(result: Tolerance, output: str | None = None, *, ax: Axes | N
     >>> import matplotlib.pyplot as plt
     >>> import geokin
     >>> from geokin.analysis.tolerance import tolerance
-    >>> t = tolerance(geokin.load("constructions/fourbar_open.toml"), {"c": 0.3}, n=30)
+    >>> c = geokin.load(f"{geokin.__path__[0]}/../constructions/fourbar_open.toml")
+    >>> t = tolerance(c, {"c": 0.3}, n=30)
     >>> fig, ax = plt.subplots()
     >>> ax = plot_histogram(t, "rocker.angle", ax=ax)
     >>> ax.get_xlabel()
@@ -235,7 +238,8 @@ def figure_tolerance(result: Tolerance, point: str | None = None, output: str | 
     >>> matplotlib.use("Agg")
     >>> import geokin
     >>> from geokin.analysis.tolerance import tolerance
-    >>> t = tolerance(geokin.load("constructions/fourbar_open.toml"), {"c": 0.3}, n=30)
+    >>> c = geokin.load(f"{geokin.__path__[0]}/../constructions/fourbar_open.toml")
+    >>> t = tolerance(c, {"c": 0.3}, n=30)
     >>> fig, axes = figure_tolerance(t)
     >>> len(axes)
     2
