@@ -1,4 +1,4 @@
-"""The ``geokin`` command line: check, trace, plot, animate and analyze scripts.
+"""The ``geokin`` command line: check, trace, plot, animate, analyze and tolerance scripts.
 
 Every command takes a construction script (see :mod:`geokin.io`). Values on
 the command line are in the script's units: degrees for an angle input,
@@ -29,6 +29,13 @@ Commands
 ``geokin analyze SCRIPT [--json]``
     Degrees of freedom, limits, Grashof classes, transmission angles,
     strokes and curve measures (see :func:`geokin.analyze`).
+``geokin tolerance SCRIPT --tol NAME=T [--tol ...] [-n N] [--seed S] [--json] [-o FILE]``
+    A Monte Carlo tolerance study (see :func:`geokin.tolerance`), in
+    process or on a dask.distributed cluster (``--workers K``,
+    ``--scheduler ADDRESS``).
+
+``trace``, ``plot``, ``animate``, ``analyze`` and ``tolerance`` take
+``--set NAME=VALUE`` to give a parameter another value (script units).
 
 ``trace``, ``plot`` and ``animate`` take the sweep options ``--range A B``
 and ``--samples N`` or ``--step S`` for the first input (other inputs are
