@@ -16,7 +16,8 @@ array([[10.,  0.],
        [ 0., 10.]])
 """
 
-from .analysis import Report, analyze
+from .analysis import Report, Tolerance, analyze
+from .analysis.tolerance import tolerance
 from .circuits import Limits, circuit, limits
 from .construction import Compiled, Construction, Input, Link, Parameter, Slider
 from .engine import sweep
@@ -50,6 +51,7 @@ __all__ = [
     "ScriptError",
     "Slider",
     "Sweep",
+    "Tolerance",
     "analyze",
     "circuit",
     "dump",
@@ -58,5 +60,6 @@ __all__ = [
     "loads",
     "motion",
     "sweep",
+    "tolerance",
 ]
 __version__ = "0.1.0"

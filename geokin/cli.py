@@ -1,4 +1,4 @@
-"""The ``geokin`` command line: check, trace, plot, animate and analyze scripts.
+"""The ``geokin`` command line: check, trace, plot, animate, analyze and tolerance scripts.
 
 Every command takes a construction script (see :mod:`geokin.io`). Values on
 the command line are in the script's units: degrees for an angle input,
@@ -29,6 +29,13 @@ Commands
 ``geokin analyze SCRIPT [--json]``
     Degrees of freedom, limits, Grashof classes, transmission angles,
     strokes and curve measures (see :func:`geokin.analyze`).
+``geokin tolerance SCRIPT --tol NAME=T [--tol ...] [-n N] [--seed S] [--json] [-o FILE]``
+    A Monte Carlo tolerance study (see :func:`geokin.tolerance`), in
+    process or on a dask.distributed cluster (``--workers K``,
+    ``--scheduler ADDRESS``).
+
+``trace``, ``plot``, ``animate``, ``analyze`` and ``tolerance`` take
+``--set NAME=VALUE`` to give a parameter another value (script units).
 
 ``trace``, ``plot`` and ``animate`` take the sweep options ``--range A B``
 and ``--samples N`` or ``--step S`` for the first input (other inputs are
@@ -56,6 +63,7 @@ Examples
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
 import os
@@ -74,12 +82,19 @@ import numpy as np
 
 from . import __version__
 from .analysis import analyze, degrees_of_freedom
+from .analysis.tolerance import (
+    DISTRIBUTIONS,
+    Tolerance,
+    dask_distributed,
+    local_cluster,
+    tolerance,
+)
 from .atomic import require_folder
 from .circuits import circuit
-from .construction import MAX_SAMPLES, Construction, whole_steps
+from .construction import MAX_SAMPLES, Compiled, Construction, whole_steps
 from .engine import STREAM_BLOCK_SAMPLES, evaluate, sweep_in_blocks
 from .engine import sweep as run_sweep
-from .errors import AssemblyError, GeokinError, did_you_mean, quote
+from .errors import AssemblyError, ConstructionError, GeokinError, did_you_mean, quote
 from .io import (
     EXPORT_FORMATS,
     columns,
@@ -225,9 +240,9 @@ def motion_of(path: str | os.PathLike[str], args: argparse.Namespace,
     :class:`AssemblyError`; without it, the caller writes what is known of
     it first (and then calls :meth:`Sweep.require_assembled`).
     """
-    construction = load(path)
+    construction, compiled = script_of(path, args)
     if getattr(args, "circuit", False):
-        return _circuit_of(construction, args, at)
+        return _circuit_of(construction, compiled, args, at)
     values = sweep_values(construction, args)
     index = None
     if at is not None:
@@ -241,13 +256,56 @@ def motion_of(path: str | os.PathLike[str], args: argparse.Namespace,
             raise _outside(at, first, lo, hi, "the sweep")
         values, index = _insert(values, name, at)
     radians = {name: from_script(construction.inputs[name], v) for name, v in values.items()}
-    result = run_sweep(construction, radians or None)
+    result = run_sweep(compiled, radians or None)
     if assembled:  # nothing to write or draw if no sample assembles: say why instead
         result.require_assembled()
     return ScriptSweep(construction, result, values), index
 
 
-def _circuit_of(construction, args, at):
+def _assignments(texts: Sequence[str] | None, option: str) -> dict[str, float]:
+    """Read the ``NAME=VALUE`` values of an option given once or more, as numbers."""
+    values: dict[str, float] = {}
+    for text in texts or ():
+        name, equals, number = text.partition("=")
+        name = unicodedata.normalize("NFKC", name.strip())
+        if not equals or not name:
+            raise UsageError(f"{option} {shorten(text)!r}: expected NAME=VALUE, such as "
+                             f"{option} a=10.5")
+        try:
+            value = float(number)
+        except ValueError:
+            raise UsageError(f"{option} {shorten(text)!r}: expected a number after '=', got "
+                             f"{shorten(number)!r}") from None
+        if not math.isfinite(value):
+            raise UsageError(f"{option} {shorten(text)!r}: expected a finite number")
+        if name in values:
+            raise UsageError(f"{option} gives {name!r} twice")
+        values[name] = value
+    return values
+
+
+def script_of(path: str | os.PathLike[str],
+              args: argparse.Namespace) -> tuple[Construction, Compiled]:
+    """Load a script, and compile it with the parameter values ``--set`` gives."""
+    construction = load(path)
+    compiled = construction.compile()
+    values = _assignments(getattr(args, "set", None), "--set")
+    if values:
+        try:
+            compiled = compiled.with_parameters(values)
+        except ConstructionError as err:
+            raise UsageError(f"--set: {err.message}") from None
+    return construction, compiled
+
+
+def _add_set_option(p):
+    p.add_argument("--set", action="append", metavar="NAME=VALUE",
+                   help="give a parameter of the script another value, in the script's "
+                        "units (degrees for a parameter the script uses as an angle); "
+                        "once per parameter")
+
+
+def _circuit_of(construction, compiled, args, at):
     """Sweep the whole circuit of the first input (``--circuit``)."""
     if not construction.inputs:
         raise UsageError("--circuit needs a construction with an input")
@@ -258,7 +316,7 @@ def _circuit_of(construction, args, at):
         raise UsageError("--circuit --samples counts the samples of each pass between two "
                          "limits: at least 2")
     first = next(iter(construction.inputs))
-    result = circuit(construction, first, samples_per_pass=args.samples or 361)
+    result = circuit(compiled, first, samples_per_pass=args.samples or 361)
     index = None
     if at is not None:
         inp = construction.inputs[next(iter(result.inputs))]
@@ -508,6 +566,7 @@ def add_trace(subparsers: Subparsers) -> None:
                         ".velocity and .acceleration along the guide)")
     p.add_argument("--derivatives", action="store_true",
                    help="add velocities and accelerations per second")
+    _add_set_option(p)
     _add_sweep_options(p, count=_trace_sample_count)
     p.set_defaults(run=run_trace)
 
@@ -598,14 +657,14 @@ def _long_sweep(args):
             raise UsageError(f"--samples {args.samples}: a JSON trace holds at most "
                              f"{MAX_SAMPLES} samples; write CSV or NPZ for more")
         return None
-    construction = load(args.script)
+    construction, compiled = script_of(args.script, args)
     count, between = sweep_sampling(construction, args, most=TRACE_MAX_SAMPLES)
     if count <= TRACE_BLOCK_SAMPLES:
         return None
-    return construction, count, between
+    return construction, compiled, count, between
 
 
-def _trace_in_blocks(args, construction, count, between) -> int:
+def _trace_in_blocks(args, construction, compiled, count, between) -> int:
     """Trace a long sweep block by block: swept, differentiated and written as it goes."""
     points = _selected(construction, args.points, "point")
     links = _selected(construction, args.links, "link")
@@ -622,7 +681,7 @@ def _trace_in_blocks(args, construction, count, between) -> int:
     state: dict = {"assembled": False, "lo": 0, "angles": {}, "time": None, "columns": 0}
 
     def tables():
-        blocks = sweep_in_blocks(construction, radians, count, block_samples=TRACE_BLOCK_SAMPLES)
+        blocks = sweep_in_blocks(compiled, radians, count, block_samples=TRACE_BLOCK_SAMPLES)
         for block in blocks:
             lo = state["lo"]
             rates = motion(block, next(iter(inputs))) if args.derivatives else None
@@ -645,7 +704,7 @@ def _trace_in_blocks(args, construction, count, between) -> int:
     finally:
         progress.close()
     if not state["assembled"]:
-        raise unassembled_error(construction.compile(), causes, count)
+        raise unassembled_error(compiled, causes, count)
     if args.output is not None:
         print(escape(f"wrote {path}: {count} samples, {state['columns']} columns"),
               file=sys.stderr)
@@ -724,6 +783,7 @@ def add_plot(subparsers: Subparsers) -> None:
     p.add_argument("--kinematics", action="store_true",
                    help="instead of the mechanism, plot the angle, angular velocity and "
                         "angular acceleration of every declared link against time")
+    _add_set_option(p)
     _add_sweep_options(p)
     p.set_defaults(run=run_plot)
 
@@ -784,6 +844,7 @@ def add_animate(subparsers: Subparsers) -> None:
                    help="pixels per inch of the 8 by 6 inch frames, from 1 to 1000 "
                         "(default 72: 576 x 432 pixels; 100 gives 800 x 600)")
     p.add_argument("--no-progress", action="store_true", help="do not show a progress bar")
+    _add_set_option(p)
     _add_sweep_options(p)
     p.set_defaults(run=run_animate)
 
@@ -827,12 +888,13 @@ def add_analyze(subparsers: Subparsers) -> None:
                     "ratios, and measures of the traced curves. Angles in degrees.")
     p.add_argument("script", metavar="SCRIPT", help="construction script (.toml)")
     p.add_argument("--json", action="store_true", help="print the report as JSON")
+    _add_set_option(p)
     p.set_defaults(run=run_analyze)
 
 
 def run_analyze(args: argparse.Namespace) -> int:
-    construction = load(args.script)
-    report = analyze(construction, degrees=True)
+    construction, compiled = script_of(args.script, args)
+    report = analyze(compiled, degrees=True)
     if args.json:
         json.dump(report.to_dict(), sys.stdout, indent=2, allow_nan=False,
                   default=lambda value: None)
@@ -842,9 +904,208 @@ def run_analyze(args: argparse.Namespace) -> int:
     return 0
 
 
+# -- tolerance ---------------------------------------------------------------------
+
+
+def add_tolerance(subparsers: Subparsers) -> None:
+    p = subparsers.add_parser(
+        "tolerance", help="how the tolerances of parameters spread the motion (Monte Carlo)",
+        description="Draw N design variants, each named parameter around its value in the "
+                    "script (normal with sigma = T/3, or uniform in +-T), sweep them all, "
+                    "and report the fraction that assembles at every sample, each traced "
+                    "point's deviation from its nominal path, the spread of each moving "
+                    "link's and slider's stroke, and the sensitivity of each to each "
+                    "parameter (derivative times tolerance).")
+    p.add_argument("script", metavar="SCRIPT", help="construction script (.toml)")
+    p.add_argument("--tol", action="append", metavar="NAME=T",
+                   help="a parameter and its tolerance T (+-T, in the script's units; "
+                        "degrees for a parameter used as an angle); once per parameter")
+    p.add_argument("-n", "--variants", type=_variant_count, default=1000, metavar="N",
+                   help="number of variants (default 1000)")
+    p.add_argument("--seed", type=_seed, default=0, metavar="S",
+                   help="seed of the draws (default 0): variant i depends on the seed and i "
+                        "alone")
+    p.add_argument("--distribution", choices=DISTRIBUTIONS, default="normal",
+                   help="normal (sigma = T/3, the default) or uniform in +-T")
+    p.add_argument("--json", action="store_true", help="print the study as JSON")
+    p.add_argument("-o", "--output", metavar="FILE",
+                   help="also draw FILE.png or FILE.svg: a traced path with its envelope and "
+                        "some variants, beside the histogram of a stroke")
+    p.add_argument("--points", metavar="NAMES",
+                   help="comma-separated points whose paths to study (default: the traced "
+                        "points, or every moving point)")
+    p.add_argument("--histogram", metavar="NAME",
+                   help="the stroke drawn as a histogram, such as rocker.angle (default: the "
+                        "one that spreads the most)")
+    p.add_argument("--percentile", type=_finite, default=95.0, metavar="P",
+                   help="the percentile of the paths' envelope (default 95)")
+    where = p.add_mutually_exclusive_group()
+    where.add_argument("--workers", type=_variant_count, metavar="K",
+                       help="run the variants on a local dask.distributed cluster of K worker "
+                            "processes (pip install 'geokin[dask]')")
+    where.add_argument("--scheduler", metavar="ADDRESS",
+                       help="run the variants on the dask.distributed cluster whose scheduler "
+                            "is at ADDRESS (tcp://host:8786); its workers need geokin")
+    _add_set_option(p)
+    group = p.add_argument_group("sweep", "of the first input, in script units "
+                                          "(degrees for an angle)")
+    group.add_argument("--range", nargs=2, type=_finite, metavar=("A", "B"),
+                       help="sweep from A to B instead of the declared range")
+    spacing = group.add_mutually_exclusive_group()
+    spacing.add_argument("--samples", type=_sample_count, metavar="N",
+                         help="N samples, both ends included")
+    spacing.add_argument("--step", type=_finite, metavar="S",
+                         help="samples S apart from the start of the range towards its end")
+    p.set_defaults(run=run_tolerance)
+
+
+MAX_VARIANTS = 100_000_000
+"""The most variants ``geokin tolerance -n`` takes: a study's per-variant results
+(whether it assembles, its strokes) are kept, a few bytes each."""
+
+
+def _variant_count(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {shorten(text)!r}") from None
+    if not 1 <= value <= MAX_VARIANTS:
+        raise argparse.ArgumentTypeError(f"expected from 1 to {MAX_VARIANTS:,}, got {value}")
+    return value
+
+
+def _seed(text):
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {shorten(text)!r}") from None
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"expected a non-negative integer, got {value}")
+    return value
+
+
+@contextlib.contextmanager
+def _cluster(args: argparse.Namespace):
+    """Yield a dask.distributed client for --workers or --scheduler, or None for neither."""
+    if args.workers is None and args.scheduler is None:
+        yield None
+        return
+    distributed = dask_distributed()
+    if args.workers is not None:
+        with local_cluster(args.workers) as client:
+            yield client
+        return
+    try:
+        client = distributed.Client(args.scheduler, timeout="10s")
+    except (OSError, ValueError, TypeError) as err:
+        raise UsageError(f"--scheduler {shorten(args.scheduler)!r}: cannot connect: "
+                         f"{_describe(err)}") from None
+    with client:
+        yield client
+
+
+def _tolerance_text(result: Tolerance, construction: Construction) -> str:
+    """Return the study as the text ``geokin tolerance`` prints, angles in degrees."""
+    units = one_line(construction.units, 100) if construction.units else ""
+    spread = ("sigma = T/3" if result.distribution == "normal" else "uniform in +-T")
+    assembled = int(result.assembled.sum())
+    lines = [f"{one_line(result.construction.name, 200)}: {result.variants:,} variants, "
+             f"{result.distribution} ({spread}), seed {result.seed}",
+             "tolerances: " + ", ".join(f"{k} = {result.construction.parameters[k]:g} +- {v:g}"
+                                        for k, v in result.tolerances.items())
+             + (f" ({units})" if units else ""),
+             f"assemble at every sample: {assembled:,} of {result.variants:,} "
+             f"({100 * result.assemblable_fraction:.2f}% +- "
+             f"{100 * result.assemblable_error:.2f}%)"]
+    for node, count in result.failures.items():
+        lines.append(f"  {count:,} fail first at node {node!r}")
+    for point, p in result.paths.items():
+        d = p.to_dict()
+        worst = (f"worst {d['largest_worst']:.4g} (variant {p.worst_variant})"
+                 if p.worst_variant >= 0 else "no variant assembles")
+        lines.append(f"path of {point}: deviation from nominal up to {d['largest_mean']:.4g} "
+                     f"on average, {p.level:g}% within {d[f'largest_p{p.level:g}']:.4g}, "
+                     f"{worst}")
+    for name, stroke in result.strokes.items():
+        d = stroke.to_dict(degrees=True)
+        unit = " deg" if stroke.kind == "angle" else (f" {units}" if units else "")
+        if d["mean"] is None:
+            lines.append(f"stroke of {name}: nominal {d['nominal']:.6g}{unit}")
+            continue
+        if d["std"] <= 1e-9 * max(1.0, abs(d["nominal"])):
+            lines.append(f"stroke of {name}: {d['nominal']:.6g}{unit} in every variant")
+            continue
+        lines.append(f"stroke of {name}: nominal {d['nominal']:.6g}{unit}, mean "
+                     f"{d['mean']:.6g}, std {d['std']:.3g}, 5% {d['p5']:.6g}, "
+                     f"95% {d['p95']:.6g}")
+    lines.append("sensitivity (derivative x tolerance), largest first:")
+    for output, ranked in result.sensitivity.items():
+        scale = (math.degrees(1) if output in result.strokes
+                 and result.strokes[output].kind == "angle" else 1.0)
+        if all(v == 0 for _, v in ranked):
+            lines.append(f"  {output}: none of the parameters changes it")
+            continue
+        lines.append(f"  {output}: " + ", ".join(f"{k} {v * scale:+.4g}" if math.isfinite(v)
+                                                 else f"{k} n/a" for k, v in ranked))
+    return "\n".join(lines)
+
+
+def run_tolerance(args: argparse.Namespace) -> int:
+    plotting = None
+    if args.output is not None:
+        plotting = _plotting()
+        _output_kind(args.output, plotting.SAVE_FORMATS, "a picture")
+        require_folder(args.output)
+    tolerances = _assignments(args.tol, "--tol")
+    if not tolerances:
+        raise UsageError("--tol NAME=T is required: the parameters to draw, with their "
+                         "tolerances")
+    for name, value in tolerances.items():
+        if not value > 0:
+            raise UsageError(f"--tol {name}={value:g}: the tolerance must be a positive number")
+    if not 0 < args.percentile < 100:
+        raise UsageError(f"--percentile must be between 0 and 100, got {args.percentile:g}")
+    construction, compiled = script_of(args.script, args)
+    names = list(compiled.parameters)
+    for name in tolerances:
+        if name not in compiled.parameters:
+            listed = (f"parameters: {', '.join(names)}" if names else
+                      "the script has no parameters: name its lengths in [parameters]")
+            raise UsageError(f"--tol {name}: no parameter {name!r}{did_you_mean(name, names)} "
+                             f"({listed})")
+    points = (_selected(construction, args.points, "point") if args.points is not None
+              else None)
+    args.circuit = False
+    values = sweep_values(construction, args)
+    radians = {k: from_script(construction.inputs[k], v) for k, v in values.items()}
+    with _cluster(args) as client:
+        result = tolerance(compiled, tolerances, n=args.variants, seed=args.seed,
+                           distribution=args.distribution, values=radians or None,
+                           points=points, level=args.percentile, client=client)
+    if args.histogram is not None and args.histogram not in result.strokes:
+        strokes = list(result.strokes)
+        raise UsageError(f"--histogram: no stroke {args.histogram!r}"
+                         f"{did_you_mean(args.histogram, strokes)} "
+                         f"(strokes: {', '.join(strokes) or 'none'})")
+    if args.json:
+        data = result.to_dict(degrees=True)
+        data["inputs"] = {k: v.tolist() for k, v in values.items()}  # as swept, script units
+        data["set"] = _assignments(args.set, "--set")
+        json.dump(data, sys.stdout, indent=2, allow_nan=False)
+        sys.stdout.write("\n")
+    else:
+        _print_lines(_tolerance_text(result, construction))
+    if not result.assembled.any():
+        raise AssemblyError("no variant assembles at every sample; no picture is drawn")
+    if plotting is not None:
+        fig, _ = plotting.figure_tolerance(result, output=args.histogram)
+        print(escape(f"wrote {plotting.save(fig, args.output)}"), file=sys.stderr)
+    return 0
+
+
 # -- the program ---------------------------------------------------------------------
 
-COMMANDS = [add_check, add_trace, add_plot, add_animate, add_analyze]
+COMMANDS = [add_check, add_trace, add_plot, add_animate, add_analyze, add_tolerance]
 """The functions that declare each command, in the order ``geokin --help`` lists them."""
 
 

@@ -395,6 +395,70 @@ class Compiled(Frozen):
                                     node=name)
         return name
 
+    def with_parameters(self, values: Mapping[str, float]) -> Compiled:
+        """Return this construction with some parameters given other values.
+
+        The steps are shared; only the parameters' values change, in the
+        construction's own units (a parameter that a script uses as an
+        angle holds the script's degrees).
+
+        Parameters
+        ----------
+        values : mapping of str to float
+            New values of some declared parameters, by name.
+
+        Raises
+        ------
+        ConstructionError
+            For a name that is not a parameter (with the closest one, and
+            the parameters there are), a value that is not a finite number,
+            or one that makes a constant radius negative.
+
+        Examples
+        --------
+        >>> c = Construction("crank")
+        >>> c.parameter("r", 10)
+        >>> c.input("theta")
+        >>> c.fixed("O", 0, 0)
+        >>> c.polar("A", "O", "r", "theta")
+        >>> longer = c.compile().with_parameters({"r": 12})
+        >>> longer.parameters["r"], c.compile().parameters["r"]
+        (12.0, 10.0)
+        >>> c.compile().with_parameters({"R": 12})  # doctest: +ELLIPSIS
+        Traceback (most recent call last):
+        ...
+        geokin.errors.ConstructionError: node 'R': no parameter 'R'; did you mean 'r'? ...
+        """
+        names = list(self.parameters)
+        new = dict(self.parameters)
+        for name, value in values.items():
+            if name not in self.parameters:
+                listed = f"parameters: {', '.join(names)}" if names else "it has no parameters"
+                raise ConstructionError(f"no parameter {quote(name)}{did_you_mean(name, names)} "
+                                        f"({listed})", node=name)
+            try:
+                number = float(value)
+            except (TypeError, ValueError):
+                raise ConstructionError(f"the value of parameter {quote(name)} must be a "
+                                        f"number, got {show(value)}", node=name) from None
+            if not math.isfinite(number):
+                raise ConstructionError(f"the value of parameter {quote(name)} must be a "
+                                        f"finite number, got {number}", node=name)
+            new[name] = number
+        with np.errstate(all="ignore"):
+            for step in self.steps:
+                node = step.node
+                for field_name in node.nonnegative_fields():
+                    expr = node.value_fields().get(field_name)
+                    if expr is None or not expr.names() <= new.keys():
+                        continue
+                    radius = float(expr.evaluate(new))
+                    if radius < 0:
+                        raise ConstructionError(f"a radius cannot be negative; "
+                                                f"{quote(str(expr), 60)} is {radius:g}",
+                                                node=node.name, field=field_name)
+        return dataclasses.replace(self, parameters=new)
+
     def step_named(self, name: str) -> Step:
         """Return the step of the point called ``name``.
 

@@ -603,3 +603,27 @@ def test_ground_is_decided_by_the_compiled_steps_not_by_who_builds_them():
     assert type(compiled)(**fields).ground == {"O", "A"}
     with pytest.raises(TypeError):
         type(compiled)(**fields, ground=frozenset())
+
+
+def test_with_parameters_changes_the_values_the_sweep_uses_and_nothing_else():
+    c = Construction("four-bar")
+    c.parameter("b", 35)
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 40, 0)
+    c.polar("A", "O2", 10, "theta")
+    c.circle_circle("B", ("A", "O4"), ("b", 30), branch="left")
+    compiled = c.compile()
+    longer = compiled.with_parameters({"b": 36.5})
+    s = sweep(longer, np.linspace(0, 2 * np.pi, 9))
+    assert np.allclose(np.hypot(*(s["B"] - s["A"]).T), 36.5)
+    assert compiled.parameters["b"] == 35.0  # the original is left as it was
+    assert longer.steps is compiled.steps and longer.ground == compiled.ground
+    with pytest.raises(ConstructionError, match=r"no parameter 'bb'; did you mean 'b'\? "
+                                                r"\(parameters: b\)"):
+        compiled.with_parameters({"bb": 1})
+    for bad in (float("nan"), "x", float("inf")):
+        with pytest.raises(ConstructionError, match="parameter 'b'"):
+            compiled.with_parameters({"b": bad})
+    with pytest.raises(ConstructionError, match="radius cannot be negative"):
+        compiled.with_parameters({"b": -1})

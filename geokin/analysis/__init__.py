@@ -4,7 +4,9 @@
 - :mod:`~geokin.analysis.mobility`: degrees of freedom;
 - :mod:`~geokin.analysis.measures`: stroke, time ratio and coupler-curve measures;
 - :mod:`~geokin.analysis.report`: all of these for one construction (:func:`analyze`,
-  which returns a :class:`Report`).
+  which returns a :class:`Report`);
+- :mod:`~geokin.analysis.tolerance`: how the tolerances of parameters spread the
+  motion (:func:`geokin.tolerance`, which returns a :class:`Tolerance`).
 
 Angles are radians throughout, except in a report asked for in degrees
 (``analyze(c, degrees=True)``), which says so in its ``angle_unit``.
@@ -32,6 +34,7 @@ from .report import (
     TransmissionReport,
     analyze,
 )
+from .tolerance import PathSpread, StrokeSpread, Tolerance
 
 __all__ = [
     "KINDS",
@@ -43,9 +46,12 @@ __all__ = [
     "InputReport",
     "LimitReport",
     "Mobility",
+    "PathSpread",
     "Report",
     "Stroke",
     "StrokeReport",
+    "StrokeSpread",
+    "Tolerance",
     "TransmissionAngle",
     "TransmissionReport",
     "analyze",

@@ -14,7 +14,10 @@ networkx's ``draw`` do. matplotlib is imported inside the functions, so
   or an MP4, :func:`animation_html` to play in a notebook, and
   :func:`animation_estimate`;
 - :mod:`~geokin.plotting.charts`: :func:`plot_input_output` and
-  :func:`figure_kinematics`.
+  :func:`figure_kinematics`;
+- :mod:`~geokin.plotting.tolerance`: a tolerance study's path envelope
+  (:func:`plot_envelope`), stroke histogram (:func:`plot_histogram`), and
+  both (:func:`figure_tolerance`).
 """
 
 from .animation import (
@@ -41,6 +44,7 @@ from .mechanism import (
     plot_mechanism,
     save,
 )
+from .tolerance import figure_tolerance, plot_envelope, plot_histogram, spread_output
 
 __all__ = [
     "ANIMATION_FORMATS",
@@ -61,7 +65,11 @@ __all__ = [
     "animation_html",
     "figure_kinematics",
     "figure_mechanism",
+    "figure_tolerance",
+    "plot_envelope",
+    "plot_histogram",
     "plot_input_output",
     "plot_mechanism",
     "save",
+    "spread_output",
 ]

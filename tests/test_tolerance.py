@@ -1,0 +1,341 @@
+"""Tolerance studies: draws, figures against independent computations, the command line."""
+
+import json
+import math
+import pathlib
+import sys
+
+import numpy as np
+import pytest
+from PIL import Image
+
+import geokin
+from geokin import AnalysisError, ConstructionError, GeokinError, tolerance
+from geokin.analysis.tolerance import BLOCK_VARIANTS, draw_variants
+from geokin.cli import main
+from geokin.kinematics import link_angles
+
+CONSTRUCTIONS = pathlib.Path(__file__).resolve().parent.parent / "constructions"
+FOURBAR = str(CONSTRUCTIONS / "fourbar_open.toml")
+NOMINAL = {"a": 10.55, "b": 25.0, "c": 14.0, "d": 24.0}  # seed 004
+PLUS_MINUS_3 = dict.fromkeys(NOMINAL, 3.0)
+
+
+def fourbar():
+    return geokin.load(FOURBAR)
+
+
+def assembles(a, b, c, d):
+    """Seed 004's four-bar assembles over a whole turn: |b - c| <= |A - O4| <= b + c.
+
+    |A - O4| runs from |d - a| (crank along the ground, a sample) to d + a (a
+    sample too, at 180 degrees), for a crank pivoted at O2 = (0, 0) and O4 = (d, 0).
+    """
+    return (np.abs(b - c) <= np.abs(d - a)) & (np.abs(d + a) <= b + c)
+
+
+def margin(a, b, c, d):
+    return np.minimum(np.abs(d - a) - np.abs(b - c), b + c - np.abs(d + a))
+
+
+# -- the draws ----------------------------------------------------------------------
+
+
+def test_variant_i_depends_on_the_seed_and_i_alone():
+    whole = draw_variants(NOMINAL, PLUS_MINUS_3, 11, 0, 5000)
+    cuts = [0, 1, 7, 1024, 1025, 3333, 5000]
+    pieces = [draw_variants(NOMINAL, PLUS_MINUS_3, 11, lo, hi) for lo, hi in
+              zip(cuts[:-1], cuts[1:], strict=True)]
+    for name in NOMINAL:
+        assert np.array_equal(np.concatenate([p[name] for p in pieces]), whole[name])
+    # another parameter in the study leaves the others' draws as they were
+    fewer = draw_variants(NOMINAL, {"a": 3.0, "c": 3.0}, 11, 0, 5000)
+    assert np.array_equal(fewer["a"], whole["a"]) and np.array_equal(fewer["c"], whole["c"])
+    # another seed, other draws; each parameter its own
+    assert not np.array_equal(draw_variants(NOMINAL, PLUS_MINUS_3, 12, 0, 10)["a"],
+                              whole["a"][:10])
+    assert abs(np.corrcoef(whole["a"], whole["b"])[0, 1]) < 0.06
+
+
+@pytest.mark.parametrize("distribution, std", [("normal", 1.0), ("uniform", 3 / math.sqrt(3))])
+def test_the_draws_have_the_distribution_asked_for(distribution, std):
+    n = 200_000
+    values = draw_variants({"a": 10.0}, {"a": 3.0}, 5, 0, n, distribution)["a"]
+    # mean within 5 standard errors; standard deviation within 2%
+    assert abs(values.mean() - 10) < 5 * std / math.sqrt(n)
+    assert values.std() == pytest.approx(std, rel=0.02)
+    if distribution == "uniform":
+        assert values.min() >= 7 and values.max() <= 13
+        counts, _ = np.histogram(values, bins=10, range=(7, 13))
+        assert counts.min() > 0.95 * n / 10
+    else:
+        # the 3-sigma convention: about 0.27% outside +-T
+        outside = np.mean(np.abs(values - 10) > 3)
+        assert outside == pytest.approx(0.0027, abs=0.0006)
+
+
+# -- the figures --------------------------------------------------------------------
+
+
+def test_assemblable_fraction_against_an_independent_monte_carlo():
+    t = tolerance(fourbar(), PLUS_MINUS_3, n=4000, seed=4)
+    # the same draws: every variant assembles exactly where the closed condition says
+    d = t.draws()
+    args = [d[k] for k in "abcd"]
+    clear = np.abs(margin(*args)) > 1e-9
+    assert np.array_equal(t.assembled[clear], assembles(*args)[clear])
+    # and the same distribution drawn by numpy's own generator, within binomial error
+    rng = np.random.default_rng(2024)
+    m = 400_000
+    draws = [NOMINAL[k] + rng.normal(0, 1.0, m) for k in "abcd"]
+    expected = assembles(*draws).mean()
+    assert expected == pytest.approx(0.88, abs=0.01)
+    error = math.sqrt(expected * (1 - expected) / t.variants + expected * (1 - expected) / m)
+    assert abs(t.assemblable_fraction - expected) < 4 * error
+    assert t.assemblable_error == pytest.approx(
+        math.sqrt(t.assemblable_fraction * (1 - t.assemblable_fraction) / 4000))
+    assert t.failures == {"B": int((~t.assembled).sum())}
+
+
+def test_uniform_draws_against_the_closed_condition():
+    t = tolerance(fourbar(), PLUS_MINUS_3, n=3000, seed=9, distribution="uniform")
+    rng = np.random.default_rng(7)
+    m = 400_000
+    expected = assembles(*[NOMINAL[k] + rng.uniform(-3, 3, m) for k in "abcd"]).mean()
+    error = math.sqrt(expected * (1 - expected) / t.variants)
+    assert abs(t.assemblable_fraction - expected) < 4.5 * error
+
+
+def test_path_statistics_and_strokes_are_those_of_the_variants_swept_one_by_one():
+    c = fourbar()
+    t = tolerance(c, {"a": 1.0, "c": 1.0, "d": 1.0}, n=1500, seed=3)
+    draws = t.draws()
+    nominal = geokin.sweep(c)["B"]
+    deviations, strokes = [], []
+    for i in range(t.variants):
+        s = geokin.sweep(c.compile().with_parameters({k: v[i] for k, v in draws.items()}))
+        assert bool(s.valid.all()) == t.assembled[i]
+        if s.valid.all():
+            deviations.append(np.hypot(*(s["B"] - nominal).T))
+            rocker = link_angles(s)["rocker"]
+            strokes.append(rocker.max() - rocker.min())
+    deviations = np.array(deviations)
+    spread = t.paths["B"]
+    assert np.allclose(spread.mean, deviations.mean(axis=0), rtol=1e-9, atol=1e-12)
+    assert np.allclose(spread.std, deviations.std(axis=0), rtol=1e-7, atol=1e-12)
+    assert np.allclose(spread.worst, deviations.max(axis=0), rtol=1e-9, atol=1e-12)
+    assert np.allclose(spread.envelope, np.percentile(deviations, 95, axis=0), rtol=1e-9,
+                       atol=1e-12)
+    assert np.allclose(spread.median, np.median(deviations, axis=0), rtol=1e-9, atol=1e-12)
+    worst = int(np.argmax(deviations.max(axis=1)))
+    assert spread.worst_variant == np.flatnonzero(t.assembled)[worst]
+    assert np.allclose(t.strokes["rocker.angle"].assembled, strokes, rtol=1e-9)
+    assert t.valid_fraction.max() <= 1 and t.valid_fraction.min() >= t.assemblable_fraction
+
+
+def test_the_figures_do_not_depend_on_how_the_variants_are_cut():
+    c = fourbar()
+    n = 2 * BLOCK_VARIANTS + 300
+    one = tolerance(c, PLUS_MINUS_3, n=n, seed=8, chunk_size=BLOCK_VARIANTS)
+    other = tolerance(c, PLUS_MINUS_3, n=n, seed=8, chunk_size=10 * BLOCK_VARIANTS)
+    assert_same(one, other)
+
+
+def assert_same(one, other):
+    assert np.array_equal(one.assembled, other.assembled)
+    assert np.array_equal(one.valid_fraction, other.valid_fraction)
+    assert one.failures == other.failures
+    for p in one.paths:
+        for field in ("mean", "std", "median", "envelope", "worst"):
+            assert np.array_equal(getattr(one.paths[p], field), getattr(other.paths[p], field),
+                                  equal_nan=True), field
+        assert one.paths[p].worst_variant == other.paths[p].worst_variant
+        assert np.array_equal(one.sample_paths[p], other.sample_paths[p], equal_nan=True)
+    for k in one.strokes:
+        assert np.array_equal(one.strokes[k].values, other.strokes[k].values, equal_nan=True)
+    assert one.to_dict() == other.to_dict()
+
+
+def rocker_stroke(a, b, c, d):
+    """The rocker's swing between its two limit positions (crank and coupler in line)."""
+    def angle(length):
+        return np.arccos((d ** 2 + c ** 2 - length ** 2) / (2 * d * c))
+    return angle(b + a) - angle(b - a)
+
+
+def test_sensitivity_is_the_derivative_times_the_tolerance():
+    t = tolerance(fourbar(), {"a": 0.5, "b": 0.2, "c": 0.1, "d": 0.3}, n=10, seed=0)
+    ranked = dict(t.sensitivity["rocker.angle"])
+    for k, tol in t.tolerances.items():
+        h = 1e-6
+        up, down = dict(NOMINAL), dict(NOMINAL)
+        up[k] += h
+        down[k] -= h
+        exact = (rocker_stroke(**up) - rocker_stroke(**down)) / (2 * h) * tol
+        # the sampled stroke's extremes lie on samples, within a degree of the true ones
+        assert ranked[k] == pytest.approx(exact, rel=0.03, abs=1e-4)
+    sizes = [abs(v) for _, v in t.sensitivity["rocker.angle"]]
+    assert sizes == sorted(sizes, reverse=True)
+    # a crank pin moves by exactly the change of the crank's length: |dA/da| = 1
+    c = geokin.Construction("crank")
+    c.parameter("r", 10)
+    c.parameter("unused", 1)
+    c.input("theta")
+    c.fixed("O", 0, 0)
+    c.polar("A", "O", "r", "theta")
+    c.trace("A")
+    crank = tolerance(c, {"r": 0.4, "unused": 2.0}, n=5)
+    assert crank.sensitivity["A.path"] == (("r", pytest.approx(0.4, rel=1e-9)), ("unused", 0.0))
+
+
+def test_a_study_reads_back_as_json_and_pickles():
+    import pickle
+
+    t = tolerance(fourbar(), {"c": 0.5}, n=50, seed=2)
+    data = json.loads(json.dumps(t.to_dict(degrees=True), allow_nan=False))
+    assert data["variants"] == 50 and data["assemblable_fraction"] == 1.0
+    assert len(data["paths"]["B"]["mean"]) == 361 and data["inputs"]["theta2"][-1] == 360
+    stroke = data["strokes"]["rocker.angle"]
+    assert stroke["unit"] == "deg"
+    assert stroke["nominal"] == pytest.approx(math.degrees(rocker_stroke(**NOMINAL)), abs=0.05)
+    assert sum(stroke["histogram"]["counts"]) == 50
+    copy = pickle.loads(pickle.dumps(t))
+    assert_same(t, copy)
+    assert repr(t).startswith("<Tolerance of 'four-bar, open': 50 variants, 100.0% assemble")
+
+
+@pytest.mark.parametrize("tolerances, kwargs, error, message", [
+    ({"e": 1}, {}, ConstructionError, r"cannot tolerance 'e': no such parameter "
+                                      r"\(parameters: a, b, c, d\)"),
+    ({"B": 1}, {}, ConstructionError, r"'B' \(it is a point\)"),
+    ({"theta2": 1}, {}, ConstructionError, r"\(it is an input\)"),
+    ({}, {}, AnalysisError, "at least one parameter"),
+    ({"a": 0}, {}, AnalysisError, "tolerance of 'a' must be a positive number"),
+    ({"a": float("nan")}, {}, AnalysisError, "positive number"),
+    ({"a": 1}, {"n": 0}, AnalysisError, "number of variants"),
+    ({"a": 1}, {"seed": -1}, AnalysisError, "seed"),
+    ({"a": 1}, {"distribution": "gauss"}, AnalysisError, "unknown distribution 'gauss'"),
+    ({"a": 1}, {"points": ["Q"]}, ConstructionError, "no point 'Q'"),
+])
+def test_bad_arguments_say_what_is_wrong(tolerances, kwargs, error, message):
+    with pytest.raises(error, match=message):
+        tolerance(fourbar(), tolerances, **kwargs)
+
+
+def test_a_cluster_without_dask_names_the_extra(monkeypatch):
+    monkeypatch.setitem(sys.modules, "dask.distributed", None)
+    with pytest.raises(GeokinError, match=r"pip install 'geokin\[dask\]'"):
+        tolerance(fourbar(), {"a": 1}, n=10, client=object())
+    status = main(["tolerance", FOURBAR, "--tol", "a=1", "-n", "10", "--workers", "2"])
+    assert status == 2
+
+
+def test_a_real_local_cluster_gives_the_figures_found_in_process():
+    distributed = pytest.importorskip("dask.distributed")
+    c = fourbar()
+    n = 2 * BLOCK_VARIANTS + 100
+    here = tolerance(c, PLUS_MINUS_3, n=n, seed=5)
+    with distributed.LocalCluster(n_workers=2, processes=True, threads_per_worker=1,
+                                  dashboard_address=None) as cluster, \
+            distributed.Client(cluster) as client:
+        assert len(client.scheduler_info()["workers"]) == 2
+        there = tolerance(c, PLUS_MINUS_3, n=n, seed=5, client=client,
+                          chunk_size=BLOCK_VARIANTS)
+    assert_same(here, there)
+
+
+def test_the_command_runs_on_two_local_workers(capsys):
+    pytest.importorskip("dask.distributed")
+    argv = ["tolerance", FOURBAR, "--tol", "c=2", "--tol", "d=2", "-n", "1200", "--json"]
+    status, here, _ = run(capsys, *argv)
+    status_there, there, err = run(capsys, *argv, "--workers", "2")
+    assert status == status_there == 0 and err == ""
+    assert json.loads(here) == json.loads(there)
+
+
+# -- pictures and the command line ----------------------------------------------------
+
+
+def run(capsys, *argv):
+    status = main([str(a) for a in argv])
+    out, err = capsys.readouterr()
+    assert "Traceback" not in out + err
+    return status, out, err
+
+
+def test_the_command_prints_json_with_the_figures(capsys):
+    status, out, err = run(capsys, "tolerance", FOURBAR, "--tol", "a=3", "--tol", "b=3",
+                           "--tol", "c=3", "--tol", "d=3", "-n", "1500", "--seed", "4",
+                           "--json")
+    assert status == 0 and err == ""
+    data = json.loads(out)
+    python = tolerance(fourbar(), PLUS_MINUS_3, n=1500, seed=4).to_dict(degrees=True)
+    assert data["variants"] == 1500
+    assert data["assemblable_fraction"] == python["assemblable_fraction"]
+    for key in ("paths", "strokes", "sensitivity", "failures", "valid_fraction"):
+        assert data[key] == python[key], key
+    assert data["inputs"]["theta2"][:3] == [0, 1, 2]
+
+
+def test_the_command_prints_text_and_draws_a_picture(capsys, tmp_path):
+    path = tmp_path / "spread.png"
+    status, out, err = run(capsys, "tolerance", FOURBAR, "--tol", "c=0.5", "--tol", "d=0.5",
+                           "-n", "300", "--distribution", "uniform", "-o", path)
+    assert status == 0 and err == f"wrote {path}\n"
+    assert "300 variants, uniform (uniform in +-T), seed 0" in out
+    assert "assemble at every sample: 300 of 300 (100.00% +- 0.00%)" in out
+    assert "stroke of crank.angle: 360 deg in every variant" in out
+    assert "rocker.angle: " in out
+    image = np.asarray(Image.open(path).convert("L"), dtype=float)
+    assert image.shape[0] > 300 and image.std() > 10  # drawn, not blank
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--tol", "a3"], "--tol 'a3': expected NAME=VALUE, such as --tol a=10.5"),
+    (["--tol", "a=x"], "--tol 'a=x': expected a number after '=', got 'x'"),
+    (["--tol", "a=-1"], "--tol a=-1: the tolerance must be a positive number"),
+    (["--tol", "a=1", "--tol", "a=2"], "--tol gives 'a' twice"),
+    (["--tol", "e=1"], "--tol e: no parameter 'e' (parameters: a, b, c, d)"),
+    ([], "--tol NAME=T is required: the parameters to draw, with their tolerances"),
+    (["--tol", "a=1", "--set", "bb=3"],
+     "--set: no parameter 'bb'; did you mean 'b'? (parameters: a, b, c, d)"),
+    (["--tol", "a=1", "--set", "b"], "--set 'b': expected NAME=VALUE, such as --set a=10.5"),
+    (["--tol", "a=1", "--set", "b=inf"], "--set 'b=inf': expected a finite number"),
+    (["--tol", "a=1", "--histogram", "rocker"],
+     "--histogram: no stroke 'rocker'; did you mean 'rocker.angle'? (strokes: crank.angle, "
+     "coupler.angle, rocker.angle)"),
+    (["--tol", "a=1", "--percentile", "100"], "--percentile must be between 0 and 100, got 100"),
+])
+def test_bad_options_exit_2_with_one_line_naming_the_option(capsys, argv, message):
+    status, out, err = run(capsys, "tolerance", FOURBAR, "-n", "20", *argv)
+    assert status == 2 and out == ""
+    assert err == f"geokin: error: {message}\n"
+
+
+def test_set_overrides_a_parameter_in_every_command(capsys, tmp_path):
+    status, out, _ = run(capsys, "trace", FOURBAR, "--set", "c=15", "--set", "b=24",
+                         "--points", "B,O4")
+    rows = np.array([line.split(",") for line in out.splitlines()[1:]], dtype=float)
+    assert status == 0
+    assert np.allclose(np.hypot(rows[:, 2] - rows[:, 4], rows[:, 3] - rows[:, 5]), 15)
+    status, out, _ = run(capsys, "analyze", FOURBAR, "--set", "a=30", "--json")
+    four_bar = json.loads(out)["four_bars"][0]
+    assert status == 0 and four_bar["input"] == pytest.approx(30)
+    assert four_bar["class"] == "rocker-crank"  # a crank of 30 no longer turns fully
+    status, out, _ = run(capsys, "tolerance", FOURBAR, "--set", "d=26", "--tol", "a=0.1",
+                         "-n", "20", "--json")
+    data = json.loads(out)
+    assert data["set"] == {"d": 26.0} and data["nominal"] == {"a": 10.55}
+    assert data["strokes"]["rocker.angle"]["nominal"] == pytest.approx(
+        math.degrees(rocker_stroke(10.55, 25, 14, 26)), abs=0.05)
+    status, _, err = run(capsys, "plot", FOURBAR, "--set", "b=100", "-o", tmp_path / "x.png")
+    # the fixed pivots are still drawn, with why nothing assembles
+    assert status == 1 and "no sample can be assembled" in err
+    assert (tmp_path / "x.png").exists()
+
+
+def test_a_design_that_never_assembles_exits_1(capsys):
+    status, out, err = run(capsys, "tolerance", FOURBAR, "--set", "b=100", "--tol", "a=1",
+                           "-n", "10")
+    assert status == 1 and out == ""
+    assert "no sample can be assembled" in err
