@@ -7,6 +7,8 @@ import sys
 
 import numpy as np
 import pytest
+from hypothesis import given
+from hypothesis import strategies as st
 from PIL import Image
 
 import geokin
@@ -339,3 +341,22 @@ def test_a_design_that_never_assembles_exits_1(capsys):
                            "-n", "10")
     assert status == 1 and out == ""
     assert "no sample can be assembled" in err
+
+
+@given(st.integers(0, 2**32 - 1), st.floats(1e-4, 1.0))
+def test_strokes_near_the_nominal_link_are_those_of_the_arctangent(seed, spread):
+    from geokin.analysis.tolerance import _stroke_from
+
+    rng = np.random.default_rng(seed)
+    n, count = 121, 40
+    base = np.unwrap(np.linspace(0, 3, n) + 0.3 * np.sin(np.linspace(0, 6, n)))
+    turn = spread * rng.normal(size=(count, 1)) * np.sin(np.linspace(0, 5, n) + rng.normal())
+    radius = rng.uniform(0.5, 2, (count, 1))
+    dx, dy = radius * np.cos(base + turn), radius * np.sin(base + turn)
+    dx[0, rng.integers(n)] = np.nan
+    ux, uy = np.cos(base), np.sin(base)
+    angle = base + np.arctan2(ux * dy - uy * dx, ux * dx + uy * dy)
+    expected = angle.max(axis=1) - angle.min(axis=1)
+    found = _stroke_from((ux, uy, base), dx, dy)
+    np.testing.assert_allclose(found, expected, rtol=0, atol=1e-12)
+    assert np.isnan(found[0])
