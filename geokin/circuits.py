@@ -519,6 +519,7 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
         return {k: int(b[-1]) for k, b in branches.items()}
 
     sheets = dict.fromkeys(groups, 0)
+    folds: list[tuple[int, str, int]] = []  # a group passing its fold at a pass's end
     if found.full_turn:
         run(np.linspace(start, start + 2 * np.pi, samples_per_pass), labels)
     else:
@@ -552,8 +553,9 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
             if target.kind == "tangent":
                 ends = {k: _last_solved(v)[None] for k, v in passes[-1][2].items()}
                 labels = _through_toggle(compiled, name, held, labels, target, ends)
-                for node in set(target.nodes or (target.node,)) & set(groups):
+                for node in sorted(set(target.nodes or (target.node,)) & set(groups)):
                     sheets[node] ^= 1
+                    folds.append((len(passes) - 1, node, sheets[node]))
                     across = _continuing(compiled, name, held, passes[-1], target, node)
             position, target = target.value, (lo if target is hi else hi)
             # a circuit reaches both ends: at an end that is no toggle (of the searched
@@ -576,6 +578,11 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
         names = compiled.step_named(node).node.branch_names
         for i in np.flatnonzero(np.diff(label)) + 1:
             events.append(BranchEvent(node, int(i), names[label[i - 1]], names[label[i]]))
+    # a closure group goes on to its other assembly at its fold, at the end of a pass
+    last = np.cumsum([len(p[0]) - (i > 0) for i, p in enumerate(passes)]) - 1
+    for pass_index, node, sheet in folds:
+        events.append(BranchEvent(node, int(last[pass_index]) + 1, f"assembly {sheet ^ 1}",
+                                  f"assembly {sheet}"))
     events.sort(key=lambda e: e.index)
     return replace(result, events=tuple(events))
 

@@ -60,8 +60,11 @@ class BranchEvent:
         else:
             where = f"at sample {self.index - 1}"
         which = "" if self.variant is None else f"in variant {self.variant}, "
+        # a closure group's assemblies meet at its fold, as two roots do at a graze
+        meeting = ("the group folds" if self.before.startswith("assembly")
+                   else "the two roots meet")
         return (f"{which}node {self.node!r} changes branch from {self.before} to {self.after} "
-                f"at sample {self.index} (the two roots meet {where})")
+                f"at sample {self.index} ({meeting} {where})")
 
 
 @dataclass(frozen=True, eq=False)

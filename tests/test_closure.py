@@ -375,6 +375,13 @@ def test_circuit_passes_a_triad_through_its_folds():
     s = geokin.circuit(c, samples_per_pass=181)
     # at most the sample at each fold, within bisection's tolerance of it, is left
     assert (~s.valid).sum() <= 2
+    # each fold is an event of the group, at the sample where the input turns back
+    folds = [e for e in s.events if e.node == "D"]
+    turns = np.flatnonzero(np.diff(np.sign(np.diff(s.input_values))) != 0) + 1
+    assert [e.index - 1 for e in folds] == turns.tolist()
+    assert [(e.before, e.after) for e in folds] == [("assembly 0", "assembly 1"),
+                                                   ("assembly 1", "assembly 0")]
+    assert "the group folds" in str(folds[0])
     for p in ("D", "E", "A", "B"):
         assert np.allclose(s[p][0], s[p][-1], atol=1e-9), p
     lengths = {name: link for name, link in c.parameters.items()}
