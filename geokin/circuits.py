@@ -364,12 +364,14 @@ def _limits_of_variants(compiled, name, grid, held, start, turn, varied, count):
     inside = np.where(into, grid[change], grid[change + 1])
     outside = np.where(into, grid[change + 1], grid[change])
     start_at = row * samples + np.where(into, change, change + 1)
-    refined, beyond = _refine(
-        compiled, name, held,
-        branches if varied is None else {k: v[row] for k, v in held_rows.items()},
-        inside, outside, assembly_guesses(probe, start_at),
-        None if varied is None else {k: v[row] for k, v in varied.items()})
-    found = [Limit(float(value), *_what_stops(beyond, i)) for i, value in enumerate(refined)]
+    found = []
+    if row.size:  # no bracket where every variant turns fully
+        refined, beyond = _refine(
+            compiled, name, held,
+            branches if varied is None else {k: v[row] for k, v in held_rows.items()},
+            inside, outside, assembly_guesses(probe, start_at),
+            None if varied is None else {k: v[row] for k, v in varied.items()})
+        found = [Limit(float(value), *_what_stops(beyond, i)) for i, value in enumerate(refined)]
     declared = compiled.inputs[name]
     ends = np.searchsorted(row, np.arange(count + 1))
     result = []

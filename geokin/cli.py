@@ -1021,6 +1021,9 @@ def _tolerance_text(result: Tolerance, construction: Construction) -> str:
         lines.append(f"  {count:,} fail first at node {node!r}")
     for point, p in result.paths.items():
         d = p.to_dict()
+        if d["largest_mean"] is None:  # no variant assembles at every sample
+            lines.append(f"path of {point}: no variant assembles at every sample")
+            continue
         worst = (f"worst {d['largest_worst']:.4g} (variant {p.worst_variant})"
                  if p.worst_variant >= 0 else "no variant assembles")
         lines.append(f"path of {point}: deviation from nominal up to {d['largest_mean']:.4g} "
@@ -1030,7 +1033,9 @@ def _tolerance_text(result: Tolerance, construction: Construction) -> str:
         d = stroke.to_dict(degrees=True)
         unit = " deg" if stroke.kind == "angle" else (f" {units}" if units else "")
         if d["mean"] is None:
-            lines.append(f"stroke of {name}: nominal {d['nominal']:.6g}{unit}")
+            nominal = ("" if d["nominal"] is None
+                       else f"; nominal {d['nominal']:.6g}{unit}")
+            lines.append(f"stroke of {name}: no variant assembles at every sample{nominal}")
             continue
         if d["std"] <= 1e-9 * max(1.0, abs(d["nominal"])):
             lines.append(f"stroke of {name}: {d['nominal']:.6g}{unit} in every variant")

@@ -544,6 +544,13 @@ class Motion(Frozen):
         >>> "angular velocity up to 180 deg/s" in page
         True
         """
+        if self.sweep.variants is not None:
+            flagged = int(np.count_nonzero(self.flagged))
+            rows = [("variants", f"{self.sweep.variants:,} of {len(self.time):,} samples each"),
+                    ("flagged", f"{flagged:,} samples in all"),
+                    ("variant 0", "motion(sweep.variant(i)) is variant i's motion alone")]
+            return display.table(f"Motion of {self.sweep.construction.name!r} driven by "
+                                 f"{self.input_name}, {self.sweep.variants:,} variants", rows)
         s = self.sweep
         compiled, n = s.construction, len(self.time)
         units = compiled.units or "units"

@@ -328,7 +328,18 @@ class Sweep(Frozen):
         >>> page = sweep(c, np.linspace(0, np.pi, 7))._repr_html_()
         >>> "0 to 180 deg" in page, page.count("<polyline")
         (True, 1)
+
+        A sweep of variants shows how many assemble, its parameters' ranges,
+        and its first variant:
+
+        >>> c.parameter("r", 10)
+        >>> c.polar("B", "O", "r", "theta")
+        >>> page = sweep(c, np.linspace(0, np.pi, 7), parameters={"r": [1, 2]})._repr_html_()
+        >>> "2 variants" in page and "parameter r" in page
+        True
         """
+        if self.variants is not None:
+            return self._variants_html()
         compiled = self.construction
         n, valid = len(self), int(np.count_nonzero(self.valid))
         rows = [("samples", f"{n:,}, all valid" if valid == n else f"{n:,}: {valid:,} valid")]
@@ -358,6 +369,24 @@ class Sweep(Frozen):
             if drawn or note:
                 picture += "\n" + display.legend(drawn, note)
         return display.side_by_side(table, picture)
+
+    def _variants_html(self) -> str:
+        """Return the table of a sweep of variants, and the picture of its first."""
+        count = self.variants or 0
+        whole = int(np.count_nonzero(self.valid.all(axis=1)))
+        rows = [("variants", f"{count:,}: {whole:,} assemble at every sample"),
+                ("samples", f"{len(self):,} each")]
+        for name, values in list(self.parameters.items())[:display.MAX_LISTED]:
+            rows.append((f"parameter {name}", f"{display.number(float(np.min(values)))} to "
+                                              f"{display.number(float(np.max(values)))}"))
+        rows.append(("branch changes", f"{len(self.events):,} in all"))
+        rows.append(("variant 0", "drawn here; sweep.variant(i) is variant i alone"))
+        table = display.table(f"Sweep of {self.construction.name!r}, {count:,} variants", rows)
+        first = self.variant(0)
+        picture = first._svg(list(first.construction.traced or [
+            p for p in first.construction.point_names
+            if p not in first.construction.ground])[:len(display.PATH_COLORS)])
+        return display.side_by_side(table, picture) if picture else table
 
     def _value(self, name: str, value: float, unit: str | None = None) -> str:
         """Return an input's value as a reader reads it: degrees, or the length unit."""
@@ -534,6 +563,9 @@ class Sweep(Frozen):
         >>> sweep(c, [-np.pi]).explain(0)
         'sample 0 (theta = -180 deg): assembled'
         """
+        if self.variants is not None:
+            raise ValueError(f"a sweep of {self.variants} variants: say which, as in "
+                             f"sweep.variant(i).explain({index})")
         values = ", ".join(f"{k} = {self._input_text(k, v[index])}"
                            for k, v in self.inputs.items())
         if self.valid[index]:

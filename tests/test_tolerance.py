@@ -360,3 +360,12 @@ def test_strokes_near_the_nominal_link_are_those_of_the_arctangent(seed, spread)
     found = _stroke_from((ux, uy, base), dx, dy)
     np.testing.assert_allclose(found, expected, rtol=0, atol=1e-12)
     assert np.isnan(found[0])
+
+
+def test_a_study_where_no_variant_assembles_is_printed_then_exits_1(capsys):
+    # the nominal design assembles at some samples only; none of its variants at all
+    status, out, err = run(capsys, "tolerance", FOURBAR, "--set", "c=2", "--tol", "a=0.01",
+                           "-n", "20")
+    assert status == 1 and "no variant assembles at every sample" in out
+    assert "stroke of rocker.angle: no variant assembles" in out
+    assert err.count("\n") == 1 and "no variant assembles" in err

@@ -257,3 +257,31 @@ def test_closure_group_variants_equal_each_alone():
     batch = geokin.sweep(grouped((10, 35, 30, 40)), values, parameters=lengths)
     assert batch["B"].shape == (3, 37, 2)
     assert_same_as_alone(batch, lambda i: grouped([lengths[k][i] for k in NAMES]), values)
+
+
+def test_limits_of_closure_group_variants_equal_each_alone():
+    from pathlib import Path
+
+    text = (Path(__file__).resolve().parents[1] / "constructions" / "stephenson3.toml"
+            ).read_text()
+    c = geokin.loads(text)
+    cranks = [1.0, 2.0, 2.5]
+    found = limits(c, parameters={"GF": cranks})
+    for crank, mine in zip(cranks, found, strict=True):
+        alone = limits(geokin.loads(text.replace("\nGF = 1\n", f"\nGF = {crank}\n")))
+        assert mine.full_turn == alone.full_turn
+        np.testing.assert_allclose(mine.as_values(), alone.as_values(), rtol=0, atol=1e-12)
+    assert found[0].full_turn and not found[1].full_turn
+
+
+def test_a_sweep_of_variants_shows_itself_and_says_which_sample_to_explain():
+    c = parametric_fourbar()
+    batch = geokin.sweep(c, np.linspace(0, 2 * np.pi, 19),
+                         parameters={"c": [5.0, 30.0, 31.0]})
+    page = batch._repr_html_()
+    assert "3 variants" in page and "2 assemble at every sample" in page
+    assert "parameter c" in page and page.count("<polyline") >= 1
+    assert "3 variants" in motion(batch)._repr_html_()
+    with pytest.raises(ValueError, match=r"variant\(i\)\.explain\(4\)"):
+        batch.explain(4)
+    assert "assembled" in batch.variant(1).explain(4)
