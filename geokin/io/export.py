@@ -81,12 +81,13 @@ theta,valid,A.x,A.y
 from __future__ import annotations
 
 import csv
+import io
 import json
 import os
 import pathlib
 import zipfile
-from collections.abc import Mapping, Sequence
-from typing import IO, TextIO
+from collections.abc import Callable, Mapping, Sequence
+from typing import IO, TextIO, cast
 
 import numpy as np
 from numpy.lib import format as npy_format
@@ -97,6 +98,7 @@ from ..errors import ConstructionError, did_you_mean
 from ..kinematics import Motion, link_angles, slider_positions
 from ..results import Sweep
 from ..units import angles_to_script, to_script_array
+from .numbers import text_fields
 
 __all__ = ["EXPORT_FORMATS", "columns", "export_sweep", "shortest_text", "write_csv", "write_json",
            "write_npz"]
@@ -288,44 +290,61 @@ def shortest_text(value: float) -> str:
     return text[:-2] if text.endswith(".0") else text
 
 
-def _csv_cells(array: np.ndarray) -> list[str]:
+def _csv_cells(array: np.ndarray) -> np.ndarray:
     """Format one column: 1 and 0 for booleans, else the shortest exact decimal.
 
-    Whole numbers lose their ``.0`` (``20`` rather than ``20.0``); NaN is ``nan``.
-    The same text as :func:`shortest_text` for every value, made column-wise:
-    ``repr`` mapped over the column, and the ``.0`` cut from whole numbers
-    found by numpy (a column of one value is formatted once).
+    Returns the cells as rows of ASCII bytes, left-aligned, padded with NUL
+    bytes, as narrow as the longest cell: the text of :func:`shortest_text`
+    for every value, written by :func:`~geokin.io.numbers.text_fields` (a
+    column of one value is formatted once).
 
     Examples
     --------
-    >>> _csv_cells(np.array([20.0, -0.0, 0.1, 1e16, np.nan, -np.inf]))
-    ['20', '-0', '0.1', '1e+16', 'nan', '-inf']
+    >>> cells = _csv_cells(np.array([20.0, -0.0, 0.1, 1e16, np.nan, -np.inf]))
+    >>> cells.view(f"S{cells.shape[1]}").ravel().tolist()
+    [b'20', b'-0', b'0.1', b'1e+16', b'nan', b'-inf']
     """
     if array.dtype == bool:
-        return np.where(array, "1", "0").tolist()
+        return np.where(array, ord("1"), ord("0")).astype(np.uint8)[:, None]
     values = array.astype(float)
     if values.size and values[0] == values[0] and (values == values[0]).all():
-        return [shortest_text(values[0])] * values.size
-    cells = list(map(repr, values.tolist()))
-    # repr writes a whole number below 1e16 with ".0", and any other number without
-    with np.errstate(invalid="ignore"):
-        whole = np.flatnonzero((values == np.trunc(values)) & (np.abs(values) < 1e16))
-    for i in whole.tolist():
-        cells[i] = cells[i][:-2]
-    return cells
+        text = np.frombuffer(shortest_text(values[0]).encode("ascii"), dtype=np.uint8)
+        return np.broadcast_to(text, (values.size, text.size))
+    fields = text_fields(values)
+    used = np.flatnonzero(fields.any(axis=0))
+    return fields[:, :used[-1] + 1] if used.size else fields[:, :1]
 
 
-def write_csv(columns: Mapping[str, ArrayLike], stream: TextIO, *,
-              rows_per_write: int = 10_000) -> None:
+def _csv_rows(cells: Sequence[np.ndarray]) -> bytes:
+    """Join columns of cells (see :func:`_csv_cells`) as CSV rows: commas, a line feed each."""
+    widths = [c.shape[1] + 1 for c in cells]
+    rows = np.empty((len(cells[0]), sum(widths)), dtype=np.uint8)
+    end = 0
+    for c, width in zip(cells, widths, strict=True):
+        rows[:, end:end + width - 1] = c
+        rows[:, end + width - 1] = ord(",")
+        end += width
+    rows[:, -1] = ord("\n")
+    # every cell's NUL padding dropped at once: what is left is the rows as text
+    return rows[rows != 0].tobytes()
+
+
+def write_csv(columns: Mapping[str, ArrayLike], stream: IO[str] | IO[bytes], *,
+              rows_per_write: int = 20_000) -> None:
     """Write a table as CSV: a header of names, then one row per sample.
+
+    Numbers are written as the shortest text that reads back exactly
+    (:func:`shortest_text`), formatted a block of rows at a time with numpy
+    (:func:`~geokin.io.numbers.text_fields`).
 
     Parameters
     ----------
     columns : mapping of str to array_like
         The table (see :func:`columns`): 1-D columns of one length.
-    stream : text file
-        Open for writing; a file opened with ``newline=""`` ends each row
-        with a line feed on every system.
+    stream : text or binary file
+        Open for writing; a text file opened with ``newline=""`` ends each
+        row with a line feed on every system, as a binary file does. Names
+        go to a binary file in UTF-8.
     rows_per_write : int, optional
         Rows formatted and written at a time, so a long table never exists
         whole as text in memory.
@@ -345,13 +364,26 @@ def write_csv(columns: Mapping[str, ArrayLike], stream: TextIO, *,
     """
     arrays = _arrays(columns)
     # names are quoted only where CSV needs it: a comma, a quote, a line break
-    csv.writer(stream, lineterminator="\n").writerow(arrays)
+    header = io.StringIO()
+    csv.writer(header, lineterminator="\n").writerow(arrays)
+    write: Callable[[bytes], object]
+    if isinstance(stream, (io.RawIOBase, io.BufferedIOBase)) or "b" in getattr(stream, "mode",
+                                                                                 ""):
+        binary = cast(IO[bytes], stream)
+        binary.write(header.getvalue().encode("utf-8"))
+        write = binary.write
+    else:
+        text = cast(IO[str], stream)
+        text.write(header.getvalue())
+
+        def write(data: bytes) -> None:
+            text.write(data.decode("ascii"))
+
     blocks = list(arrays.values())
     total = len(blocks[0]) if blocks else 0
     for start in range(0, total, rows_per_write):
         # a block of rows at a time: formatting goes column by column
-        block = [_csv_cells(a[start:start + rows_per_write]) for a in blocks]
-        stream.write("\n".join(map(",".join, zip(*block, strict=True))) + "\n")
+        write(_csv_rows([_csv_cells(a[start:start + rows_per_write]) for a in blocks]))
 
 
 def _json_cells(array: np.ndarray) -> list[str]:
