@@ -43,6 +43,9 @@ Examples
 
 from __future__ import annotations
 
+import math
+from fractions import Fraction
+
 import numpy as np
 from numpy.typing import ArrayLike
 
@@ -51,6 +54,9 @@ __all__ = ["FIELD_WIDTH", "shortest_texts", "text_fields"]
 FIELD_WIDTH = 24
 """The bytes :func:`text_fields` gives a value: the longest repr, ``-1.2345678901234567e-300``."""
 
+# values worked on at a time: their temporary arrays stay in the cache, which makes a
+# chunk twice as fast as a long array
+_CHUNK = 8192
 _TWO53 = 2.0 ** 53
 _SMALLEST, _LARGEST = 1e-4, 1e16  # repr's fixed notation, and the range written here
 _INT_POW10 = np.array([10 ** i for i in range(19)], dtype=np.int64)
@@ -62,6 +68,12 @@ _INT_POW10 = np.array([10 ** i for i in range(19)], dtype=np.int64)
 _LOWEST = -22
 _UP = np.array([float(10 ** -k) if k <= 0 else 1.0 for k in range(_LOWEST, 31)])
 _DOWN = np.array([float(10 ** k) if k > 0 else 1.0 for k in range(_LOWEST, 31)])
+# the least float from 10**j on, for j from _POW10_FROM: a >= 10**j exactly when a >= it
+_POW10_FROM = -5
+_AT_LEAST_POW10 = np.array([float(10 ** j) if j >= 0 else
+                            math.nextafter(float(Fraction(1, 10 ** -j)), math.inf)
+                            if Fraction(float(Fraction(1, 10 ** -j))) < Fraction(1, 10 ** -j)
+                            else float(Fraction(1, 10 ** -j)) for j in range(_POW10_FROM, 18)])
 _SPLIT = 134217729.0  # 2**27 + 1, which splits a float into two halves of 26 bits
 _LOG10_2 = 0.30102999566398120
 
@@ -87,6 +99,19 @@ def _reads_back(a: np.ndarray, level: np.ndarray) -> np.ndarray:
     return ok
 
 
+def _rounded(a: np.ndarray, q: np.ndarray, a_high: np.ndarray, a_low: np.ndarray,
+             level: np.ndarray) -> np.ndarray:
+    """Return the integer nearest ``a * 10**-k``, the even one on a tie.
+
+    ``q``, its rounded value, is from 2**53 on, so an even integer;
+    ``a_high, a_low`` split ``a``; ``level`` is ``k - _LOWEST``.
+    """
+    # q plus the error of its rounding, found exactly by Dekker's product
+    up_high, up_low = _UP_HIGH[level], _UP_LOW[level]
+    error = ((a_high * up_high - q) + a_high * up_low + a_low * up_high) + a_low * up_low
+    return q.astype(np.int64) + np.rint(error).astype(np.int64)
+
+
 def _nearest(a: np.ndarray, level: np.ndarray) -> np.ndarray:
     """Return ``N``: ``N * 10**k`` is the closest to ``a`` of the multiples reading back as it.
 
@@ -100,20 +125,17 @@ def _nearest(a: np.ndarray, level: np.ndarray) -> np.ndarray:
     # the nearest last: where two read back (q above 2**52) q is the closer one itself
     for candidate in (n - 1, n):
         np.copyto(found, candidate, where=candidate * down / up == a)
-    # from 2**53 on, the nearest integer to a * 10**-k is q plus the error of its rounding,
-    # found exactly by Dekker's product (there k <= 0: for k > 0, a < 1e16 keeps q below
-    # 1e15 and down is not 1, where this error means nothing and is not used)
-    a_high, a_low = _split(a)
-    up_high, up_low = _UP_HIGH[level], _UP_LOW[level]
-    error = ((a_high * up_high - q) + a_high * up_low + a_low * up_high) + a_low * up_low
-    np.copyto(found, np.rint(error), where=q >= _TWO53)
     result = found.astype(np.int64)
-    # q is an even integer there, exact in int64; the error is added apart from it
-    np.add(result, q.astype(np.int64), out=result, where=q >= _TWO53)
+    # from 2**53 on the nearest reads back (there k <= 0: for k > 0, a < 1e16 keeps q
+    # below 1e15)
+    sure = q >= _TWO53
+    if sure.any():
+        a_high, a_low = _split(a[sure])
+        result[sure] = _rounded(a[sure], q[sure], a_high, a_low, level[sure])
     return result
 
 
-def _shortest_digits(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def _searched_digits(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Return ``(N, k)`` with ``N * 10**k`` the shortest decimal reading back as ``a``.
 
     ``a`` holds positive floats with ``1e-4 <= a < 1e16``; ``N`` has no
@@ -130,6 +152,67 @@ def _shortest_digits(a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return _nearest(a, level), level + _LOWEST
 
 
+def _sixteen_or_seventeen(a: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Return ``(N, e, fewer)``: the shortest decimal of ``a`` if of 16 or 17 digits.
+
+    Where not ``fewer``, ``N * 10**(e - 16 + (N < 10**16))`` is the
+    shortest decimal reading back as ``a``. ``a`` holds positive floats
+    with ``1e-4 <= a < 1e16``; ``e`` is the decimal exponent of ``a``, and
+    ``fewer`` where 15 digits or fewer do.
+    """
+    # most floats computed need 16 or 17 digits: those are told apart first, by whether
+    # 16 and 15 digits read back; the others are searched for
+    binary = (a.view(np.int64) >> 52) - 1023
+    e = np.floor(binary * _LOG10_2).astype(np.int64)
+    e += a >= _AT_LEAST_POW10[e + 1 - _POW10_FROM]  # now the decimal exponent of a
+    level = e - _LOWEST
+    a_high, a_low = _split(a)
+    # 17 digits always read back, and the nearest 17-digit decimal is from 2**53 on
+    result = _rounded(a, a * _UP[level - 16], a_high, a_low, level - 16)
+    # 16 digits: the nearest of the multiples of 10**(e - 15) near a that read back,
+    # always the nearest from 2**53 on
+    up = _UP[level - 15]
+    q = a * up
+    n = np.rint(q)
+    sure = q >= _TWO53
+    sixteen = sure.copy()
+    for candidate in (n + 1, n - 1, n):  # the nearest last
+        back = candidate / up == a
+        np.copyto(result, candidate.astype(np.int64), where=back)
+        sixteen |= back
+    if sure.any():
+        at = np.flatnonzero(sure)
+        result[at] = _rounded(a[at], q[at], a_high[at], a_low[at], level[at] - 15)
+    # 15 digits (for e below 15, where 10**(e - 14) is below 1)
+    up = _UP[level - 14]
+    n = np.rint(a * up)
+    fewer = (e >= 15) | (n / up == a) | ((n - 1) / up == a) | ((n + 1) / up == a)
+    return result, e, fewer
+
+
+def _shortest_digits(a: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Return ``(N, k, d)``: ``N * 10**k`` is the shortest decimal reading back as ``a``.
+
+    ``a`` holds positive floats with ``1e-4 <= a < 1e16``; ``N`` has ``d``
+    digits, the last not zero.
+    """
+    n = np.empty(a.shape, dtype=np.int64)
+    e = np.empty(a.shape, dtype=np.int64)
+    fewer = np.empty(a.shape, dtype=bool)
+    for i in range(0, a.size, _CHUNK):
+        n[i:i + _CHUNK], e[i:i + _CHUNK], fewer[i:i + _CHUNK] = _sixteen_or_seventeen(
+            a[i:i + _CHUNK])
+    digits = 16 + (n >= 10 ** 16)
+    # the floats of 15 digits or fewer searched for all at once: they are few, or a whole
+    # column of values typed with few digits
+    shorter = np.flatnonzero(fewer)
+    if shorter.size:
+        n[shorter], k = _searched_digits(a[shorter])
+        digits[shorter] = np.searchsorted(_INT_POW10, n[shorter], side="right")
+        e[shorter] = k + digits[shorter] - 1
+    return n, e - digits + 1, digits
+
+
 # a float's text is built in three 64-bit words, 24 bytes, little-endian: byte i of the
 # text is bits 8i to 8i + 7 of word i // 8, so moving text right is a left shift
 _U64 = np.uint64
@@ -137,56 +220,69 @@ _BYTES = 0x0101010101010101
 # _BELOW[w][i]: the bytes of word w that are before byte i of the text, for i in 0..24
 _BELOW = np.array([[(1 << 8 * min(max(i - 8 * w, 0), 8)) - 1 for i in range(25)]
                    for w in range(3)], dtype=_U64)
-# what goes before the digits, by sign and zeros: "-", "0", "-000", ...
-_PREFIX = np.array([[int.from_bytes(b"-" * sign + b"0" * zeros, "little") for zeros in range(5)]
-                    for sign in range(2)], dtype=_U64)
-
-
-def _ascii8(g: np.ndarray) -> np.ndarray:
-    """Return numbers below 1e8 as their 8 ASCII digits, zero-padded, in a 64-bit word."""
-    # split in 4 + 4 digits, 2 + 2, 1 + 1, in lanes of 32, 16 and 8 bits, dividing every
-    # lane at once by multiplying and shifting (exact for 0..9999 and 0..99)
-    high = g // _U64(10_000)
-    v = high | ((g - high * _U64(10_000)) << _U64(32))
-    q = ((v * _U64(10486)) >> _U64(20)) & _U64(0x0000007F0000007F)
-    v = q | ((v - q * _U64(100)) << _U64(16))
-    q = ((v * _U64(103)) >> _U64(10)) & _U64(0x000F000F000F000F)
-    v = q | ((v - q * _U64(10)) << _U64(8))
-    return v + _U64(0x30 * _BYTES)
+# what goes before the digits, by zeros + 5 * sign: "", "0", ..., "-", "-0", ..., "-0000"
+_PREFIX = np.array([int.from_bytes(b"-" * sign + b"0" * zeros, "little")
+                    for sign in range(2) for zeros in range(5)], dtype=_U64)
+# the text of 0 to 9999 in four ASCII digits, little-endian
+_DIGITS4 = np.array([int.from_bytes(b"%04d" % i, "little") for i in range(10_000)], dtype="<u4")
 
 
 def _fixed_words(values: np.ndarray, point_zero: bool) -> np.ndarray:
     """Write floats with ``1e-4 <= |x| < 1e16`` as repr does, left-aligned in ``(n, 3)`` words."""
-    n, k = _shortest_digits(np.abs(values))
-    digits = np.searchsorted(_INT_POW10, n, side="right")  # how many N has
+    n, k, digits = _shortest_digits(np.abs(values))
+    out = np.empty((len(values), 3), dtype="<u8")  # its bytes are the text on any machine
+    for i in range(0, len(values), _CHUNK):
+        part = slice(i, i + _CHUNK)
+        out[part] = _written(values[part], n[part], k[part], digits[part], point_zero)
+    return out
+
+
+def _written(values: np.ndarray, n: np.ndarray, k: np.ndarray, digits: np.ndarray,
+             point_zero: bool) -> np.ndarray:
+    """Write ``values``, ``+-N * 10**k`` with ``N`` of ``digits`` digits, as in words."""
     exponent = k + digits - 1  # of the leading digit: -4 to 15
-    # the 17 digits of N, left-aligned and padded with zeros, 8 + 8 + 1
-    left = (n * _INT_POW10[17 - digits]).view(_U64)
-    first = left // _U64(10 ** 9)
-    rest = left - first * _U64(10 ** 9)
-    second = rest // _U64(10)
-    words = [_ascii8(first), _ascii8(second), rest - second * _U64(10) + _U64(0x30)]
+    # the 17 digits of N, left-aligned and padded with zeros, 4 + 4 + 4 + 4 + 1
+    left = n * _INT_POW10[17 - digits]
+    first = left // 10 ** 9
+    rest = left - first * 10 ** 9
+    second = rest // 10
+    quads = np.zeros((len(values), 6), dtype="<u4")
+    for i, eight in enumerate((first, second)):
+        high = eight // 10_000
+        quads[:, 2 * i] = _DIGITS4[high]
+        quads[:, 2 * i + 1] = _DIGITS4[eight - high * 10_000]
+    quads[:, 4] = rest - second * 10 + 0x30
+    words = quads.view("<u8").T.copy()
     # then the sign and, below 1, as many zeros as the point takes places ("0.000123"
     # is "-"? "0000" "123" with a point after the first zero)
     sign = np.signbit(values)
     zeros = np.maximum(-exponent, 0)
-    shift = (sign + zeros).astype(_U64) * _U64(8)
+    prefix = sign + zeros
+    shift = prefix.astype(_U64) << _U64(3)
     back = _U64(63) - shift  # the bytes moving into the next word, in two shifts
-    words[2] = (words[2] << shift) | ((words[1] >> back) >> _U64(1))
-    words[1] = (words[1] << shift) | ((words[0] >> back) >> _U64(1))
-    words[0] = (words[0] << shift) | _PREFIX[sign.view(np.int8), zeros]
+    for w in (2, 1):
+        words[w] <<= shift
+        words[w] |= (words[w - 1] >> back) >> _U64(1)
+    words[0] <<= shift
+    words[0] |= _PREFIX[zeros + 5 * sign]
     # the point goes in at byte `at`, the bytes from there move one right
     at = sign + np.maximum(exponent, 0) + 1
     whole = digits <= exponent + 1
-    length = np.where(whole, at + (2 if point_zero else 0), sign + zeros + digits + 1)
+    length = np.where(whole, at + (2 if point_zero else 0), prefix + digits + 1)
     out = np.empty((len(values), 3), dtype="<u8")  # its bytes are the text on any machine
     carry = _U64(0)
     for w, word in enumerate(words):
         before, upto = _BELOW[w][at], _BELOW[w][at + 1]
         moved = (word << _U64(8)) | carry
         carry = word >> _U64(56)
-        out[:, w] = ((word & before) | (moved & ~upto) | (upto & ~before & _U64(0x2E * _BYTES))
-                     ) & _BELOW[w][length]
+        moved &= ~upto
+        upto &= ~before
+        upto &= _U64(0x2E * _BYTES)
+        word &= before
+        word |= moved
+        word |= upto
+        word &= _BELOW[w][length]
+        out[:, w] = word
     return out
 
 
