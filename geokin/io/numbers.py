@@ -270,7 +270,7 @@ def _written(values: np.ndarray, n: np.ndarray, k: np.ndarray, digits: np.ndarra
     whole = digits <= exponent + 1
     length = np.where(whole, at + (2 if point_zero else 0), prefix + digits + 1)
     out = np.empty((len(values), 3), dtype="<u8")  # its bytes are the text on any machine
-    carry = _U64(0)
+    carry: np.ndarray | np.uint64 = _U64(0)
     for w, word in enumerate(words):
         before, upto = _BELOW[w][at], _BELOW[w][at + 1]
         moved = (word << _U64(8)) | carry
