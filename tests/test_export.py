@@ -304,6 +304,14 @@ def test_the_csv_of_a_sweep_is_the_text_of_repr_cell_by_cell_and_reads_back_bit_
     back = np.loadtxt(io.StringIO(expected), delimiter=",", skiprows=1)
     for i, column in enumerate(table.values()):
         np.testing.assert_array_equal(back[:, i], column.astype(float))
+    # JSON writes repr's text too, with its .0, and null where not a finite number
+    text = io.StringIO()
+    write_json(table, text, values_per_write=700)
+    assert text.getvalue() == "{" + ", ".join(
+        json.dumps(name) + ": [" + ", ".join(
+            ("true" if v else "false") if isinstance(v, np.bool_)
+            else repr(float(v)) if np.isfinite(v) else "null" for v in column) + "]"
+        for name, column in table.items()) + "}\n"
 
 
 def test_trace_json_writes_null_for_what_is_not_a_finite_number():

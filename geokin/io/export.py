@@ -98,7 +98,7 @@ from ..errors import ConstructionError, did_you_mean
 from ..kinematics import Motion, link_angles, slider_positions
 from ..results import Sweep
 from ..units import angles_to_script, to_script_array
-from .numbers import text_fields
+from .numbers import FIELD_WIDTH, text_fields
 
 __all__ = ["EXPORT_FORMATS", "columns", "export_sweep", "shortest_text", "write_csv", "write_json",
            "write_npz"]
@@ -392,15 +392,28 @@ def write_csv(columns: Mapping[str, ArrayLike], stream: IO[str] | IO[bytes], *,
         write(_csv_rows([_csv_cells(a[start:start + rows_per_write]) for a in blocks]))
 
 
-def _json_cells(array: np.ndarray) -> list[str]:
-    """Format one column for JSON: true and false for booleans, null for NaN and infinities."""
+def _json_cells(array: np.ndarray) -> bytes:
+    """Format one column for JSON, the values joined by ``", "``.
+
+    Booleans are true and false, numbers written as ``repr`` writes them
+    (:func:`~geokin.io.numbers.text_fields`), null for NaN and infinities.
+
+    Examples
+    --------
+    >>> _json_cells(np.array([0.5, 2.0, np.nan, -np.inf]))
+    b'0.5, 2.0, null, null'
+    """
     if array.dtype == bool:
-        return np.where(array, "true", "false").tolist()
-    values = array.astype(float)
-    cells = [repr(value) for value in values.tolist()]
-    for i in np.flatnonzero(~np.isfinite(values)).tolist():
-        cells[i] = "null"
-    return cells
+        fields = np.where(array, b"true", b"false").view(np.uint8).reshape(array.size, -1)
+    else:
+        values = array.astype(float)
+        fields = text_fields(values, point_zero=True)
+        fields[~np.isfinite(values)] = np.frombuffer(b"null".ljust(FIELD_WIDTH, b"\0"),
+                                                     dtype=np.uint8)
+    cells = np.empty((array.size, fields.shape[1] + 2), dtype=np.uint8)
+    cells[:, :-2] = fields
+    cells[:, -2:] = np.frombuffer(b", ", dtype=np.uint8)
+    return cells[cells != 0].tobytes()[:-2]
 
 
 def write_json(columns: Mapping[str, ArrayLike], stream: TextIO, *,
@@ -415,7 +428,7 @@ def write_json(columns: Mapping[str, ArrayLike], stream: TextIO, *,
         Open for writing.
     values_per_write : int, optional
         Values formatted and written at a time, so a long table never
-        exists whole in memory as Python objects.
+        exists whole as text in memory.
 
     Examples
     --------
@@ -430,8 +443,8 @@ def write_json(columns: Mapping[str, ArrayLike], stream: TextIO, *,
     for k, (name, array) in enumerate(_arrays(columns).items()):
         stream.write(("" if k == 0 else ", ") + json.dumps(name) + ": [")
         for start in range(0, len(array), values_per_write):
-            cells = _json_cells(array[start:start + values_per_write])
-            stream.write(("" if start == 0 else ", ") + ", ".join(cells))
+            cells = _json_cells(array[start:start + values_per_write]).decode("ascii")
+            stream.write(("" if start == 0 else ", ") + cells)
         stream.write("]")
     stream.write("}\n")
 
