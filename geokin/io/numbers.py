@@ -175,11 +175,15 @@ def _sixteen_or_seventeen(a: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.nda
     q = a * up
     n = np.rint(q)
     sure = q >= _TWO53
-    sixteen = sure.copy()
-    for candidate in (n + 1, n - 1, n):  # the nearest last
-        back = candidate / up == a
-        np.copyto(result, candidate.astype(np.int64), where=back)
-        sixteen |= back
+    middle = n / up == a
+    below = (n - 1) / up == a
+    above = (n + 1) / up == a
+    sixteen = sure | middle | below | above
+    # n where it reads back (the nearest), else n - 1 or n + 1, whichever does
+    nearest = n.astype(np.int64)
+    nearest += above & ~middle
+    nearest -= below & ~middle
+    np.copyto(result, nearest, where=sixteen)
     if sure.any():
         at = np.flatnonzero(sure)
         result[at] = _rounded(a[at], q[at], a_high[at], a_low[at], level[at] - 15)
@@ -268,7 +272,10 @@ def _written(values: np.ndarray, n: np.ndarray, k: np.ndarray, digits: np.ndarra
     # the point goes in at byte `at`, the bytes from there move one right
     at = sign + np.maximum(exponent, 0) + 1
     whole = digits <= exponent + 1
-    length = np.where(whole, at + (2 if point_zero else 0), prefix + digits + 1)
+    # whole numbers end at the point (after ".0" with point_zero), the others after
+    # their digits
+    length = prefix + digits + 1
+    length += whole * (at + (2 if point_zero else 0) - length)
     out = np.empty((len(values), 3), dtype="<u8")  # its bytes are the text on any machine
     carry: np.ndarray | np.uint64 = _U64(0)
     for w, word in enumerate(words):
