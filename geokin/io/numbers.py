@@ -227,8 +227,9 @@ _BELOW = np.array([[(1 << 8 * min(max(i - 8 * w, 0), 8)) - 1 for i in range(25)]
 # what goes before the digits, by zeros + 5 * sign: "", "0", ..., "-", "-0", ..., "-0000"
 _PREFIX = np.array([int.from_bytes(b"-" * sign + b"0" * zeros, "little")
                     for sign in range(2) for zeros in range(5)], dtype=_U64)
-# the text of 0 to 9999 in four ASCII digits, little-endian
-_DIGITS4 = np.array([int.from_bytes(b"%04d" % i, "little") for i in range(10_000)], dtype="<u4")
+# the text of 0 to 9999 in four ASCII digits, as the low and the high half of a word
+_DIGITS4 = np.array([int.from_bytes(b"%04d" % i, "little") for i in range(10_000)], dtype=_U64)
+_DIGITS4_HIGH = _DIGITS4 << _U64(32)
 
 
 def _fixed_words(values: np.ndarray, point_zero: bool) -> np.ndarray:
@@ -250,13 +251,13 @@ def _written(values: np.ndarray, n: np.ndarray, k: np.ndarray, digits: np.ndarra
     first = left // 10 ** 9
     rest = left - first * 10 ** 9
     second = rest // 10
-    quads = np.zeros((len(values), 6), dtype="<u4")
-    for i, eight in enumerate((first, second)):
+    words = []
+    for eight in (first, second):
         high = eight // 10_000
-        quads[:, 2 * i] = _DIGITS4[high]
-        quads[:, 2 * i + 1] = _DIGITS4[eight - high * 10_000]
-    quads[:, 4] = rest - second * 10 + 0x30
-    words = quads.view("<u8").T.copy()
+        word = _DIGITS4[high]
+        word |= _DIGITS4_HIGH[eight - high * 10_000]
+        words.append(word)
+    words.append((rest - second * 10 + 0x30).view(_U64))
     # then the sign and, below 1, as many zeros as the point takes places ("0.000123"
     # is "-"? "0000" "123" with a point after the first zero)
     sign = np.signbit(values)
