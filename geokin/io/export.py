@@ -393,8 +393,8 @@ def write_csv(columns: Mapping[str, ArrayLike], stream: IO[str] | IO[bytes], *,
         # a block of rows at a time: formatting goes column by column, then the rows are
         # joined a few thousand at a time, which stay in the cache
         cells = [_csv_cells(a[start:start + rows_per_write]) for a in blocks]
-        write(b"".join(_csv_rows([c[i:i + _ROWS_JOINED] for c in cells])
-                       for i in range(0, len(cells[0]), _ROWS_JOINED)))
+        for i in range(0, len(cells[0]), _ROWS_JOINED):
+            write(_csv_rows([c[i:i + _ROWS_JOINED] for c in cells]))
 
 
 def _json_cells(array: np.ndarray) -> bytes:
