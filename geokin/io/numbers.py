@@ -16,7 +16,10 @@ by numpy:
   for ``k = e - p + 1`` (``e`` the decimal exponent of ``x``), and the
   shortest decimal is a multiple of the largest ``10**k`` of which a
   multiple reads back as ``x``; whether some multiple does is monotonic in
-  ``k``, so a binary search over ``k`` finds it, for every element at once.
+  ``k``. Most computed floats need 16 or 17 digits, so whether 16 and 15
+  digits read back is checked first, 8192 values at a time; the floats
+  with fewer digits are then found by a binary search over ``k``, all at
+  once.
 - At a given ``k``, the multiples nearest ``x`` are ``N * 10**k`` with
   ``N`` within one of ``rint(x / 10**k)``. For an integer ``N <= 2**53``
   and ``|k| <= 22`` both ``N`` and ``10**|k|`` are exact floats, so
@@ -30,6 +33,9 @@ by numpy:
 - Of two decimals that read back, repr writes the closer, the even one on a
   tie; they occur only where ``x / 10**k`` is above ``2**52``, where its
   rounded value is that very integer.
+- The text is then built in three 64-bit words per value: the digits from a
+  table of all groups of four, shifted right past the sign and the zeros
+  of a number below 1, the point put in, the bytes past the end cleared.
 
 Zeros, infinities and NaN are written as repr writes them; the few other
 values (below ``1e-4``, from ``1e16``, subnormal) are written by ``repr``
