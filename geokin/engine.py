@@ -53,7 +53,7 @@ from numpy.typing import ArrayLike
 from .budgets import check_sweep_memory
 from .compat import renamed_keywords
 from .construction import Compiled, Construction, as_compiled
-from .errors import ConstructionError, did_you_mean
+from .errors import AssemblyError, ConstructionError, did_you_mean
 from .frozen import read_only
 from .nodes import Node, failure_reasons
 from .results import BranchEvent, PointTable, Sweep
@@ -299,13 +299,18 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         The samples are this many paths of N / paths samples, one after the
         other (the variants of a design): branches are tracked along each
         path and never from one to the next, and each starts on its own
-        initial branch. Closure groups are followed along one path only.
+        initial branch. Every path has the same input values (the first
+        path's, repeated); a closure group is followed along each path on
+        its own only when the paths are swept one by one (as
+        :func:`sweep` does).
 
     Returns
     -------
     Sweep
     """
     compiled = as_compiled(construction)
+    if paths > 1:
+        _check_paths(inputs, n, paths)
     varied = {name: np.asarray(values, dtype=float) for name, values in (parameters or {}).items()}
     per_path = (paths > 1 and n != paths and bool(varied)
                 and all(v.shape == (paths,) for v in varied.values()))
@@ -341,6 +346,18 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         line_parameters={name: per_sample(t) for name, t in parts.parameters.items()},
         parameters={} if per_path else {name: read_only(values)
                                         for name, values in varied.items()})
+
+
+def _check_paths(inputs, n, paths):
+    """Refuse samples that are not ``paths`` paths of the same input values."""
+    if n % paths:
+        raise ConstructionError(f"{n} samples cannot be {paths} paths of equal length")
+    for name, values in inputs.items():
+        rows = np.broadcast_to(values, (n,)).reshape(paths, -1)
+        same = (rows == rows[0]) | (np.isnan(rows) & np.isnan(rows[0]))
+        if not same.all():
+            raise ConstructionError(f"over {paths} paths every path takes the same values of "
+                                    f"input {name!r}, the first path's repeated", node=name)
 
 
 def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
@@ -860,17 +877,52 @@ def sweep_in_blocks(construction: Construction | Compiled,
     start = start_labels(compiled, start_branches)
     two_root = [step.node.name for step in compiled.steps if step.node.roots == 2]
     window: Sweep | None = None
-    begin = 0
-    for lo in range(0, samples, block_samples):
+    begin, lo = 0, 0
+    while lo < samples:
         hi = min(lo + block_samples, samples)
-        stop = min(hi + 2, samples)
-        if window is None:
-            begin = 0
-            window = evaluate(compiled, values_between(0, stop), stop, start=start)
-        else:
-            window, begin = _next_window(compiled, values_between, window, begin, lo, stop,
-                                         two_root), max(lo - LOOK_BACK, 0)
+        while True:
+            stop = min(hi + 2, samples)
+            if window is None or lo == 0:
+                found, found_begin = evaluate(compiled, values_between(0, stop), stop,
+                                              start=start), 0
+            else:
+                found, found_begin = _next_window(compiled, values_between, window, begin, lo,
+                                                  stop, two_root), max(lo - LOOK_BACK, 0)
+            # the next block starts its evaluation LOOK_BACK samples before its first:
+            # there no two roots may meet, so that every meeting it sees begins after
+            # a sample it sees too (consecutive meeting samples are one meeting)
+            seam = _meeting_until(found, found_begin, hi - LOOK_BACK, two_root)
+            if hi == samples or seam is None:
+                break
+            hi = min(max(hi + 1, seam + LOOK_BACK + 1), samples)
+        window, begin = found, found_begin
         yield window.part(lo - begin, hi - begin)
+        lo = hi
+
+
+def _meeting_until(sweep: Sweep, offset: int, at: int, names) -> int | None:
+    """Return the last sample of the meeting of roots at sample ``at``, if any node has one.
+
+    ``sweep`` holds samples from ``offset`` on; a meeting is as the branch
+    rules have it (:data:`MEET_RTOL`), and it lasts over consecutive
+    samples where the roots stay met, up to the last the sweep holds.
+    """
+    if at < offset:
+        return None
+    n = len(sweep)
+    last = None
+    for name in names:
+        x = np.broadcast_to(sweep.points.xy(name)[0], (n,))
+        margin = np.broadcast_to(sweep.margins[name], (n,))
+        with np.errstate(invalid="ignore"):
+            met = np.isfinite(x) & (np.sqrt(np.maximum(margin, 0.0)) <= MEET_RTOL)
+        i = at - offset
+        if not met[i]:
+            continue
+        after = np.flatnonzero(~met[i:])
+        end = offset + i + (int(after[0]) - 1 if after.size else n - 1 - i)
+        last = end if last is None else max(last, end)
+    return last
 
 
 def _next_window(compiled, values_between, last, last_begin, lo, stop, two_root):
@@ -893,11 +945,13 @@ def _next_window(compiled, values_between, last, last_begin, lo, stop, two_root)
                  for name in two_root}
         wrong = {name: flip for name, flip in wrong.items() if flip}
         if not wrong:
-            break
+            return window
         # the first step was decided otherwise than with the step before it in view
         for name, flip in wrong.items():
             first[name] ^= flip
-    return window
+    raise AssemblyError(f"the sweep could not be evaluated block by block at sample {lo}: "
+                        f"the branches of {', '.join(map(repr, wrong))} there differ from "
+                        "the block before; sweep it whole", node=next(iter(wrong)))
 
 def start_labels(compiled: Compiled,
                  start_branches: Mapping[str, object] | None) -> dict[str, int] | None:
@@ -1158,7 +1212,11 @@ class _Tracker:
         pieces = np.ceil(angle_steps / (ANGLE_RESOLUTION / 2) - 1e-9)
         coarse = turning | (angle_steps > ANGLE_RESOLUTION * (1 + 1e-9))
         if self.length_steps is not None:
-            scale = _node_scale(cand, n)
+            # the node's scale: over the sweep, or each path's own (a variant is looked
+            # into as it would be alone)
+            scale = (_node_scale(cand, n) if self.cut is None
+                     else per_step(_repeated(_path_scales(cand, n, self.length),
+                                             self.length)[:-1]))
             pieces = np.fmax(pieces, np.ceil(per_step(self.length_steps)
                                              / (LENGTH_RESOLUTION / 2 * scale)))
             coarse = coarse | (pieces > 1)
@@ -1461,6 +1519,17 @@ def _node_scale(cand, n) -> float:
         if np.isfinite(scale) and scale > 0:
             return scale
     return 1.0
+
+
+def _path_scales(cand, n, length) -> np.ndarray:
+    """Return :func:`_node_scale` of each path of ``length`` samples, on its own."""
+    margin = np.broadcast_to(cand.margin, (n,)).reshape(-1, length)
+    dx = (np.broadcast_to(cand.x[1], (n,)) - np.broadcast_to(cand.x[0], (n,))).reshape(-1, length)
+    dy = (np.broadcast_to(cand.y[1], (n,)) - np.broadcast_to(cand.y[0], (n,))).reshape(-1, length)
+    with np.errstate(all="ignore"):
+        ratio = np.where(margin > 1e-12, 0.5 * np.hypot(dx, dy) / np.sqrt(margin), -np.inf)
+        scale = np.max(ratio, axis=1)
+    return np.where(np.isfinite(scale) & (scale > 0), scale, 1.0)
 
 
 def _flips_at_samples(at_sample, present, together, inputs, length=None):

@@ -22,7 +22,10 @@ def assert_blocks_equal_whole(construction, values, block):
     n = len(values)
     blocks = list(sweep_in_blocks(construction, lambda i, j: {"theta": values[i:j]}, n,
                                   block_samples=block))
-    assert [len(b) for b in blocks] == [min(block, n - lo) for lo in range(0, n, block)]
+    sizes = [len(b) for b in blocks]
+    # a block is at least as long as asked (longer where roots meet at its seam)
+    assert sum(sizes) == n and all(size >= min(block, n) for size in sizes[:-1])
+    offsets = np.cumsum([0, *sizes[:-1]])
     joined = {name: np.concatenate([np.broadcast_to(b.branches[name], (len(b),))
                                     for b in blocks]) for name in whole.branches}
     for name, labels in joined.items():
@@ -34,7 +37,7 @@ def assert_blocks_equal_whole(construction, values, block):
         np.testing.assert_allclose(np.concatenate([b[point] for b in blocks]), whole[point],
                                    rtol=0, atol=1e-12, err_msg=point)
     events = [(e.node, e.index + lo, e.before, e.after)
-              for lo, b in zip(range(0, n, block), blocks, strict=True) for e in b.events]
+              for lo, b in zip(offsets, blocks, strict=True) for e in b.events]
     assert events == [(e.node, e.index, e.before, e.after) for e in whole.events]
     fractions = [e.fraction for b in blocks for e in b.events]
     np.testing.assert_allclose(fractions, [e.fraction for e in whole.events], atol=1e-9)
@@ -82,3 +85,42 @@ def test_blocks_of_a_closure_group():
 def test_a_block_of_the_benchmark_four_bar_is_a_view_of_the_same_numbers():
     values = np.linspace(0, 2 * np.pi, 1000)
     assert_blocks_equal_whole(coupler_fourbar(), values, 333)
+
+
+@pytest.mark.parametrize("block", [1, 2, 3])
+def test_a_run_of_meeting_samples_across_a_seam(block):
+    # the parallelogram's change point held over repeated samples: one meeting, whose
+    # branch change comes after its last sample
+    values = np.radians([0.0, 90, 270, 360, 360, 360, 420, 500, 540, 540, 600])
+    assert_blocks_equal_whole(fourbar(10, 4, 10, 4), values, block)
+
+
+@pytest.mark.parametrize("block", range(1, 15))
+def test_a_dyad_held_folded_across_a_seam(block):
+    # two inputs hold a dyad folded (|OB| = 6 + 4) over six samples while the crank
+    # turns on: the roots stay met, and part after the last of them
+    c = geokin.Construction("folded dyad")
+    c.input("s", kind="length", range=(0, 10))
+    c.input("theta")
+    c.fixed("O", 0, 0)
+    c.polar("B", "O", "s", "theta")
+    c.circle_circle("C", ("O", "B"), (6, 4), branch="left")
+    s = np.r_[8, 9, 10, [10] * 6, 9.9, 9.8, 9.7, 9.6, 9.5]
+    theta = np.r_[0, 0.2, 0.4, 0.6, 0.8, 1.0, 1.2, 1.4, 1.6, 2.6, 3.6, 4.6, 5.6, 6.6]
+    whole = geokin.sweep(c, {"s": s, "theta": theta})
+    assert whole.events  # the fold is left onto the other branch
+    blocks = list(sweep_in_blocks(c, lambda i, j: {"s": s[i:j], "theta": theta[i:j]}, s.size,
+                                  block_samples=block))
+    np.testing.assert_array_equal(
+        np.concatenate([np.broadcast_to(b.branches["C"], (len(b),)) for b in blocks]),
+        whole.branches["C"])
+
+
+@given(st.lists(st.sampled_from([-60, -30, 0, 0, 30, 60, 90, 180]), min_size=2, max_size=40),
+       st.sampled_from([(10, 4, 10, 4), (7, 5, 6, 5), (10, 8, 3, 9)]),
+       st.integers(1, 6))
+def test_blocks_along_paths_that_stop_turn_and_land_on_change_points(steps, lengths, block):
+    # steps of whole multiples of 30 degrees: samples on the parallelogram's change
+    # points, repeated samples, and turns back at them
+    values = np.radians(np.r_[0.0, np.cumsum(steps)])
+    assert_blocks_equal_whole(fourbar(*lengths), values, block)

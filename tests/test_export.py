@@ -19,6 +19,7 @@ from geokin.io import (
     EXPORT_FORMATS,
     columns,
     export_sweep,
+    shortest_text,
     write_csv,
     write_json,
     write_npz,
@@ -272,6 +273,45 @@ def test_csv_keeps_its_format():
                "x": [np.nan, -0.0, 0.1 + 0.2, 2.0 ** 70]}, text, rows_per_write=3)
     assert text.getvalue() == ("theta,valid,x\n0,1,nan\n22.5,0,-0\n1e+16,1,0.30000000000000004\n"
                                "1e-320,1,1.1805916207174113e+21\n")
+
+
+def csv_cell_by_cell(table):
+    """The CSV of a table written one value at a time with repr, the reference."""
+    lines = [",".join(table)]
+    for row in zip(*table.values(), strict=True):
+        lines.append(",".join(("1" if v else "0") if isinstance(v, np.bool_)
+                              else shortest_text(v) for v in row))
+    return "\n".join(lines) + "\n"
+
+
+def test_the_csv_of_a_sweep_is_the_text_of_repr_cell_by_cell_and_reads_back_bit_for_bit():
+    # the six-bar past a turn with its rates and link angles: numbers of every length,
+    # ground columns of one value, and samples that cannot be assembled (nan)
+    s = sweep(load(SIXBAR), np.radians(np.linspace(-30, 400, 2001)))
+    table = columns(s, motion=motion(s), links=[k.name for k in s.construction.links], degrees=True)
+    table["far"] = np.where(np.arange(len(s)) % 3, 1e-9, 3e17) * table["theta"]  # by repr
+    expected = csv_cell_by_cell(table)
+    for rows in (500, 10_000):
+        text = io.StringIO()
+        write_csv(table, text, rows_per_write=rows)
+        assert text.getvalue() == expected
+    text = io.StringIO()
+    write_csv({name: column[:40] for name, column in table.items()}, text, rows_per_write=3)
+    assert text.getvalue() == "".join(expected.splitlines(keepends=True)[:41])
+    binary = io.BytesIO()
+    write_csv(table, binary, rows_per_write=300)
+    assert binary.getvalue() == expected.encode("ascii")
+    back = np.loadtxt(io.StringIO(expected), delimiter=",", skiprows=1)
+    for i, column in enumerate(table.values()):
+        np.testing.assert_array_equal(back[:, i], column.astype(float))
+    # JSON writes repr's text too, with its .0, and null where not a finite number
+    text = io.StringIO()
+    write_json(table, text, values_per_write=700)
+    assert text.getvalue() == "{" + ", ".join(
+        json.dumps(name) + ": [" + ", ".join(
+            ("true" if v else "false") if isinstance(v, np.bool_)
+            else repr(float(v)) if np.isfinite(v) else "null" for v in column) + "]"
+        for name, column in table.items()) + "}\n"
 
 
 def test_trace_json_writes_null_for_what_is_not_a_finite_number():

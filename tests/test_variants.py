@@ -285,3 +285,37 @@ def test_a_sweep_of_variants_shows_itself_and_says_which_sample_to_explain():
     with pytest.raises(ValueError, match=r"variant\(i\)\.explain\(4\)"):
         batch.explain(4)
     assert "assembled" in batch.variant(1).explain(4)
+
+
+def test_variants_of_a_length_input_are_looked_into_at_their_own_scale():
+    # a point sliding along y = h, held by two circles: small and large variants together
+    def build(h, r1, r2):
+        c = Construction("graze")
+        for name, value in (("h", h), ("r1", r1), ("r2", r2)):
+            c.parameter(name, value)
+        c.input("s", kind="length", range=(-3, 3))
+        c.fixed("O4", 0, 0)
+        c.fixed("A", "s", "h")
+        c.circle_circle("B", ("A", "O4"), ("r1", "r2"), branch="left")
+        return c
+
+    small, large = (2.0, 3.0, 1.0), (2.0, 3000.0, 2998.0)
+    # the roots of the small one meet at s = 0, inside a step whose ends look alike
+    path = np.array([-2.001, -2.0, 2.0, 2.001])
+    batch = geokin.sweep(build(*small), path, parameters={
+        name: [a, b] for name, a, b in zip(("h", "r1", "r2"), small, large, strict=True)})
+    for i, lengths in enumerate((small, large)):
+        alone = geokin.sweep(build(*lengths), path)
+        np.testing.assert_array_equal(batch.branches["B"][i], alone.branches["B"])
+    assert batch.branches["B"][0].tolist() == [0, 0, 1, 1]
+
+
+def test_paths_must_repeat_the_same_inputs():
+    from geokin.engine import evaluate
+
+    c = parametric_fourbar()
+    with pytest.raises(ConstructionError, match="same values of input 'theta'"):
+        evaluate(c, {"theta": np.array([0, 0.5, 1, 2, 2.5, 3.0])}, 6, paths=2,
+                 parameters={"a": np.array([1.0, 2.0])})
+    with pytest.raises(ConstructionError, match="cannot be 4 paths"):
+        evaluate(c, {"theta": np.zeros(6)}, 6, paths=4, parameters={"a": np.ones(4)})

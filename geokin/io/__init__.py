@@ -5,6 +5,9 @@
 - :mod:`~geokin.io.export`: a sweep's columns (:func:`columns`) written as
   CSV, JSON or NPZ, to an open file (:func:`write_csv`, :func:`write_json`,
   :func:`write_npz`) or to a path, whole or not at all (:func:`export_sweep`).
+- :mod:`~geokin.io.numbers`: floats written as the shortest text that reads
+  back exactly, the text of ``repr``, a whole array at a time with numpy
+  (:func:`~geokin.io.numbers.shortest_texts`); CSV numbers are written so.
 """
 
 from ..budgets import MAX_SCRIPT_BYTES

@@ -82,14 +82,15 @@ from __future__ import annotations
 
 import contextlib
 import csv
+import io
 import json
 import os
 import pathlib
 import shutil
 import tempfile
 import zipfile
-from collections.abc import Iterable, Mapping, Sequence
-from typing import IO, TextIO
+from collections.abc import Callable, Iterable, Mapping, Sequence
+from typing import IO, TextIO, cast
 
 import numpy as np
 from numpy.lib import format as npy_format
@@ -100,12 +101,15 @@ from ..errors import ConstructionError, did_you_mean
 from ..kinematics import Motion, link_angles, slider_positions
 from ..results import Sweep
 from ..units import angles_to_script, to_script_array
+from .numbers import FIELD_WIDTH, text_fields
 
 __all__ = ["EXPORT_FORMATS", "columns", "export_blocks", "export_sweep", "shortest_text",
            "write_csv", "write_json", "write_npz"]
 
 EXPORT_FORMATS = (".csv", ".json", ".npz")
 """The suffixes :func:`export_sweep` writes, in any case."""
+
+_ROWS_JOINED = 8192  # CSV rows joined at a time: their bytes stay in the cache
 
 
 def columns(sweep: Sweep, points: Sequence[str] | None = None, *, motion: Motion | None = None,
@@ -291,44 +295,67 @@ def shortest_text(value: float) -> str:
     return text[:-2] if text.endswith(".0") else text
 
 
-def _csv_cells(array: np.ndarray) -> list[str]:
+def _csv_cells(array: np.ndarray) -> np.ndarray:
     """Format one column: 1 and 0 for booleans, else the shortest exact decimal.
 
-    Whole numbers lose their ``.0`` (``20`` rather than ``20.0``); NaN is ``nan``.
-    The same text as :func:`shortest_text` for every value, made column-wise:
-    ``repr`` mapped over the column, and the ``.0`` cut from whole numbers
-    found by numpy (a column of one value is formatted once).
+    Returns the cells as rows of ASCII bytes, left-aligned, padded with NUL
+    bytes, as narrow as the longest cell: the text of :func:`shortest_text`
+    for every value, written by :func:`~geokin.io.numbers.text_fields` (a
+    column of one value is formatted once).
 
     Examples
     --------
-    >>> _csv_cells(np.array([20.0, -0.0, 0.1, 1e16, np.nan, -np.inf]))
-    ['20', '-0', '0.1', '1e+16', 'nan', '-inf']
+    >>> cells = _csv_cells(np.array([20.0, -0.0, 0.1, 1e16, np.nan, -np.inf]))
+    >>> cells.view(f"S{cells.shape[1]}").ravel().tolist()
+    [b'20', b'-0', b'0.1', b'1e+16', b'nan', b'-inf']
     """
     if array.dtype == bool:
-        return np.where(array, "1", "0").tolist()
+        return (array.view(np.uint8) + np.uint8(ord("0")))[:, None]
     values = array.astype(float)
     if values.size and values[0] == values[0] and (values == values[0]).all():
-        return [shortest_text(values[0])] * values.size
-    cells = list(map(repr, values.tolist()))
-    # repr writes a whole number below 1e16 with ".0", and any other number without
-    with np.errstate(invalid="ignore"):
-        whole = np.flatnonzero((values == np.trunc(values)) & (np.abs(values) < 1e16))
-    for i in whole.tolist():
-        cells[i] = cells[i][:-2]
-    return cells
+        text = np.frombuffer(shortest_text(values[0]).encode("ascii"), dtype=np.uint8)
+        return np.broadcast_to(text, (values.size, text.size))
+    fields = text_fields(values)
+    # as wide as the longest text: the bytes in use in any row, 8 at a time
+    words = fields.view("<u8")
+    used = np.array([np.bitwise_or.reduce(words[:, i]) for i in range(words.shape[1])])
+    width = np.flatnonzero(used.view(np.uint8))
+    return fields[:, :width[-1] + 1] if width.size else fields[:, :1]
 
 
-def write_csv(columns: Mapping[str, ArrayLike], stream: TextIO, *,
-              rows_per_write: int = 10_000, header: bool = True) -> None:
+def _csv_rows(cells: Sequence[np.ndarray]) -> bytes:
+    """Join columns of cells (see :func:`_csv_cells`) as CSV rows: commas, a line feed each."""
+    widths = [c.shape[1] + 1 for c in cells]
+    rows = np.empty((len(cells[0]), sum(widths)), dtype=np.uint8)
+    end = 0
+    for c, width in zip(cells, widths, strict=True):
+        if c.strides[1] == 1:  # a cell copied as one item of its bytes, not byte by byte
+            rows[:, end:end + width - 1].view(f"V{width - 1}")[...] = c.view(f"V{width - 1}")
+        else:
+            rows[:, end:end + width - 1] = c
+        rows[:, end + width - 1] = ord(",")
+        end += width
+    rows[:, -1] = ord("\n")
+    # every cell's NUL padding dropped at once: what is left is the rows as text
+    return rows[rows != 0].tobytes()
+
+
+def write_csv(columns: Mapping[str, ArrayLike], stream: IO[str] | IO[bytes], *,
+              rows_per_write: int = 32_768, header: bool = True) -> None:
     """Write a table as CSV: a header of names, then one row per sample.
+
+    Numbers are written as the shortest text that reads back exactly
+    (:func:`shortest_text`), formatted a block of rows at a time with numpy
+    (:func:`~geokin.io.numbers.text_fields`).
 
     Parameters
     ----------
     columns : mapping of str to array_like
         The table (see :func:`columns`): 1-D columns of one length.
-    stream : text file
-        Open for writing; a file opened with ``newline=""`` ends each row
-        with a line feed on every system.
+    stream : text or binary file
+        Open for writing; a text file opened with ``newline=""`` ends each
+        row with a line feed on every system, as a binary file does. Names
+        go to a binary file in UTF-8.
     rows_per_write : int, optional
         Rows formatted and written at a time, so a long table never exists
         whole as text in memory.
@@ -350,26 +377,55 @@ def write_csv(columns: Mapping[str, ArrayLike], stream: TextIO, *,
     20,-2.5,1
     """
     arrays = _arrays(columns)
+    # names are quoted only where CSV needs it: a comma, a quote, a line break
+    names = io.StringIO()
     if header:
-        # names are quoted only where CSV needs it: a comma, a quote, a line break
-        csv.writer(stream, lineterminator="\n").writerow(arrays)
+        csv.writer(names, lineterminator="\n").writerow(arrays)
+    write: Callable[[bytes], object]
+    if isinstance(stream, (io.RawIOBase, io.BufferedIOBase)) or "b" in getattr(stream, "mode",
+                                                                                 ""):
+        binary = cast(IO[bytes], stream)
+        binary.write(names.getvalue().encode("utf-8"))
+        write = binary.write
+    else:
+        text = cast(IO[str], stream)
+        text.write(names.getvalue())
+
+        def write(data: bytes) -> None:
+            text.write(data.decode("ascii"))
+
     blocks = list(arrays.values())
     total = len(blocks[0]) if blocks else 0
     for start in range(0, total, rows_per_write):
-        # a block of rows at a time: formatting goes column by column
-        block = [_csv_cells(a[start:start + rows_per_write]) for a in blocks]
-        stream.write("\n".join(map(",".join, zip(*block, strict=True))) + "\n")
+        # a block of rows at a time: formatting goes column by column, then the rows are
+        # joined a few thousand at a time, which stay in the cache
+        cells = [_csv_cells(a[start:start + rows_per_write]) for a in blocks]
+        for i in range(0, len(cells[0]), _ROWS_JOINED):
+            write(_csv_rows([c[i:i + _ROWS_JOINED] for c in cells]))
 
 
-def _json_cells(array: np.ndarray) -> list[str]:
-    """Format one column for JSON: true and false for booleans, null for NaN and infinities."""
+def _json_cells(array: np.ndarray) -> bytes:
+    """Format one column for JSON, the values joined by ``", "``.
+
+    Booleans are true and false, numbers written as ``repr`` writes them
+    (:func:`~geokin.io.numbers.text_fields`), null for NaN and infinities.
+
+    Examples
+    --------
+    >>> _json_cells(np.array([0.5, 2.0, np.nan, -np.inf]))
+    b'0.5, 2.0, null, null'
+    """
     if array.dtype == bool:
-        return np.where(array, "true", "false").tolist()
-    values = array.astype(float)
-    cells = [repr(value) for value in values.tolist()]
-    for i in np.flatnonzero(~np.isfinite(values)).tolist():
-        cells[i] = "null"
-    return cells
+        fields = np.where(array, b"true", b"false").view(np.uint8).reshape(array.size, -1)
+    else:
+        values = array.astype(float)
+        fields = text_fields(values, point_zero=True)
+        fields[~np.isfinite(values)] = np.frombuffer(b"null".ljust(FIELD_WIDTH, b"\0"),
+                                                     dtype=np.uint8)
+    cells = np.empty((array.size, fields.shape[1] + 2), dtype=np.uint8)
+    cells[:, :-2] = fields
+    cells[:, -2:] = np.frombuffer(b", ", dtype=np.uint8)
+    return cells[cells != 0].tobytes()[:-2]
 
 
 def write_json(columns: Mapping[str, ArrayLike], stream: TextIO, *,
@@ -384,7 +440,7 @@ def write_json(columns: Mapping[str, ArrayLike], stream: TextIO, *,
         Open for writing.
     values_per_write : int, optional
         Values formatted and written at a time, so a long table never
-        exists whole in memory as Python objects.
+        exists whole as text in memory.
 
     Examples
     --------
@@ -399,8 +455,8 @@ def write_json(columns: Mapping[str, ArrayLike], stream: TextIO, *,
     for k, (name, array) in enumerate(_arrays(columns).items()):
         stream.write(("" if k == 0 else ", ") + json.dumps(name) + ": [")
         for start in range(0, len(array), values_per_write):
-            cells = _json_cells(array[start:start + values_per_write])
-            stream.write(("" if start == 0 else ", ") + ", ".join(cells))
+            cells = _json_cells(array[start:start + values_per_write]).decode("ascii")
+            stream.write(("" if start == 0 else ", ") + cells)
         stream.write("]")
     stream.write("}\n")
 
@@ -465,7 +521,9 @@ def export_blocks(tables: Iterable[Mapping[str, ArrayLike]], path: str | os.Path
     Raises
     ------
     ValueError
-        For another suffix, or blocks whose rows do not add up to ``rows``.
+        For another suffix, blocks whose rows do not add up to ``rows``, or
+        a block whose columns (names, order, kinds) are not the first's;
+        the file is then left as it was.
 
     Examples
     --------
@@ -481,11 +539,23 @@ def export_blocks(tables: Iterable[Mapping[str, ArrayLike]], path: str | os.Path
     if kind not in (".csv", ".npz"):
         raise ValueError(f"cannot write {str(path)!r} block by block: use a .csv or .npz file")
     written = 0
+    kinds: list[tuple[str, np.dtype]] = []
+
+    def checked(table):
+        """Return a block's columns, refused unless they are the first block's, in order."""
+        arrays = _arrays(table)
+        these = [(name, a.dtype) for name, a in arrays.items()]
+        if kinds and these != kinds:
+            raise ValueError(f"a block's columns {[n for n, _ in these]} are not the first "
+                             f"block's {[n for n, _ in kinds]} (or not of the same kinds)")
+        kinds[:] = these
+        return arrays
+
     if kind == ".csv":
         with replacing(path, "w", encoding="utf-8", newline="") as f:
-            for table in tables:
-                arrays = _arrays(table)
-                write_csv(arrays, f, header=written == 0)
+            for i, table in enumerate(tables):
+                arrays = checked(table)
+                write_csv(arrays, f, header=i == 0)
                 written += len(next(iter(arrays.values()), ()))
             if written != rows:
                 raise ValueError(f"the blocks hold {written} rows, not {rows}")
@@ -495,7 +565,7 @@ def export_blocks(tables: Iterable[Mapping[str, ArrayLike]], path: str | os.Path
         # each column an .npy file of all rows, appended to as the blocks come
         columns_written: dict[str, IO[bytes]] = {}
         for table in tables:
-            arrays = _arrays(table)
+            arrays = checked(table)
             size = len(next(iter(arrays.values()), ()))
             for name, array in arrays.items():
                 if name not in columns_written:
