@@ -639,11 +639,23 @@ def run_trace(args: argparse.Namespace) -> int:
         sys.stdout.flush()
     else:
         path = export_sweep(table, args.output)
-    m.sweep.require_assembled()  # the one line of stderr if no sample can be assembled
+    # the one line of stderr if no sample can be assembled, saying what was written
+    _assembled(m.sweep, None if args.output is None else path, "the ground points' columns")
     if args.output is not None:
         print(escape(f"wrote {path}: {len(m.sweep)} samples, {len(table)} columns"),
               file=sys.stderr)
     return 0
+
+
+def _assembled(sweep: Sweep, written, what: str) -> None:
+    """Raise the sweep's AssemblyError if no sample assembles, naming what was written anyway."""
+    try:
+        sweep.require_assembled()
+    except AssemblyError as err:
+        if written is None:
+            raise
+        raise AssemblyError(f"{err}; wrote {written} with {what}",
+                            node=err.node) from None
 
 
 def _long_sweep(args):
@@ -704,7 +716,11 @@ def _trace_in_blocks(args, construction, compiled, count, between) -> int:
     finally:
         progress.close()
     if not state["assembled"]:
-        raise unassembled_error(compiled, causes, count)
+        error = unassembled_error(compiled, causes, count)
+        if args.output is None:
+            raise error
+        raise AssemblyError(f"{error}; wrote {path} with the ground points' columns",
+                            node=error.node)
     if args.output is not None:
         print(escape(f"wrote {path}: {count} samples, {state['columns']} columns"),
               file=sys.stderr)
@@ -821,7 +837,7 @@ def run_plot(args: argparse.Namespace) -> int:
     ax = fig.add_subplot()
     plotting.plot_mechanism(m.sweep, index, ax=ax, title=args.title)
     path = plotting.save(fig, output)
-    m.sweep.require_assembled()
+    _assembled(m.sweep, path, "the ground pivots")
     print(escape(f"wrote {path}"), file=sys.stderr)
     return 0
 
@@ -864,7 +880,7 @@ def run_animate(args: argparse.Namespace) -> int:
     dpi = plotting.DEFAULT_DPI if args.dpi is None else args.dpi
     path = plotting.animate(m.sweep, args.output, fps=args.fps, frames=frames, dpi=dpi,
                             progress=not args.no_progress)
-    m.sweep.require_assembled()
+    _assembled(m.sweep, path, "the ground pivots")
     n = len(m.sweep)
     shown = min(frames, n)
     said = f"wrote {path}: {shown} frames of {n} samples at {dpi:g} dpi"
