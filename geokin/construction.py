@@ -434,6 +434,8 @@ class Compiled(Frozen):
         for name, value in values.items():
             if name not in self.parameters:
                 listed = f"parameters: {', '.join(names)}" if names else "it has no parameters"
+                if name in self.inputs:  # an input is swept, not set
+                    listed = f"{quote(name)} is an input, swept over its range; {listed}"
                 raise ConstructionError(f"no parameter {quote(name)}{did_you_mean(name, names)} "
                                         f"({listed})", node=name)
             try:

@@ -369,3 +369,8 @@ def test_a_study_where_no_variant_assembles_is_printed_then_exits_1(capsys):
     assert status == 1 and "no variant assembles at every sample" in out
     assert "stroke of rocker.angle: no variant assembles" in out
     assert err.count("\n") == 1 and "no variant assembles" in err
+
+
+def test_set_on_an_input_says_it_is_swept(capsys):
+    status, _, err = run(capsys, "trace", FOURBAR, "--set", "theta2=5")
+    assert status == 2 and "'theta2' is an input, swept over its range" in err
