@@ -186,18 +186,9 @@ class Sweep(Frozen):
         def row(array):
             return array if np.ndim(array) < 2 else array[index]
 
-        coords = {name: tuple(row(np.asarray(c)) for c in self.points.coords(name))
-                  for name in self.points}
-        valid = self.valid[index]
-        return Sweep(
-            construction=compiled, inputs=self.inputs,
-            points=PointTable(coords, valid), valid=valid,
-            failed_step=self.failed_step[index], reason_code=self.reason_code[index],
-            branches={k: row(v) for k, v in self.branches.items()},
-            events=tuple(replace(e, variant=None) for e in self.events
-                         if e.variant == index),
-            margins={k: row(v) for k, v in self.margins.items()},
-            line_parameters={k: row(v) for k, v in self.line_parameters.items()})
+        return self._remade(row, construction=compiled, inputs=self.inputs,
+                            events=(replace(e, variant=None) for e in self.events
+                                    if e.variant == index), parameters=False)
 
     def part(self, start: int, stop: int) -> Sweep:
         """Return the sweep of samples ``start`` to ``stop - 1`` of this one, as they are in it.
@@ -230,19 +221,9 @@ class Sweep(Frozen):
             array = np.asarray(array)
             return array if array.ndim == 0 else np.broadcast_to(array, (n,))[start:stop]
 
-        coords = {name: tuple(part(c) for c in self.points.coords(name)) for name in self.points}
-        valid = self.valid[start:stop]
-        return Sweep(
-            construction=self.construction,
-            inputs={k: v[start:stop] for k, v in self.inputs.items()},
-            points=PointTable(coords, valid), valid=valid,
-            failed_step=self.failed_step[start:stop], reason_code=self.reason_code[start:stop],
-            branches={k: part(v) for k, v in self.branches.items()},
-            events=tuple(replace(e, index=e.index - start) for e in self.events
-                         if start <= e.index < stop),
-            margins={k: part(v) for k, v in self.margins.items()},
-            line_parameters={k: part(v) for k, v in self.line_parameters.items()},
-            parameters={k: part(v) for k, v in self.parameters.items()})
+        return self._remade(part, inputs={k: v[start:stop] for k, v in self.inputs.items()},
+                            events=(replace(e, index=e.index - start) for e in self.events
+                                    if start <= e.index < stop))
 
     def flat(self) -> Sweep:
         """Return a sweep of V variants as one sweep of V * N samples, variant after variant.
@@ -261,19 +242,9 @@ class Sweep(Frozen):
             array = np.asarray(array)
             return array if array.ndim < 2 else array.reshape(-1)
 
-        coords = {name: tuple(flat(c) for c in self.points.coords(name)) for name in self.points}
-        valid = flat(self.valid)
-        return Sweep(
-            construction=self.construction,
-            inputs={k: np.tile(v, count) for k, v in self.inputs.items()},
-            points=PointTable(coords, valid), valid=valid,
-            failed_step=flat(self.failed_step), reason_code=flat(self.reason_code),
-            branches={k: flat(v) for k, v in self.branches.items()},
-            events=tuple(replace(e, index=(e.variant or 0) * n + e.index, variant=None)
-                         for e in self.events),
-            margins={k: flat(v) for k, v in self.margins.items()},
-            line_parameters={k: flat(v) for k, v in self.line_parameters.items()},
-            parameters={k: flat(v) for k, v in self.parameters.items()})
+        return self._remade(flat, inputs={k: np.tile(v, count) for k, v in self.inputs.items()},
+                            events=(replace(e, index=(e.variant or 0) * n + e.index,
+                                            variant=None) for e in self.events))
 
     def as_variants(self, count: int) -> Sweep:
         """Return a sweep of ``count`` variants of N samples each, one after the other.
@@ -292,19 +263,32 @@ class Sweep(Frozen):
             array = np.asarray(array)
             return array if array.ndim == 0 else np.broadcast_to(array, (total,)).reshape(count, n)
 
-        coords = {name: tuple(rows(c) for c in self.points.coords(name)) for name in self.points}
-        valid = rows(self.valid)
+        return self._remade(rows, inputs={k: v[:n] for k, v in self.inputs.items()},
+                            events=(replace(e, index=e.index % n, variant=e.index // n)
+                                    for e in self.events))
+
+    def _remade(self, per_sample, *, inputs, events, construction: Compiled | None = None,
+                parameters: bool = True) -> Sweep:
+        """Return this sweep with every per-sample array remade by ``per_sample``.
+
+        The one place that lists what a sweep holds per sample, for
+        :meth:`variant`, :meth:`part`, :meth:`flat` and :meth:`as_variants`:
+        the points' coordinates, validity, failures, branches, margins, line
+        parameters and (unless ``parameters`` is false) varied parameters.
+        """
+        def remade(mapping):
+            return {k: per_sample(v) for k, v in mapping.items()}
+
+        coords = {name: tuple(per_sample(c) for c in self.points.coords(name))
+                  for name in self.points}
+        valid = per_sample(self.valid)
         return Sweep(
-            construction=self.construction,
-            inputs={k: v[:n] for k, v in self.inputs.items()},
-            points=PointTable(coords, valid), valid=valid,
-            failed_step=rows(self.failed_step), reason_code=rows(self.reason_code),
-            branches={k: rows(v) for k, v in self.branches.items()},
-            events=tuple(replace(e, index=e.index % n, variant=e.index // n)
-                         for e in self.events),
-            margins={k: rows(v) for k, v in self.margins.items()},
-            line_parameters={k: rows(v) for k, v in self.line_parameters.items()},
-            parameters={k: rows(v) for k, v in self.parameters.items()})
+            construction=self.construction if construction is None else construction,
+            inputs=inputs, points=PointTable(coords, valid), valid=valid,
+            failed_step=per_sample(self.failed_step), reason_code=per_sample(self.reason_code),
+            branches=remade(self.branches), events=tuple(events),
+            margins=remade(self.margins), line_parameters=remade(self.line_parameters),
+            parameters=remade(self.parameters) if parameters else {})
 
     def _repr_html_(self) -> str:
         """Return a table of the sweep and a picture of its paths, for a notebook.
