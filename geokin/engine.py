@@ -456,18 +456,34 @@ def _candidates_in_blocks(step, coords, values, origin, n):
     def part(value, lo, hi):
         return value[lo:hi] if np.ndim(value) else value
 
+    return _candidates_in_parts(step, coords, values, origin, part, n, BLOCK_SAMPLES)
+
+
+def _candidates_in_parts(step, coords, values, origin, part, count, size):
+    """Compute a step's candidates ``size`` at a time along the first axis of ``count``.
+
+    ``part(value, lo, hi)`` takes a value's share of ``lo`` to ``hi``;
+    each field of the candidates is gathered into one array of the whole
+    first axis (a field of one number stays one), or, in one part, left
+    as the part computed it.
+    """
     whole = None
-    for lo in range(0, n, BLOCK_SAMPLES):
-        hi = min(lo + BLOCK_SAMPLES, n)
+    for lo in range(0, count, size):
+        hi = min(lo + size, count)
         cand = _candidates(step, {k: (part(x, lo, hi), part(y, lo, hi))
                                   for k, (x, y) in coords.items()},
                            {k: part(v, lo, hi) for k, v in values.items()}, origin)
         fields = [cand.x, cand.y, cand.margin, cand.on_line, cand.t]
         if whole is None:
-            whole = [None if f is None else tuple(
-                a if np.ndim(a) == 0 else np.empty(n, dtype=np.asarray(a).dtype) for a in f)
-                if isinstance(f, tuple) else (f if np.ndim(f) == 0 else np.empty(n))
-                for f in fields]
+            if hi == count:
+                return cand
+
+            def room(a):
+                a = np.asarray(a)
+                return a if a.ndim == 0 else np.empty((count, *a.shape[1:]), dtype=a.dtype)
+
+            whole = [None if f is None else tuple(map(room, f)) if isinstance(f, tuple)
+                     else room(f) for f in fields]
         for mine, theirs in zip(whole, fields, strict=True):
             if isinstance(mine, tuple):
                 for out, block in zip(mine, theirs, strict=True):
@@ -497,37 +513,15 @@ def _candidates_in_rows(step, coords, values, origin, rows):
     :data:`BLOCK_SAMPLES` samples are computed at a time, for the cache.
     """
     paths, length = rows
-    block = max(1, BLOCK_SAMPLES // length)
 
     def part(value, lo, hi):
         return value[lo:hi] if np.ndim(value) == 2 and value.shape[0] == paths else value
 
-    whole = None
-    for lo in range(0, paths, block):
-        hi = min(lo + block, paths)
-        cand = _candidates(step, {k: (part(x, lo, hi), part(y, lo, hi))
-                                  for k, (x, y) in coords.items()},
-                           {k: part(v, lo, hi) for k, v in values.items()}, origin)
-        fields = [cand.x, cand.y, cand.margin, cand.on_line, cand.t]
-        if whole is None:
-            if lo + block >= paths:  # one block: its arrays as they are
-                return type(cand)(*[None if f is None else tuple(
-                    _as_samples(a, rows) for a in f) if isinstance(f, tuple)
-                    else _as_samples(f, rows) for f in fields])
-            whole = [None if f is None else tuple(
-                a if np.ndim(a) == 0 else np.empty(rows, dtype=np.asarray(a).dtype) for a in f)
-                if isinstance(f, tuple) else (f if np.ndim(f) == 0 else np.empty(rows))
-                for f in fields]
-        for mine, theirs in zip(whole, fields, strict=True):
-            if isinstance(mine, tuple):
-                for out, piece in zip(mine, theirs, strict=True):
-                    if np.ndim(out):
-                        out[lo:hi] = piece
-            elif mine is not None and np.ndim(mine):
-                mine[lo:hi] = theirs
-    assert whole is not None
+    cand = _candidates_in_parts(step, coords, values, origin, part, paths,
+                                max(1, BLOCK_SAMPLES // length))
     return type(cand)(*[None if f is None else tuple(_as_samples(a, rows) for a in f)
-                        if isinstance(f, tuple) else _as_samples(f, rows) for f in whole])
+                        if isinstance(f, tuple) else _as_samples(f, rows)
+                        for f in (cand.x, cand.y, cand.margin, cand.on_line, cand.t)])
 
 
 def _evaluate_in_blocks(compiled, plan, inputs, n, held, start, origin) -> _Evaluated:
