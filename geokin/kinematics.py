@@ -152,17 +152,30 @@ class Derivatives(Frozen):
 
 def _size(sweep: Sweep) -> float:
     """Return the mechanism's size: the largest extent of its points over the sweep."""
-    low, high = np.full(2, np.inf), np.full(2, -np.inf)
-    if sweep.valid.any():
-        for name in sweep.construction.point_names:
-            for axis, values in enumerate(sweep.points.xy(name)):
-                low[axis] = np.fmin(low[axis], np.fmin.reduce(values))
-                high[axis] = np.fmax(high[axis], np.fmax.reduce(values))
-    size = float(np.max(high - low)) if np.isfinite(high - low).all() else 0.0
-    if size > 0:
-        return size
-    largest = float(np.max(np.abs(np.r_[low, high]))) if np.isfinite(low).all() else 0.0
-    return largest if largest > 0 else 1.0
+    return float(_variant_sizes(sweep.flat())[0])
+
+
+def _variant_sizes(sweep: Sweep) -> np.ndarray:
+    """Return :func:`_size` of each variant of a sweep, (V,); one value for one design.
+
+    The largest extent of the points over the variant's samples, where
+    any of them is assembled; else the largest coordinate, else 1.
+    """
+    rows = sweep.variants or 1
+    low, high = np.full((rows, 2), np.inf), np.full((rows, 2), -np.inf)
+    for name in sweep.construction.point_names:
+        for axis, values in enumerate(sweep.points.xy(name)):
+            values = values.reshape(rows, -1)
+            low[:, axis] = np.fmin(low[:, axis], np.fmin.reduce(values, axis=1))
+            high[:, axis] = np.fmax(high[:, axis], np.fmax.reduce(values, axis=1))
+    unassembled = ~sweep.valid.reshape(rows, -1).any(axis=1)
+    low[unassembled], high[unassembled] = np.inf, -np.inf
+    with np.errstate(invalid="ignore"):
+        spans = high - low
+        size = np.where(np.isfinite(spans).all(axis=1), spans.max(axis=1), 0.0)
+        largest = np.where(np.isfinite(low).all(axis=1),
+                           np.abs(np.c_[low, high]).max(axis=1), 0.0)
+    return np.where(size > 0, size, np.where(largest > 0, largest, 1.0))
 
 
 def _sizes(sweep: Sweep) -> np.ndarray:
@@ -171,20 +184,8 @@ def _sizes(sweep: Sweep) -> np.ndarray:
     For a sweep of variants (V, N) each variant has its own size, given at
     each of its samples, (V * N,); for a sweep of one design, its size.
     """
-    if sweep.variants is None:
-        return np.array(_size(sweep))
-    low, high = np.full((sweep.variants, 2), np.inf), np.full((sweep.variants, 2), -np.inf)
-    for name in sweep.construction.point_names:
-        for axis, values in enumerate(sweep.points.xy(name)):
-            values = np.where(sweep.valid, values, np.nan)
-            low[:, axis] = np.fmin(low[:, axis], np.fmin.reduce(values, axis=1))
-            high[:, axis] = np.fmax(high[:, axis], np.fmax.reduce(values, axis=1))
-    with np.errstate(invalid="ignore"):
-        size = np.max(high - low, axis=1)
-        largest = np.max(np.abs(np.c_[low, high]), axis=1)
-    size = np.where(np.isfinite(size) & (size > 0), size,
-                    np.where(np.isfinite(largest) & (largest > 0), largest, 1.0))
-    return np.repeat(size, len(sweep))
+    sizes = _variant_sizes(sweep)
+    return np.array(sizes[0]) if sweep.variants is None else np.repeat(sizes, len(sweep))
 
 
 def _step_for(sweep: Sweep, name: str, step: float | None) -> float:
