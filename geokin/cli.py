@@ -231,16 +231,18 @@ def sweep_sampling(construction: Construction, args: argparse.Namespace, *,
 
 
 def motion_of(path: str | os.PathLike[str], args: argparse.Namespace,
-              at: float | None = None, *, assembled: bool = True
+              at: float | None = None, *, assembled: bool = True,
+              script: tuple[Construction, Compiled] | None = None
               ) -> tuple[ScriptSweep, int | None]:
     """Load a script and sweep it; with ``at``, make sure the first input takes that value.
 
     Returns the motion and the index of the sample at ``at`` (None without it).
     With ``assembled``, a sweep that cannot be assembled at any sample is an
     :class:`AssemblyError`; without it, the caller writes what is known of
-    it first (and then calls :meth:`Sweep.require_assembled`).
+    it first (and then calls :meth:`Sweep.require_assembled`). ``script``
+    is the script already loaded by :func:`script_of`, if it is.
     """
-    construction, compiled = script_of(path, args)
+    construction, compiled = script_of(path, args) if script is None else script
     if getattr(args, "circuit", False):
         return _circuit_of(construction, compiled, args, at)
     values = sweep_values(construction, args)
@@ -617,11 +619,12 @@ def run_trace(args: argparse.Namespace) -> int:
     if args.output is not None:
         _output_kind(args.output, EXPORT_FORMATS, "a trace")
         require_folder(args.output)  # say so before a long sweep, not after
-    long = None if args.circuit else _long_sweep(args)
+    script = script_of(args.script, args)
+    long = None if args.circuit else _long_sweep(args, script[0])
     if long is not None:
-        return _trace_in_blocks(args, *long)
+        return _trace_in_blocks(args, *script, *long)
     # where nothing assembles, the ground points are still known: write them, then say so
-    m, _ = motion_of(args.script, args, assembled=False)
+    m, _ = motion_of(args.script, args, assembled=False, script=script)
     points = _selected(m.construction, args.points, "point")
     links = _selected(m.construction, args.links, "link")
     sliders = _selected(m.construction, args.sliders, "slider")
@@ -658,8 +661,8 @@ def _assembled(sweep: Sweep, written, what: str) -> None:
                             node=err.node) from None
 
 
-def _long_sweep(args):
-    """Return the construction and sampling of a trace too long to hold whole, else None.
+def _long_sweep(args, construction):
+    """Return the sampling of a trace too long to hold whole, else None.
 
     A sweep of more samples than a block, written to CSV or NPZ, is traced
     block by block; JSON (one object) and shorter sweeps are made whole.
@@ -669,11 +672,10 @@ def _long_sweep(args):
             raise UsageError(f"--samples {args.samples}: a JSON trace holds at most "
                              f"{MAX_SAMPLES} samples; write CSV or NPZ for more")
         return None
-    construction, compiled = script_of(args.script, args)
     count, between = sweep_sampling(construction, args, most=TRACE_MAX_SAMPLES)
     if count <= TRACE_BLOCK_SAMPLES:
         return None
-    return construction, compiled, count, between
+    return count, between
 
 
 def _trace_in_blocks(args, construction, compiled, count, between) -> int:
