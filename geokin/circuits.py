@@ -605,7 +605,7 @@ def _continuing(compiled, name, held, last_pass, limit: Limit, folded: str | Non
     if folded is None or len(values) < 2:
         return lambda value: ends
     rows = solved[folded]
-    found = np.flatnonzero(np.isfinite(rows).all(axis=1))
+    found = _solved(rows)
     if found.size < 2:
         return lambda value: ends
     last, before = found[-1], found[-2]
@@ -621,16 +621,21 @@ def _continuing(compiled, name, held, last_pass, limit: Limit, folded: str | Non
     return across
 
 
-def _last_solved(rows: np.ndarray, before: int = 0) -> np.ndarray:
-    """Return the last solution a pass found (``before`` solutions earlier), NaN if none.
+def _solved(rows: np.ndarray) -> np.ndarray:
+    """Return the samples of a pass where a group's solution was found."""
+    return np.flatnonzero(np.isfinite(rows).all(axis=1))
+
+
+def _last_solved(rows: np.ndarray) -> np.ndarray:
+    """Return the last solution a pass found, NaN if none.
 
     A pass's last sample lies at a limit within bisection's tolerance; at a
     group's fold its Jacobian is all but singular there, and the
     continuation may stop a sample short of it: the last solution found is
     then the nearest to the fold.
     """
-    solved = np.flatnonzero(np.isfinite(rows).all(axis=1))
-    return rows[solved[-1 - before]] if solved.size > before else rows[-1 - before]
+    found = _solved(rows)
+    return rows[found[-1]] if found.size else rows[-1]
 
 
 def _through_toggle(compiled, name, held, labels, limit: Limit, ends=None) -> dict:
