@@ -909,7 +909,7 @@ def _meeting_until(sweep: Sweep, offset: int, at: int, names) -> int | None:
         x = np.broadcast_to(sweep.points.xy(name)[0], (n,))
         margin = np.broadcast_to(sweep.margins[name], (n,))
         with np.errstate(invalid="ignore"):
-            met = np.isfinite(x) & (np.sqrt(np.maximum(margin, 0.0)) <= MEET_RTOL)
+            met = _apart_at(np.isfinite(x), margin) <= MEET_RTOL
         i = at - offset
         if not met[i]:
             continue
@@ -1179,7 +1179,7 @@ class _Tracker:
         present = np.isfinite(np.broadcast_to(cand.x[0], (n,)))
         if keep is not None:
             present = present[keep]
-        apart = np.where(present, np.sqrt(np.maximum(margin, 0.0)), np.nan)
+        apart = _apart_at(present, margin)
         moved = np.abs(apart[1:] - apart[:-1])
         if cut is not None:
             moved[cut] = 0.0
@@ -1461,7 +1461,7 @@ class _Tracker:
             if planned is self.plan[position]:
                 present = np.isfinite(np.broadcast_to(cand.x[0], (size,)))
                 margin = np.broadcast_to(cand.margin, (size,))
-                return np.where(present, np.sqrt(np.maximum(margin, 0.0)), np.nan)
+                return _apart_at(present, margin)
             if node.roots == 1:
                 coords[node.name] = (cand.x[0], cand.y[0])
             else:
@@ -1513,6 +1513,15 @@ def _node_scale(cand, n) -> float:
         if np.isfinite(scale) and scale > 0:
             return scale
     return 1.0
+
+
+def _apart_at(present, margin):
+    """Return how far apart two roots are, over the node's scale; NaN where they are not.
+
+    Zero where they meet, also for roots within the primitives' tangency
+    tolerance (a negative margin): it folds at a graze like a V.
+    """
+    return np.where(present, np.sqrt(np.maximum(margin, 0.0)), np.nan)
 
 
 def _path_scales(cand, n, length) -> np.ndarray:
