@@ -191,15 +191,37 @@ def _guarded(kernel, rescaled, windows, *args):
 
 
 def _circle_circle(x1, y1, dx, dy, r1, r2):
-    """Compute :func:`circle_circle_xy`; also return the scale to check the result on."""
+    """Compute :func:`circle_circle_xy`; also return the scale to check the result on.
+
+    Where the circles meet at every element and none is degenerate (the
+    common case), the masks are skipped: each test is monotone in the
+    distance of the centres, so its least and largest value decide it for
+    all, exactly as elementwise. The scale to check is then those two values.
+    """
     d2 = dx * dx + dy * dy
     d = np.sqrt(d2)
     # the foot of the chord is c1 + k * (c2 - c1); coincident centres give inf or NaN
-    k = (d2 + (r1 - r2) * (r1 + r2)) / (2.0 * d2)
+    k = 0.5 * (r1 - r2) * (r1 + r2) / d2
+    k += 0.5
     m = k * d
-    half_chord_sq = (r1 - m) * (r1 + m)
-    scale = np.maximum(d, np.maximum(np.abs(r1), np.abs(r2)))
-    margin = np.where(d > DEGENERATE_RTOL * scale, half_chord_sq / (scale * scale), np.nan)
+    half_chord_sq = r1 - m
+    m += r1
+    half_chord_sq *= m
+    largest = np.maximum(np.abs(r1), np.abs(r2))
+    if np.ndim(largest) == 0 and np.ndim(d) and _nonnegative(r1) and _nonnegative(r2):
+        # NaN in either reduction fails every test below, and takes the masked way
+        low, high = np.minimum.reduce(d, axis=None), np.maximum.reduce(d, axis=None)
+        least, most = max(low, largest), max(high, largest)  # of the scale
+        if (_apart(low, largest) and _meet(low, high, r1, r2, largest)
+                and _CC_WINDOW[0] <= least and most <= _CC_WINDOW[1]):
+            scale = np.maximum(d, largest, out=m)
+            margin = np.divide(half_chord_sq, np.multiply(scale, scale, out=scale))
+            h_over_d = np.sqrt(np.maximum(half_chord_sq, 0.0, out=half_chord_sq),
+                               out=half_chord_sq)
+            h_over_d /= d
+            return (*_roots(x1, y1, dx, dy, k, h_over_d), margin), np.array([least, most])
+    scale = np.maximum(d, largest)
+    margin = np.where(_apart(d, scale), half_chord_sq / (scale * scale), np.nan)
     if not (_nonnegative(r1) and _nonnegative(r2)):
         margin = np.where((r1 >= 0) & (r2 >= 0), margin, np.nan)
     # decide whether the circles meet on the distances themselves: accurate to
@@ -207,12 +229,33 @@ def _circle_circle(x1, y1, dx, dy, r1, r2):
     slack = TANGENCY_RTOL * scale
     meet = (d <= r1 + r2 + slack) & (d >= np.abs(r1 - r2) - slack) & ~np.isnan(margin)
     h_over_d = np.sqrt(np.where(meet, np.maximum(half_chord_sq, 0.0), np.nan)) / d
-    fx = x1 + k * dx
-    fy = y1 + k * dy
+    return (*_roots(x1, y1, dx, dy, k, h_over_d), margin), scale
+
+
+def _apart(d, scale):
+    """Whether centres at a distance ``d`` are apart (not coincident) at this scale."""
+    return d > DEGENERATE_RTOL * scale
+
+
+def _meet(low, high, r1, r2, largest) -> bool:
+    """Whether circles of radii ``r1``, ``r2`` meet with centres ``low`` to ``high`` apart.
+
+    To the tolerance of the scale ``max(d, largest)`` at each distance ``d``.
+    """
+    return bool(high <= r1 + r2 + TANGENCY_RTOL * max(high, largest)
+                and low >= abs(r1 - r2) - TANGENCY_RTOL * max(low, largest))
+
+
+def _roots(x1, y1, dx, dy, k, h_over_d):
+    """Return the left and right roots from the foot of the chord and its half length."""
+    fx = k * dx
+    fx += x1
+    fy = k * dy
+    fy += y1
     # the left normal of (dx, dy) is (-dy, dx)
     ex = h_over_d * dy
     ey = h_over_d * dx
-    return (fx - ex, fy + ey, fx + ex, fy - ey, margin), scale
+    return fx - ex, fy + ey, fx + ex, fy - ey
 
 
 def _circle_circle_rescaled(x1, y1, dx, dy, r1, r2):
