@@ -144,7 +144,7 @@ def input_arrays(compiled: Compiled, values: ArrayLike | Mapping[str, ArrayLike]
     n = shape[0] if shape else 1
     if n == 0:
         raise ConstructionError("a sweep needs at least one sample; the input values are empty")
-    return {k: np.broadcast_to(v, (n,)).astype(float, copy=False) for k, v in arrays.items()}, n
+    return {k: _over_samples(v, n).astype(float, copy=False) for k, v in arrays.items()}, n
 
 
 @dataclass(frozen=True)
@@ -433,6 +433,8 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
             coords[node.name] = (x, y)
             if rows is not None:
                 by_rows[node.name] = (_as_rows(x, rows), _as_rows(y, rows))
+            if _all_finite(x, y):
+                continue
             finite = np.isfinite(x) & np.isfinite(y)
             failing = valid & ~finite if np.ndim(finite) else (None if finite else valid.copy())
             if failing is not None and failing.any():
@@ -445,6 +447,24 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
     events.sort(key=lambda e: (e.index, e.fraction))
     return _Evaluated(coords, labels, margins, parameters, events, valid, failed_step,
                       reason_code)
+
+
+def _over_samples(value, n: int) -> np.ndarray:
+    """Return ``value`` as an array of N samples: itself if it is one, else broadcast."""
+    if type(value) is np.ndarray and value.shape == (n,):
+        return value
+    return np.broadcast_to(value, (n,))
+
+
+def _all_finite(x, y) -> bool:
+    """Whether every coordinate is finite, told by two sums.
+
+    A sum is finite only if every term is; one that overflows takes the
+    longer way, which is exact.
+    """
+    if np.ndim(x) == 0 and np.ndim(y) == 0:
+        return bool(np.isfinite(x) and np.isfinite(y))
+    return bool(np.isfinite(np.add.reduce(x, axis=None) + np.add.reduce(y, axis=None)))
 
 
 def _candidates_in_blocks(step, coords, values, origin, n):
@@ -1026,7 +1046,7 @@ class _Tracker:
                  paths: int = 1, per_path: bool = False):
         self.compiled = compiled
         self.plan = plan
-        self.inputs = {k: np.broadcast_to(v, (n,)) for k, v in inputs.items()}
+        self.inputs = {k: _over_samples(v, n) for k, v in inputs.items()}
         self.varied = varied or {}
         self.per_path = per_path  # the varied parameters are given once per path
         self.n = n
@@ -1126,7 +1146,7 @@ class _Tracker:
         """Return the branch of node ``plan[position]`` at every sample, and its events."""
         node = self.plan[position].node
         n = self.n
-        margin = np.broadcast_to(cand.margin, (n,))
+        margin = _over_samples(cand.margin, n)
         # the samples looked at closely below: all, or those of the paths (variants) that
         # the quick test, each path on its own, does not settle
         keep = None
@@ -1176,7 +1196,7 @@ class _Tracker:
             self.finite)
         # zero where they meet, also for roots within the primitives' tangency tolerance:
         # it folds at a graze like a V
-        present = np.isfinite(np.broadcast_to(cand.x[0], (n,)))
+        present = np.isfinite(_over_samples(cand.x[0], n))
         if keep is not None:
             present = present[keep]
         apart = _apart_at(present, margin)
@@ -1503,9 +1523,9 @@ def _node_scale(cand, n) -> float:
     That is its roots' half-distance over the square root of its margin (the
     squared half-distance over the squared scale).
     """
-    margin = np.broadcast_to(cand.margin, (n,))
-    dx = np.broadcast_to(cand.x[1], (n,)) - np.broadcast_to(cand.x[0], (n,))
-    dy = np.broadcast_to(cand.y[1], (n,)) - np.broadcast_to(cand.y[0], (n,))
+    margin = _over_samples(cand.margin, n)
+    dx = _over_samples(cand.x[1], n) - _over_samples(cand.x[0], n)
+    dy = _over_samples(cand.y[1], n) - _over_samples(cand.y[0], n)
     usable = margin > 1e-12
     if usable.any():
         scale = float(np.nanmax(0.5 * np.hypot(dx[usable], dy[usable])
@@ -1526,9 +1546,9 @@ def _apart_at(present, margin):
 
 def _path_scales(cand, n, length) -> np.ndarray:
     """Return :func:`_node_scale` of each path of ``length`` samples, on its own."""
-    margin = np.broadcast_to(cand.margin, (n,)).reshape(-1, length)
-    dx = (np.broadcast_to(cand.x[1], (n,)) - np.broadcast_to(cand.x[0], (n,))).reshape(-1, length)
-    dy = (np.broadcast_to(cand.y[1], (n,)) - np.broadcast_to(cand.y[0], (n,))).reshape(-1, length)
+    margin = _over_samples(cand.margin, n).reshape(-1, length)
+    dx = (_over_samples(cand.x[1], n) - _over_samples(cand.x[0], n)).reshape(-1, length)
+    dy = (_over_samples(cand.y[1], n) - _over_samples(cand.y[0], n)).reshape(-1, length)
     with np.errstate(all="ignore"):
         ratio = np.where(margin > 1e-12, 0.5 * np.hypot(dx, dy) / np.sqrt(margin), -np.inf)
         scale = np.max(ratio, axis=1)

@@ -381,6 +381,20 @@ class Fixed(Node):
         return Candidates((values["x"],), (values["y"],))
 
 
+def _scaled_and_shifted(values, factor, offset):
+    """Return ``offset + factor * values``, in the memory of ``values`` where it can.
+
+    ``values`` is a fresh array; its memory is used where ``factor`` and
+    ``offset`` are numbers or of its shape.
+    """
+    if (type(values) is np.ndarray and np.ndim(factor) == 0
+            and (np.ndim(offset) == 0 or np.shape(offset) == values.shape)):
+        values *= factor
+        values += offset
+        return values
+    return offset + factor * values
+
+
 @dataclass(frozen=True)
 class Polar(Node):
     """The point at ``distance`` from ``origin`` at ``angle``.
@@ -406,8 +420,8 @@ class Polar(Node):
         ox, oy = coords[self.origin]
         distance, angle = values["distance"], values["angle"]
         if self.reference is None:
-            x = ox + distance * np.cos(angle)
-            y = oy + distance * np.sin(angle)
+            x = _scaled_and_shifted(np.cos(angle), distance, ox)
+            y = _scaled_and_shifted(np.sin(angle), distance, oy)
         else:
             (x1, y1), (x2, y2) = coords[self.reference[0]], coords[self.reference[1]]
             x, y = prim.relative_point_xy(ox, oy, x1, y1, x2, y2, distance, angle)

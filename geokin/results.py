@@ -647,9 +647,14 @@ class PointTable(Mapping):
         [2.0, -2.0]
         """
         x, y = self._coords[self._name(name)]
+        return self._whole(x), self._whole(y)
+
+    def _whole(self, value) -> np.ndarray:
+        """Return coordinates as evaluated at every sample, read-only, without a copy."""
         shape = self._valid.shape
-        return (read_only(np.broadcast_to(np.asarray(x, dtype=float), shape)),
-                read_only(np.broadcast_to(np.asarray(y, dtype=float), shape)))
+        if type(value) is np.ndarray and value.shape == shape and value.dtype == float:
+            return read_only(value)
+        return read_only(np.broadcast_to(np.asarray(value, dtype=float), shape))
 
     def coords(self, name: str) -> tuple[np.ndarray | float, np.ndarray | float]:
         """Return a point's x and y as evaluated: numbers for a point that does not move."""
