@@ -1,31 +1,40 @@
 """Velocity and acceleration of every point and link, by finite differences.
 
 The derivatives with respect to the input come from evaluating the
-construction again at small perturbations ``q + k*h`` (k = -2, -1, 1, 2)
-around each sample, on that sample's branches, all samples of a block in
-one vectorized pass. So their accuracy does not depend on how coarse the
-sweep is, and a derivative never reaches across a branch change or an
-unassemblable stretch: where the perturbed construction cannot be assembled
+construction again at small perturbations ``q + k*h`` around each sample,
+on that sample's branches, all samples of a block in one vectorized pass.
+So their accuracy does not depend on how coarse the sweep is, and a
+derivative never reaches across a branch change or an unassemblable
+stretch. Every sample is evaluated at k = -1, 1, 2 (three evaluations a
+sample); the few whose estimated error is not far below the accuracy
+stated (near a singular position, where the rates grow fast) again at
+k = -2, -1, 1, 2; and where the perturbed construction cannot be assembled
 on one side, a one-sided stencil is used there (k = 1..4 or -1..-4).
 
 Stencils (f_k = f(q + k h)):
 
-* central, fourth order: ``f' = (f_-2 - 8 f_-1 + 8 f_1 - f_2) / 12h`` and
-  ``f'' = (-f_-2 + 16 f_-1 - 30 f_0 + 16 f_1 - f_2) / 12h^2``;
+* quick, on every sample: ``f' = (-2 f_-1 - 3 f_0 + 6 f_1 - f_2) / 6h``,
+  third order, and ``f'' = (f_-1 - 2 f_0 + f_1) / h^2``, second order;
+* central, fourth order, where the quick one's error is above
+  1/:data:`REFINED_BELOW` of the accuracy stated: ``f' = (f_-2 - 8 f_-1 +
+  8 f_1 - f_2) / 12h`` and ``f'' = (-f_-2 + 16 f_-1 - 30 f_0 + 16 f_1 -
+  f_2) / 12h^2``;
 * one-sided, fourth and third order, on f_0..f_4 or f_0..f_-4.
 
 Error estimates
 ---------------
 Every sample gets an estimate of the error of its derivatives
 (:attr:`Derivatives.first_error`, :attr:`Derivatives.second_error`, the
-largest over the points), from comparing each value with a second-order one
-on the same evaluations (``(f_1 - f_-1) / 2h`` and ``(f_1 - 2 f_0 + f_-1) /
-h^2`` for the central stencil): their difference is the lower order's
-error, and the higher order's is smaller by about the same factor again
-(``_Estimate`` gives the model), plus the rounding of positions over the
-step. A sample is flagged (:attr:`Motion.flagged`) where the estimated
-error of some point's velocity exceeds :data:`VELOCITY_RTOL` of the speed of
-the fastest point at that sample, or of its acceleration
+largest over the points), from comparing each value with a lower-order one
+on the same evaluations: their difference is the lower order's error, and
+the higher order's is smaller by about the ratio of the step to the
+distance to the nearest singular position, read from those differences
+(:meth:`_Block.quick` and ``_Estimate`` give the models), plus the rounding
+of positions over the step. For the quick stencil the third difference
+``f_2 - 3 f_1 + 3 f_0 - f_-1`` (about ``h**3 f'''``) is that difference. A
+sample is flagged (:attr:`Motion.flagged`) where the estimated error of
+some point's velocity exceeds :data:`VELOCITY_RTOL` of the speed of the
+fastest point at that sample, or of its acceleration
 :data:`ACCELERATION_RTOL` of the largest acceleration there (or of that speed
 squared over the mechanism's size, if larger), and likewise for the angular
 rates of links against the fastest-turning link; where no stencil can be
@@ -39,8 +48,10 @@ fraction of the mechanism's size (the largest extent of its points over the
 sweep) for a length input. Along a motion in time, the step in time moves no
 input by more than its own ``h``. With this step the rounding of positions
 (about 1e-16 of the mechanism's size) gives errors near 1e-12 of the size in
-velocities and 1e-8 in accelerations, and the truncation stays below them
-except near singular positions, where the estimate flags the samples.
+velocities and 1e-8 in accelerations, and the truncation of the quick
+stencil stays near them (about 1e-12 and 3e-9 of the rates, for rates that
+change over a radian) except near singular positions, where the central one
+takes over and the estimate flags the samples it cannot make accurate.
 
 Time derivatives follow by the chain rule from the input's rate
 (``speed``, radians or length units per second) and its acceleration:
@@ -82,12 +93,18 @@ ACCELERATION_RTOL = 1e-5
 """The accuracy stated for accelerations (and second derivatives), relative to
 the sweep's largest acceleration."""
 
-SAMPLES_PER_BLOCK = BLOCK_SAMPLES // 4
-"""Samples differentiated together: their four perturbations make one block
+SAMPLES_PER_BLOCK = BLOCK_SAMPLES // 3
+"""Samples differentiated together: their three perturbations make one block
 of the engine."""
 
+QUICK = (-1, 1, 2)
+"""The perturbations every sample is evaluated at first, in steps: with the
+sample itself, a third-order first derivative and a second-order second one,
+and an estimate of their error from the third difference."""
+
 CENTRAL = (-2, -1, 1, 2)
-"""The perturbations of the central stencil, in steps."""
+"""The perturbations of the fourth-order central stencil, in steps: for the
+samples where the error of the first is not far below the accuracy stated."""
 
 FORWARD, BACKWARD = (1, 2, 3, 4), (-1, -2, -3, -4)
 """The perturbations of the one-sided stencils, in steps."""
@@ -103,9 +120,20 @@ ERROR_FACTOR = 20.0
 fourth-order derivative is taken to be (the model gives 4 near a pole and
 14 near a square root)."""
 
+QUICK_ERROR_FACTORS = (5.0, 1.0)
+"""How much larger than the model of :meth:`_Block.quick` the errors of its
+first and second derivatives are taken to be (the model gives 1.25 and 0.21
+near a square root, 2 and 0.33 near a pole)."""
+
+REFINED_BELOW = 10.0
+"""A sample whose quick derivatives may be off by more than the accuracy stated
+over this is differentiated again on :data:`CENTRAL`: only near a singular
+position, where the derivatives grow fast."""
+
 # the rounding of the positions, in units of eps * size / h (or / h**2): the root
 # sum of squares of each stencil's weights, the rounding of each position taken
 # independent
+ROUNDING_QUICK = (np.sqrt(2**2 + 3**2 + 6**2 + 1) / 6, np.sqrt(6))
 ROUNDING_CENTRAL = (np.hypot(np.hypot(1, 8), np.hypot(8, 1)) / 12,
                     np.sqrt(1 + 16**2 + 30**2 + 16**2 + 1) / 12)
 ROUNDING_ONE_SIDED = (np.sqrt(25**2 + 48**2 + 36**2 + 16**2 + 3**2) / 12,
@@ -164,10 +192,14 @@ def _variant_sizes(sweep: Sweep) -> np.ndarray:
     rows = sweep.variants or 1
     low, high = np.full((rows, 2), np.inf), np.full((rows, 2), -np.inf)
     for name in sweep.construction.point_names:
-        for axis, values in enumerate(sweep.points.xy(name)):
-            values = values.reshape(rows, -1)
-            low[:, axis] = np.fmin(low[:, axis], np.fmin.reduce(values, axis=1))
-            high[:, axis] = np.fmax(high[:, axis], np.fmax.reduce(values, axis=1))
+        for axis, values in enumerate(sweep.points.coords(name)):
+            if np.ndim(values) == 0:  # a point that does not move
+                low[:, axis] = np.fmin(low[:, axis], values)
+                high[:, axis] = np.fmax(high[:, axis], values)
+                continue
+            values = np.broadcast_to(values, sweep.valid.shape).reshape(rows, -1)
+            low[:, axis] = np.fmin(low[:, axis], _leaving_nan(np.minimum, np.fmin, values))
+            high[:, axis] = np.fmax(high[:, axis], _leaving_nan(np.maximum, np.fmax, values))
     unassembled = ~sweep.valid.reshape(rows, -1).any(axis=1)
     low[unassembled], high[unassembled] = np.inf, -np.inf
     with np.errstate(invalid="ignore"):
@@ -176,6 +208,16 @@ def _variant_sizes(sweep: Sweep) -> np.ndarray:
         largest = np.where(np.isfinite(low).all(axis=1),
                            np.abs(np.c_[low, high]).max(axis=1), 0.0)
     return np.where(size > 0, size, np.where(largest > 0, largest, 1.0))
+
+
+def _leaving_nan(fast: np.ufunc, careful: np.ufunc, values: np.ndarray) -> np.ndarray:
+    """Reduce each row by ``careful``, which leaves NaN out, or by ``fast`` if it can.
+
+    ``fast`` is taken where no NaN spoils it: ``np.minimum`` is several times
+    faster than ``np.fmin``.
+    """
+    reduced = fast.reduce(values, axis=1)
+    return reduced if not np.isnan(reduced).any() else careful.reduce(values, axis=1)
 
 
 def _sizes(sweep: Sweep) -> np.ndarray:
@@ -240,7 +282,8 @@ def input_derivatives(sweep: Sweep, input_name: str | None = None, *,
 
 
 def _along(sweep: Sweep, direction: dict, h: float, label: str,
-           sizes: np.ndarray | None = None) -> Derivatives:
+           sizes: np.ndarray | None = None,
+           largest: tuple[np.ndarray, np.ndarray] | None = None) -> Derivatives:
     """Differentiate every point along a direction in the inputs' space.
 
     The construction is evaluated again at ``inputs + k * h * direction`` on
@@ -248,9 +291,13 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
     ``direction`` holds, per input, an array of its rate at each sample
     (inputs left out are held). ``sizes`` gives the mechanism's size at each
     sample where it differs from sample to sample (design variants).
+    ``largest``, two arrays of N, receives each sample's largest squared
+    first and second derivative over the points (0 where there are none).
     """
     compiled = sweep.construction
     n = len(sweep)
+    if largest is None:
+        largest = (np.empty(n), np.empty(n))
     names = compiled.point_names
     # the results and one block's evaluations: refused up front if they would not fit
     check_sweep_memory(2 * len(names), n, what="motion")
@@ -270,27 +317,39 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
     # a ground point does not move: its derivatives are zero wherever it is assembled
     moving = [p for p in names if p not in compiled.ground]
     still = read_only(np.where(sweep.valid, 0.0, np.nan)[:, None] * np.ones(2))
-    first = {p: (np.empty((n, 2)) if p in moving else still) for p in names}
-    second = {p: (np.empty((n, 2)) if p in moving else still) for p in names}
+    # each coordinate contiguous: the stencils write them one at a time
+    first = {p: (np.empty((2, n)).T if p in moving else still) for p in names}
+    second = {p: (np.empty((2, n)).T if p in moving else still) for p in names}
     stencil = np.full(n, 2, dtype=np.int8)
     first_error, second_error = np.empty(n), np.empty(n)
     rates = {k: np.broadcast_to(np.asarray(r, dtype=float), (n,)) for k, r in direction.items()}
     # in another frame the sample itself is evaluated again: the sweep's own
     # positions carry the rounding of the far frame
     extra = () if origin is None else (0,)
+    scale = size if sizes is None else sizes
     for lo in range(0, n, SAMPLES_PER_BLOCK):
         hi = min(lo + SAMPLES_PER_BLOCK, n)
-        block = _Block(sweep, slice(lo, hi), rates, h, origin, noise, CENTRAL + extra)
-        ok = block.valid(CENTRAL + extra) & sweep.valid[lo:hi]
-        estimate = _Estimate(lo + np.flatnonzero(ok) if not ok.all() else slice(lo, hi), h)
-        block.central(ok, moving, first, second, estimate)
-        estimate.finish(first_error, second_error, _at(noise, estimate.at), ROUNDING_CENTRAL)
+        block = _Block(sweep, slice(lo, hi), rates, h, origin, noise, QUICK + extra)
+        ok = block.valid(QUICK + extra) & sweep.valid[lo:hi]
+        again = block.quick(moving, first, second, first_error, second_error,
+                            _at(noise, slice(lo, hi)), _at(scale, slice(lo, hi)),
+                            tuple(v[lo:hi] for v in largest))
         stencil[lo:hi][ok] = 0
+        # near a singular position: fourth order, where it can be assembled
+        again = lo + np.flatnonzero(again & ok)
+        if again.size:
+            fine = _Block(sweep, again, rates, h, origin, noise, CENTRAL + extra)
+            central = fine.valid(CENTRAL + extra)
+            estimate = _Estimate(again[central], h)
+            fine.central(central, moving, first, second, estimate)
+            estimate.finish(first_error, second_error, _at(noise, estimate.at), ROUNDING_CENTRAL,
+                            largest)
         # one-sided stencils where the central one cannot be assembled: few samples
         rest = lo + np.flatnonzero(~ok)
         for p in moving:
             first[p][rest] = second[p][rest] = np.nan
         first_error[rest] = second_error[rest] = np.nan
+        largest[0][rest] = largest[1][rest] = 0.0
         rest = rest[sweep.valid[rest]]
         if rest.size:
             side = _Block(sweep, rest, rates, h, origin, noise, FORWARD + BACKWARD + extra)
@@ -301,7 +360,7 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
                     estimate = _Estimate(rest[mask], sign * h)
                     side.one_sided(mask, sign, moving, first, second, estimate)
                     estimate.finish(first_error, second_error, _at(noise, estimate.at),
-                                    ROUNDING_ONE_SIDED)
+                                    ROUNDING_ONE_SIDED, largest)
             stencil[rest[forward]], stencil[rest[backward]] = 1, -1
     return Derivatives(label, h, first, second, stencil, first_error, second_error)
 
@@ -356,6 +415,83 @@ class _Block:
         picked = [base, *(rows[self.offsets.index(k)] for k in offsets)]
         return picked if mask.all() else [p[mask] for p in picked]
 
+    def rows(self, name: str) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
+        """Return a point's x and y at each offset, (K, M), and at the sample itself, (M,)."""
+        shape = (len(self.offsets), self.m)
+        evaluated = [v.reshape(shape) for v in self.evaluated.points.xy(name)]
+        if 0 in self.offsets:
+            return tuple((v, v[self.offsets.index(0)]) for v in evaluated)
+        own = self.sweep.points.xy(name)
+        return tuple((v, w[self.at]) for v, w in zip(evaluated, own, strict=True))
+
+    def quick(self, moving, first, second, first_error, second_error, noise, size,
+              largest) -> np.ndarray:
+        r"""Differentiate every sample of the block on :data:`QUICK`; return where to refine.
+
+        With ``t = f_1 - f_0`` and ``u = f_0 - f_-1``: ``f' = (3 (t + u) - d3) / 6h``
+        and ``f'' = (t - u) / h**2``, where the third difference
+        ``d3 = f_2 - 3 f_1 + 3 f_0 - f_-1`` is about ``h**3 f'''``. The error
+        of the first is about ``h**3 f'''' / 12``, of the second ``h**2 f'''' / 12``.
+        ``d3`` gives ``f'''``; near a singular position at a distance ``d`` in
+        the input each derivative grows on the one before by about ``1 / d``,
+        which ``h f''' / f''`` and ``(h**2 f''' / f')**(1/2)`` measure (the
+        largest over the points: the mechanism as a whole). The errors and
+        where to refine are given at every sample of the block, garbage where
+        it cannot be assembled: the caller overwrites those.
+        """
+        h = self.h
+        assert isinstance(self.at, slice)  # a block of consecutive samples
+        lo, hi = self.at.start, self.at.stop
+        column = [self.offsets.index(k) for k in QUICK]
+        totals: list[np.ndarray] = []  # the largest squares over the points
+        for name in moving:
+            derivatives = []
+            for axis, (rows, f0) in enumerate(self.rows(name)):
+                fm1, f1, f2 = (rows[j] for j in column)
+                t = f1 - f0
+                u = f0 - fm1
+                odd = t + u
+                t -= u  # h**2 f''
+                d3 = f2 - f1
+                d3 -= u
+                d3 -= t
+                d3 -= t  # f_2 - 3 f_1 + 3 f_0 - f_-1
+                odd *= 3
+                odd -= d3
+                d1 = np.multiply(odd, 1 / (6 * h), out=first[name][lo:hi, axis])
+                d2 = np.multiply(t, 1 / (h * h), out=second[name][lo:hi, axis])
+                derivatives.append((d1, d2, d3))
+            (x1, x2, x3), (y1, y2, y3) = derivatives
+            squares = (x1 * x1, x2 * x2, x3 * x3)
+            for square, y in zip(squares, (y1, y2, y3), strict=True):
+                square += y * y
+            if not totals:
+                totals = list(squares)
+            else:
+                for total, square in zip(totals, squares, strict=True):
+                    np.fmax(total, square, out=total)
+        if not totals:  # nothing moves: only rounding
+            first_error[lo:hi] = ROUNDING_QUICK[0] * noise / h
+            second_error[lo:hi] = ROUNDING_QUICK[1] * noise / (h * h)
+            largest[0][...] = largest[1][...] = 0.0
+            return np.zeros(self.m, dtype=bool)
+        rate, curvature, third = totals
+        largest[0][...], largest[1][...] = rate, curvature
+        speed, accel, third = np.sqrt(rate), np.sqrt(curvature), np.sqrt(third)
+        gap1 = third / (6 * h)  # the error of (f_1 - f_-1) / 2h
+        gap2 = third / (h * h)  # h f''': how much f'' changes over a step
+        with np.errstate(divide="ignore", invalid="ignore"):
+            ratio = np.fmax(gap2 / accel, np.sqrt(6 * gap1 / speed))
+            ratio[~np.isfinite(ratio)] = 1.0
+            error1 = np.multiply(QUICK_ERROR_FACTORS[0] * ratio, gap1, out=first_error[lo:hi])
+            error1 += ROUNDING_QUICK[0] * noise / h
+            error2 = np.multiply(QUICK_ERROR_FACTORS[1] * ratio, gap2, out=second_error[lo:hi])
+            error2 += ROUNDING_QUICK[1] * noise / (h * h)
+            accel = np.fmax(accel, rate / size, out=accel)
+            again = error1 > (VELOCITY_RTOL / REFINED_BELOW) * speed
+            again |= error2 > (ACCELERATION_RTOL / REFINED_BELOW) * accel
+        return again
+
     def central(self, ok, moving, first, second, estimate):
         if not ok.any():
             return
@@ -394,9 +530,10 @@ class _Block:
 
 def _squared(vectors: np.ndarray) -> np.ndarray:
     """Return the squared length of each row of an (M, 2) array."""
-    # column by column: einsum is several times slower on rows of two
-    x, y = vectors[:, 0], vectors[:, 1]
-    return x * x + y * y
+    # squared whole, then the columns added: arithmetic on the columns themselves,
+    # strided, is several times slower (and einsum slower still on rows of two)
+    squares = vectors * vectors
+    return squares[:, 0] + squares[:, 1]
 
 
 class _Estimate:
@@ -430,7 +567,10 @@ class _Estimate:
                                      squares, strict=True):
                 np.fmax(total, square, out=total)
 
-    def finish(self, first_error, second_error, noise, rounding):
+    def finish(self, first_error, second_error, noise, rounding, largest):
+        """Write the errors at the samples, and the largest squared derivatives."""
+        for into, square in zip(largest, (self.rate, self.curvature), strict=True):
+            into[self.at] = 0.0 if square is None else square
         if self.rate is None:  # nothing moves: only rounding
             first_error[self.at] = rounding[0] * noise / self.h
             second_error[self.at] = rounding[1] * noise / (self.h * self.h)
@@ -612,9 +752,12 @@ def _direction_of_travel(values: np.ndarray) -> np.ndarray:
     The first sample takes the direction of the step after it; a sample
     repeating the one before keeps the direction it had.
     """
-    step = np.sign(np.diff(values))
+    step = np.diff(values)
     if step.size == 0:
         return np.ones_like(values)
+    if step.min() > 0 or step.max() < 0:  # one way all along (NaN fails both)
+        return np.full(values.shape, np.sign(step[0]))
+    step = np.sign(step)
     direction = np.concatenate([step[:1], step])
     known = np.flatnonzero(direction)
     if known.size == 0:
@@ -708,7 +851,8 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
         n *= count
     # one step in time that moves no input by more than its own finite-difference step
     sizes = _sizes(whole)  # once: each sample's scale, for its step, noise and flags
-    d = _along(sweep, rates, _time_step(sweep, rates, step), driver, sizes)
+    largest = (np.empty(n), np.empty(n))
+    d = _along(sweep, rates, _time_step(sweep, rates, step), driver, sizes, largest)
     velocity = d.first
     accel = d.second
     velocity_error, acceleration_error = d.first_error, d.second_error
@@ -730,8 +874,9 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
         # errors are measured against each sample's own scales: its fastest point's
         # speed, and its largest acceleration or that speed turned over the size
         extent = sizes
-        speed_scale = _largest_at_each(velocity.values(), n)
-        accel_scale = np.fmax(_largest_at_each(accel.values(), n), speed_scale**2 / extent)
+        speed_scale = np.sqrt(largest[0])
+        accel_scale = np.fmax(np.sqrt(largest[1]) if accel is d.second
+                              else _largest_at_each(accel.values(), n), speed_scale**2 / extent)
         flagged |= velocity_error > VELOCITY_RTOL * speed_scale
         flagged |= acceleration_error > ACCELERATION_RTOL * accel_scale
         turn_scale, turn_accel_scale = speed_scale / extent, np.zeros(n)
