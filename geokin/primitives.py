@@ -208,18 +208,26 @@ def _circle_circle(x1, y1, dx, dy, r1, r2):
     m += r1
     half_chord_sq *= m
     largest = np.maximum(np.abs(r1), np.abs(r2))
-    if np.ndim(largest) == 0 and np.ndim(d) and _nonnegative(r1) and _nonnegative(r2):
-        # NaN in either reduction fails every test below, and takes the masked way
-        low, high = np.minimum.reduce(d, axis=None), np.maximum.reduce(d, axis=None)
-        least, most = max(low, largest), max(high, largest)  # of the scale
-        if (_apart(low, largest) and _meet(low, high, r1, r2, largest)
-                and _CC_WINDOW[0] <= least and most <= _CC_WINDOW[1]):
-            scale = np.maximum(d, largest, out=m)
-            margin = np.divide(half_chord_sq, np.multiply(scale, scale, out=scale))
-            h_over_d = np.sqrt(np.maximum(half_chord_sq, 0.0, out=half_chord_sq),
-                               out=half_chord_sq)
-            h_over_d /= d
-            return (*_roots(x1, y1, dx, dy, k, h_over_d), margin), np.array([least, most])
+    # NaN in a reduction fails every test below, and takes the masked way
+    fits = False
+    if np.ndim(d) and _nonnegative(r1) and _nonnegative(r2):
+        if np.ndim(largest) == 0:
+            low, high = np.minimum.reduce(d, axis=None), np.maximum.reduce(d, axis=None)
+            least, most = max(low, largest), max(high, largest)  # of the scale
+            fits = bool(_apart(low, largest) and _meet(low, high, r1, r2, least, most))
+        elif np.ndim(largest) == np.ndim(d) and np.shape(largest)[-1] == 1:
+            # radii constant along each row (design variants): row by row
+            low = np.minimum.reduce(d, axis=-1, keepdims=True)
+            high = np.maximum.reduce(d, axis=-1, keepdims=True)
+            least, most = np.maximum(low, largest), np.maximum(high, largest)
+            fits = bool(np.all(_apart(low, largest) & _meet(low, high, r1, r2, least, most)))
+            least, most = np.minimum.reduce(least, axis=None), np.maximum.reduce(most, axis=None)
+    if fits and _CC_WINDOW[0] <= least and most <= _CC_WINDOW[1]:
+        scale = np.maximum(d, largest, out=m) if m.shape == d.shape else np.maximum(d, largest)
+        margin = np.divide(half_chord_sq, np.multiply(scale, scale, out=scale))
+        h_over_d = np.sqrt(np.maximum(half_chord_sq, 0.0, out=half_chord_sq), out=half_chord_sq)
+        h_over_d /= d
+        return (*_roots(x1, y1, dx, dy, k, h_over_d), margin), np.array([least, most])
     scale = np.maximum(d, largest)
     margin = np.where(_apart(d, scale), half_chord_sq / (scale * scale), np.nan)
     if not (_nonnegative(r1) and _nonnegative(r2)):
@@ -237,13 +245,14 @@ def _apart(d, scale):
     return d > DEGENERATE_RTOL * scale
 
 
-def _meet(low, high, r1, r2, largest) -> bool:
+def _meet(low, high, r1, r2, least, most):
     """Whether circles of radii ``r1``, ``r2`` meet with centres ``low`` to ``high`` apart.
 
-    To the tolerance of the scale ``max(d, largest)`` at each distance ``d``.
+    To the tolerance of the scale ``max(d, largest)`` at each distance ``d``,
+    which is ``least`` at ``low`` and ``most`` at ``high``; elementwise.
     """
-    return bool(high <= r1 + r2 + TANGENCY_RTOL * max(high, largest)
-                and low >= abs(r1 - r2) - TANGENCY_RTOL * max(low, largest))
+    return ((high <= r1 + r2 + TANGENCY_RTOL * most)
+            & (low >= abs(r1 - r2) - TANGENCY_RTOL * least))
 
 
 def _roots(x1, y1, dx, dy, k, h_over_d):
