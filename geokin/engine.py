@@ -133,7 +133,8 @@ def input_arrays(compiled: Compiled, values: ArrayLike | Mapping[str, ArrayLike]
     if not arrays:
         return {}, 1
     try:
-        shape = np.broadcast_shapes(*(a.shape for a in arrays.values()))
+        shape = (next(iter(arrays.values())).shape if len(arrays) == 1
+                 else np.broadcast_shapes(*(a.shape for a in arrays.values())))
     except ValueError:
         lengths = ", ".join(f"{k}: {a.shape[0] if a.ndim else 1}" for k, a in arrays.items())
         raise ConstructionError(f"the inputs' values have different lengths ({lengths}); "
@@ -447,6 +448,14 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
     events.sort(key=lambda e: (e.index, e.fraction))
     return _Evaluated(coords, labels, margins, parameters, events, valid, failed_step,
                       reason_code)
+
+
+def _constant(value: float, n: int) -> np.ndarray:
+    """Return one number as a read-only array of N samples, without memory for them."""
+    # what np.broadcast_to(value, (n,)) gives, a few times faster
+    array = np.ndarray((n,), float, np.array([value], dtype=float), 0, (0,))
+    array.flags.writeable = False
+    return array
 
 
 def _over_samples(value, n: int) -> np.ndarray:
@@ -1124,7 +1133,7 @@ class _Tracker:
             self.even = self.longest - shortest <= 1e-9 * self.longest
             if self.even:
                 scratch = travel
-                travel = np.broadcast_to(self.longest, travel.shape)
+                travel = _constant(self.longest, travel.shape[0])
                 if self.length_steps is None:
                     self.angle_steps = travel
                 else:
@@ -1161,12 +1170,14 @@ class _Tracker:
             # root of the margin; NaN where the roots do not exist, which sends the
             # sweep to the closer look below), against how fast it moves. First on the
             # margin itself, which spares a square root: |du| <= sqrt(|d(u**2)|)
+            # NaN in the margin fails both tests whatever the reductions make of it: the
+            # faster ones that carry NaN will do
             moved = self.scratch
             np.subtract(margin[1:], margin[:-1], out=moved)
-            fastest = max(np.fmax.reduce(moved), -np.fmin.reduce(moved))
+            fastest = max(np.maximum.reduce(moved), -np.minimum.reduce(moved))
             if not self.even:
                 fastest = float(np.fmax.reduce(np.abs(moved) / self.travel)) * self.longest
-            if np.min(margin) > (SAFETY * SAFETY) * fastest:
+            if np.minimum.reduce(margin) > (SAFETY * SAFETY) * fastest:
                 self.labels[node.name] = start
                 return start, []
             apart = np.sqrt(margin)
@@ -1174,8 +1185,9 @@ class _Tracker:
             np.abs(moved, out=moved)
             if not self.even:
                 np.divide(moved, self.travel, out=moved)
-            fastest = np.fmax.reduce(moved) * (1.0 if self.even else self.longest)
-            if np.min(apart) > SAFETY * fastest:
+            fastest = (np.maximum.reduce(moved) if self.even
+                       else np.fmax.reduce(moved) * self.longest)
+            if np.minimum.reduce(apart) > SAFETY * fastest:
                 self.labels[node.name] = start
                 return start, []
         # per sample and per step, of the samples looked at: the step from sample i of
