@@ -61,6 +61,7 @@ Time derivatives follow by the chain rule from the input's rate
 from __future__ import annotations
 
 from collections.abc import Mapping
+from contextlib import nullcontext
 from dataclasses import dataclass
 
 import numpy as np
@@ -72,6 +73,7 @@ from .compat import renamed_attribute, renamed_keywords
 from .engine import BLOCK_SAMPLES, assembly_guesses, evaluate
 from .errors import ConstructionError
 from .frozen import Frozen, read_only
+from .primitives import nearby_rows
 from .results import Sweep, short_name
 
 __all__ = ["Derivatives", "Motion", "input_derivatives", "link_angles", "motion",
@@ -93,9 +95,9 @@ ACCELERATION_RTOL = 1e-5
 """The accuracy stated for accelerations (and second derivatives), relative to
 the sweep's largest acceleration."""
 
-SAMPLES_PER_BLOCK = BLOCK_SAMPLES // 3
-"""Samples differentiated together: their three perturbations make one block
-of the engine."""
+SAMPLES_PER_BLOCK = BLOCK_SAMPLES // 4
+"""Samples differentiated together: their three perturbations (four in a frame
+of their own) make one block of the engine, evaluated in one piece."""
 
 QUICK = (-1, 1, 2)
 """The perturbations every sample is evaluated at first, in steps: with the
@@ -396,8 +398,9 @@ class _Block:
         # a closure group, untracked here, starts at each sample from its own solution
         held.update(assembly_guesses(sweep, at, k))
         varied = {name: np.tile(values[at], k) for name, values in sweep.parameters.items()}
-        self.evaluated = evaluate(sweep.construction, inputs, m * k, held, track=False,
-                                  origin=origin, parameters=varied)
+        with nearby_rows(k, m) if offsets[:len(QUICK)] == QUICK else nullcontext():
+            self.evaluated = evaluate(sweep.construction, inputs, m * k, held, track=False,
+                                      origin=origin, parameters=varied)
         self.okay = self.evaluated.valid.reshape(k, m)
 
     def valid(self, offsets: tuple[int, ...]) -> np.ndarray:

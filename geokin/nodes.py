@@ -420,8 +420,9 @@ class Polar(Node):
         ox, oy = coords[self.origin]
         distance, angle = values["distance"], values["angle"]
         if self.reference is None:
-            x = _scaled_and_shifted(np.cos(angle), distance, ox)
-            y = _scaled_and_shifted(np.sin(angle), distance, oy)
+            cos, sin = prim.cos_sin(angle)
+            x = _scaled_and_shifted(cos, distance, ox)
+            y = _scaled_and_shifted(sin, distance, oy)
         else:
             (x1, y1), (x2, y2) = coords[self.reference[0]], coords[self.reference[1]]
             x, y = prim.relative_point_xy(ox, oy, x1, y1, x2, y2, distance, angle)

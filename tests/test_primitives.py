@@ -27,17 +27,20 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
 from geokin.primitives import (
+    NEARBY,
     PARAMETER_RTOL,
     SCALE_RANGE,
     TANGENCY_RTOL,
     circle_circle,
     circle_circle_xy,
+    cos_sin,
     line_circle,
     line_circle_xy,
     line_line,
     line_line_xy,
     local_point,
     local_point_xy,
+    nearby_rows,
     point_along,
     polar_point,
     ray_circle,
@@ -1041,3 +1044,29 @@ def test_scale_range_covers_the_documented_figures():
     low, high = SCALE_RANGE
     assert low <= 1e-200 and high >= 1e200
     assert low > np.finfo(float).tiny  # beyond, inputs are subnormal: few digits left
+
+
+@given(base=hnp.arrays(float, st.integers(1, 40), elements=st.floats(-1e3, 1e3)),
+       steps=st.lists(st.floats(-NEARBY, NEARBY), min_size=1, max_size=4),
+       wide=st.booleans())
+def test_cos_sin_of_nearby_rows_are_those_of_numpy_to_rounding(base, steps, wide):
+    """Rows found by angle addition from the first; rows too far apart computed in full."""
+    rows = np.concatenate([base] + [base + (2 if wide else 1) * step for step in steps])
+    with nearby_rows(1 + len(steps), len(base)):
+        c, s = cos_sin(rows)
+    if wide and max(abs(step) for step in steps) > 0.5000001 * NEARBY:
+        np.testing.assert_array_equal(c, np.cos(rows))
+        np.testing.assert_array_equal(s, np.sin(rows))
+    np.testing.assert_allclose(c, np.cos(rows), rtol=0, atol=4 * np.finfo(float).eps)
+    np.testing.assert_allclose(s, np.sin(rows), rtol=0, atol=4 * np.finfo(float).eps)
+    # outside the context, or for an array of another size, numpy's own
+    np.testing.assert_array_equal(cos_sin(rows)[0], np.cos(rows))
+    with nearby_rows(1 + len(steps), len(base) + 1):
+        np.testing.assert_array_equal(cos_sin(rows)[1], np.sin(rows))
+
+
+def test_cos_sin_leaves_nan_to_numpy():
+    angles = np.array([0.0, 1.0, np.nan, 1.0])
+    with nearby_rows(2, 2):
+        c, _ = cos_sin(angles)
+    np.testing.assert_array_equal(c, np.cos(angles))
