@@ -229,16 +229,17 @@ def _candidates(step: _PlannedStep, coords, values, origin, guess=None, sketch=N
 
 
 BLOCK_SAMPLES = 2**15
-"""How many samples an evaluation that tracks no branch takes at a time (the
-finite differences of kinematics, the bisections of limits): its temporary
-arrays then stay in the processor's cache and are reused, and memory beyond
-the results does not grow with the number of samples."""
+"""How many samples a long evaluation takes at a time (each step's candidates
+of a tracked sweep; every step of an evaluation that tracks no branch, as the
+bisections of limits): its temporary arrays then stay in the processor's cache
+and are reused, and memory beyond the results does not grow with the number of
+samples."""
 
 
 BLOCKED_ABOVE = 4 * BLOCK_SAMPLES
-"""A tracked sweep of more samples than this computes each step's candidates
-:data:`BLOCK_SAMPLES` at a time; below it the arrays fit the cache as they are,
-and blocks would only add their own cost."""
+"""An evaluation of more samples than this is done :data:`BLOCK_SAMPLES` at a
+time; below it the arrays fit the cache as they are, and blocks would only add
+their own cost."""
 
 
 @dataclass
@@ -277,8 +278,9 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
     track : bool
         Whether the samples form a path along which branches are tracked
         (rules 2 to 4); turned off when evaluating at isolated perturbed inputs.
-        Without tracking, samples are evaluated :data:`BLOCK_SAMPLES` at a time
-        where no node's branch depends on all of them (a ``near`` choice).
+        Without tracking, more than :data:`BLOCKED_ABOVE` samples are
+        evaluated :data:`BLOCK_SAMPLES` at a time where no node's branch
+        depends on all of them (a ``near`` choice).
     start : mapping of str to int, optional
         The branch (0 or 1) some nodes start on, instead of their declared choice.
     origin : (float, float), optional
@@ -321,7 +323,7 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         varied = {k: np.broadcast_to(v, (n,)) for k, v in varied.items()}
     plan = _plan(compiled, frozenset(varied))
     chosen = {**(start or {}), **(held or {})}
-    if (not track and n > BLOCK_SAMPLES and paths == 1
+    if (not track and n > BLOCKED_ABOVE and paths == 1
             and all(step.node.name in chosen or not step.node.chosen_by_position
                     for step in plan if step.node.roots == 2)
             and all(step.node.name in (held or {}) for step in plan if step.node.continued)):

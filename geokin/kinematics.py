@@ -70,7 +70,7 @@ from numpy.typing import ArrayLike
 from . import display
 from .budgets import check_sweep_memory
 from .compat import renamed_attribute, renamed_keywords
-from .engine import BLOCK_SAMPLES, assembly_guesses, evaluate
+from .engine import BLOCKED_ABOVE, assembly_guesses, evaluate
 from .errors import ConstructionError
 from .frozen import Frozen, read_only
 from .primitives import nearby_rows
@@ -95,9 +95,10 @@ ACCELERATION_RTOL = 1e-5
 """The accuracy stated for accelerations (and second derivatives), relative to
 the sweep's largest acceleration."""
 
-SAMPLES_PER_BLOCK = BLOCK_SAMPLES // 4
-"""Samples differentiated together: their three perturbations (four in a frame
-of their own) make one block of the engine, evaluated in one piece."""
+SAMPLES_PER_BLOCK = BLOCKED_ABOVE // 8
+"""Samples differentiated together, 2**14: their three perturbations (four in a
+frame of their own) are evaluated in one piece (below :data:`BLOCKED_ABOVE`),
+few enough for the cache and enough that Python's cost per block stays small."""
 
 QUICK = (-1, 1, 2)
 """The perturbations every sample is evaluated at first, in steps: with the

@@ -448,7 +448,8 @@ def test_blocks_of_samples_give_the_same_derivatives_as_one_pass(monkeypatch):
     whole = motion(s)
     monkeypatch.setattr(geokin.kinematics, "SAMPLES_PER_BLOCK", 45)  # 360 = 8 * 45
     # as in use, the engine evaluates a block's perturbations in one piece
-    monkeypatch.setattr(geokin.engine, "BLOCK_SAMPLES", 4 * 45)
+    monkeypatch.setattr(geokin.engine, "BLOCK_SAMPLES", 45)
+    monkeypatch.setattr(geokin.engine, "BLOCKED_ABOVE", 4 * 45)
     blocked = motion(s)
     for name in ("A", "B", "P"):
         np.testing.assert_array_equal(blocked.velocity[name], whole.velocity[name])
