@@ -387,12 +387,11 @@ class _Block:
         m, k = len(sweep.valid[at]), len(offsets)
         self.m = m
         # offset-major layout: sample i at the j-th offset sits at j * m + i
-        steps = h * np.repeat(np.asarray(offsets, dtype=float), m)
+        steps = h * np.asarray(offsets, dtype=float)[:, None]
         inputs = {}
         for name, values in sweep.inputs.items():
-            inputs[name] = np.tile(values[at], k)
-            if name in rates:
-                inputs[name] += steps * np.tile(rates[name][at], k)
+            inputs[name] = ((values[at] + steps * rates[name][at]).reshape(-1) if name in rates
+                            else np.tile(values[at], k))
         # a branch that never changes (a broadcast view) stays one number
         held = {name: (int(b[0]) if b.strides == (0,) else np.tile(b[at], k))
                 for name, b in sweep.branches.items()}
