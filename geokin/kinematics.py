@@ -6,10 +6,11 @@ on that sample's branches, all samples of a block in one vectorized pass.
 So their accuracy does not depend on how coarse the sweep is, and a
 derivative never reaches across a branch change or an unassemblable
 stretch. Every sample is evaluated at k = -1, 1, 2 (three evaluations a
-sample); the few whose estimated error is not far below the accuracy
-stated (near a singular position, where the rates grow fast) again at
-k = -2, -1, 1, 2; and where the perturbed construction cannot be assembled
-on one side, a one-sided stencil is used there (k = 1..4 or -1..-4).
+sample); the few whose estimated truncation error is not far below the
+accuracy stated (near a singular position, where the rates grow fast) again
+at k = -2, -1, 1, 2; and where the perturbed construction cannot be
+assembled on one side, or those cannot, a one-sided stencil is used there
+(k = 1..4 or -1..-4).
 
 Stencils (f_k = f(q + k h)):
 
@@ -25,13 +26,16 @@ Error estimates
 ---------------
 Every sample gets an estimate of the error of its derivatives
 (:attr:`Derivatives.first_error`, :attr:`Derivatives.second_error`, the
-largest over the points), from comparing each value with a lower-order one
-on the same evaluations: their difference is the lower order's error, and
-the higher order's is smaller by about the ratio of the step to the
-distance to the nearest singular position, read from those differences
-(:meth:`_Block.quick` and ``_Estimate`` give the models), plus the rounding
-of positions over the step. For the quick stencil the third difference
-``f_2 - 3 f_1 + 3 f_0 - f_-1`` (about ``h**3 f'''``) is that difference. A
+largest over the points), plus the rounding of positions over the step.
+For the central and one-sided stencils it comes from comparing each value
+with a lower-order one on the same evaluations: their difference is the
+lower order's error, and the higher order's is smaller by about the ratio of
+the step to the distance to the nearest singular position, read from those
+differences (``_Estimate``). For the quick stencil it is extrapolated from
+the third difference ``f_2 - 3 f_1 + 3 f_0 - f_-1`` (about ``h**3 f'''``)
+with that ratio (:meth:`_Block.quick`). Each point's ratio is read from its
+own derivatives, so that a large point moving regularly does not hide a
+small one near its toggle. A
 sample is flagged (:attr:`Motion.flagged`) where the estimated error of
 some point's velocity exceeds :data:`VELOCITY_RTOL` of the speed of the
 fastest point at that sample, or of its acceleration
@@ -48,10 +52,11 @@ fraction of the mechanism's size (the largest extent of its points over the
 sweep) for a length input. Along a motion in time, the step in time moves no
 input by more than its own ``h``. With this step the rounding of positions
 (about 1e-16 of the mechanism's size) gives errors near 1e-12 of the size in
-velocities and 1e-8 in accelerations, and the truncation of the quick
-stencil stays near them (about 1e-12 and 3e-9 of the rates, for rates that
-change over a radian) except near singular positions, where the central one
-takes over and the estimate flags the samples it cannot make accurate.
+velocities and 1e-8 in accelerations. The quick stencil's truncation is
+larger, typically 1e-10 to 1e-9 of the fastest speed and 1e-8 to 2e-7 of the
+largest acceleration, and never above 1/:data:`REFINED_BELOW` of the
+accuracy stated: beyond, near singular positions, the central stencil takes
+over, and the estimate flags the samples it cannot make accurate.
 
 Time derivatives follow by the chain rule from the input's rate
 (``speed``, radians or length units per second) and its acceleration:
@@ -109,6 +114,11 @@ CENTRAL = (-2, -1, 1, 2)
 """The perturbations of the fourth-order central stencil, in steps: for the
 samples where the error of the first is not far below the accuracy stated."""
 
+# a block of the quick stencil (and the sample itself, in a frame of its own) must be
+# evaluated in one piece for nearby_rows to apply, so that a sample's derivatives do
+# not depend on how the samples were cut
+assert (len(QUICK) + 1) * SAMPLES_PER_BLOCK <= BLOCKED_ABOVE
+
 FORWARD, BACKWARD = (1, 2, 3, 4), (-1, -2, -3, -4)
 """The perturbations of the one-sided stencils, in steps."""
 
@@ -124,9 +134,11 @@ fourth-order derivative is taken to be (the model gives 4 near a pole and
 14 near a square root)."""
 
 QUICK_ERROR_FACTORS = (5.0, 1.0)
-"""How much larger than the model of :meth:`_Block.quick` the errors of its
-first and second derivatives are taken to be (the model gives 1.25 and 0.21
-near a square root, 2 and 0.33 near a pole)."""
+"""The errors of the quick stencil's first and second derivatives over
+``(h / d) * third / 6h`` and ``(h / d) * third / h**2`` (see
+:meth:`_Block.quick`): with ``h / d`` read as there, the truncation errors
+are 0.83 and 0.14 of these near a square root (a toggle), 0.67 and 0.11
+near a pole, so the factors leave margins of 6 and 7."""
 
 REFINED_BELOW = 10.0
 """A sample whose quick derivatives may be off by more than the accuracy stated
@@ -158,7 +170,8 @@ class Derivatives(Frozen):
         dp/dq and d2p/dq2 (q the input, radians for an angle); NaN where the
         construction cannot be assembled around the sample.
     stencil : ndarray of int8, shape (N,)
-        0 central, 1 forward, -1 backward, 2 none (NaN).
+        0 central (on -h, h and 2h, with -2h near a singular position),
+        1 forward, -1 backward, 2 none (NaN).
     first_error, second_error : ndarray, shape (N,)
         The estimated error of the first and second derivatives at each
         sample, the largest over the points (NaN where there is no stencil).
@@ -329,16 +342,18 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
     # in another frame the sample itself is evaluated again: the sweep's own
     # positions carry the rounding of the far frame
     extra = () if origin is None else (0,)
-    scale = size if sizes is None else sizes
     for lo in range(0, n, SAMPLES_PER_BLOCK):
         hi = min(lo + SAMPLES_PER_BLOCK, n)
-        block = _Block(sweep, slice(lo, hi), rates, h, origin, noise, QUICK + extra)
+        block = _Block(sweep, slice(lo, hi), rates, h, origin, noise, QUICK + extra, quick=True)
         ok = block.valid(QUICK + extra) & sweep.valid[lo:hi]
-        again = block.quick(moving, first, second, first_error, second_error,
-                            _at(noise, slice(lo, hi)), _at(scale, slice(lo, hi)),
-                            tuple(v[lo:hi] for v in largest))
+        into = _Into({p: first[p][lo:hi] for p in moving}, {p: second[p][lo:hi] for p in moving},
+                     first_error[lo:hi], second_error[lo:hi], (largest[0][lo:hi],
+                                                               largest[1][lo:hi]))
+        again = block.quick(moving, into, _at(noise, slice(lo, hi)))
         stencil[lo:hi][ok] = 0
-        # near a singular position: fourth order, where it can be assembled
+        # one-sided stencils where no central one can be assembled: few samples
+        rest = lo + np.flatnonzero(~ok)
+        # near a singular position: fourth order, where it can be assembled, else one-sided
         again = lo + np.flatnonzero(again & ok)
         if again.size:
             fine = _Block(sweep, again, rates, h, origin, noise, CENTRAL + extra)
@@ -347,8 +362,7 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
             fine.central(central, moving, first, second, estimate)
             estimate.finish(first_error, second_error, _at(noise, estimate.at), ROUNDING_CENTRAL,
                             largest)
-        # one-sided stencils where the central one cannot be assembled: few samples
-        rest = lo + np.flatnonzero(~ok)
+            rest = np.union1d(rest, again[~central])
         for p in moving:
             first[p][rest] = second[p][rest] = np.nan
         first_error[rest] = second_error[rest] = np.nan
@@ -373,6 +387,23 @@ def _at(value, at):
     return value if np.ndim(value) == 0 else value[at]
 
 
+@dataclass(frozen=True)
+class _Into:
+    """Where the stencils of some samples write: views of the results over them.
+
+    ``first`` and ``second`` hold each moving point's derivatives, (M, 2);
+    ``first_error`` and ``second_error`` their estimated errors, (M,); and
+    ``largest`` the largest squared first and second derivative over the
+    points, (M,) each.
+    """
+
+    first: dict[str, np.ndarray]
+    second: dict[str, np.ndarray]
+    first_error: np.ndarray
+    second_error: np.ndarray
+    largest: tuple[np.ndarray, np.ndarray]
+
+
 class _Block:
     """The perturbed evaluations of some samples, and the stencils on them.
 
@@ -381,7 +412,7 @@ class _Block:
 
     def __init__(self, sweep: Sweep, at: slice | np.ndarray, rates: dict, h: float,
                  origin: tuple[float, float] | None, noise: float | np.ndarray,
-                 offsets: tuple[int, ...] = CENTRAL):
+                 offsets: tuple[int, ...] = CENTRAL, quick: bool = False):
         self.sweep, self.at, self.h, self.noise = sweep, at, h, noise
         self.offsets = offsets
         m, k = len(sweep.valid[at]), len(offsets)
@@ -398,7 +429,9 @@ class _Block:
         # a closure group, untracked here, starts at each sample from its own solution
         held.update(assembly_guesses(sweep, at, k))
         varied = {name: np.tile(values[at], k) for name, values in sweep.parameters.items()}
-        with nearby_rows(k, m) if offsets[:len(QUICK)] == QUICK else nullcontext():
+        # the quick stencil's perturbations are rows of nearby inputs, evaluated in one
+        # piece (SAMPLES_PER_BLOCK): their angles' cosines follow from the first row's
+        with nearby_rows(k, m) if quick else nullcontext():
             self.evaluated = evaluate(sweep.construction, inputs, m * k, held, track=False,
                                       origin=origin, parameters=varied)
         self.okay = self.evaluated.valid.reshape(k, m)
@@ -427,72 +460,94 @@ class _Block:
         own = self.sweep.points.xy(name)
         return tuple((v, w[self.at]) for v, w in zip(evaluated, own, strict=True))
 
-    def quick(self, moving, first, second, first_error, second_error, noise, size,
-              largest) -> np.ndarray:
+    def quick(self, moving: list[str], into: _Into, noise: float | np.ndarray) -> np.ndarray:
         r"""Differentiate every sample of the block on :data:`QUICK`; return where to refine.
 
-        With ``t = f_1 - f_0`` and ``u = f_0 - f_-1``: ``f' = (3 (t + u) - d3) / 6h``
-        and ``f'' = (t - u) / h**2``, where the third difference
-        ``d3 = f_2 - 3 f_1 + 3 f_0 - f_-1`` is about ``h**3 f'''``. The error
-        of the first is about ``h**3 f'''' / 12``, of the second ``h**2 f'''' / 12``.
-        ``d3`` gives ``f'''``; near a singular position at a distance ``d`` in
-        the input each derivative grows on the one before by about ``1 / d``,
-        which ``h f''' / f''`` and ``(h**2 f''' / f')**(1/2)`` measure (the
-        largest over the points: the mechanism as a whole). The errors and
-        where to refine are given at every sample of the block, garbage where
-        it cannot be assembled: the caller overwrites those.
+        Parameters
+        ----------
+        moving : list of str
+            The points to differentiate.
+        into : _Into
+            Where the block's derivatives, their errors and its largest squared
+            derivatives are written (garbage where the block cannot be
+            assembled: the caller overwrites those samples).
+        noise : float or ndarray
+            The rounding of positions, for all samples or each.
+
+        Returns
+        -------
+        ndarray of bool
+            The samples whose truncation error is not :data:`REFINED_BELOW`
+            times below the accuracy stated, against their own fastest speed
+            and largest acceleration: to be differentiated on :data:`CENTRAL`.
+            Neither the rounding nor the sweep's size enters, so that a
+            sample's derivatives do not depend on the samples around it.
+
+        Notes
+        -----
+        With ``forward = f_1 - f_0`` and ``backward = f_0 - f_-1``,
+        ``f'' = (forward - backward) / h**2`` and
+        ``f' = (3 (forward + backward) - third) / 6h``, where the third
+        difference ``third = f_2 - 3 f_1 + 3 f_0 - f_-1`` is about
+        ``h**3 f'''``. Their truncation errors are about ``h**2 f'''' / 12``
+        and ``h**3 f'''' / 12``. Near a singular position at a distance ``d``
+        in the input each derivative grows on the one before by about
+        ``1 / d``: for each point ``h / d`` is read as the larger of
+        ``h f''' / f''`` and ``(h**2 f''' / f')**(1/2)`` (at most 1), the
+        errors follow from it and ``third``, and the largest over the points
+        is kept. Each point is read on its own, so that a large point moving
+        regularly does not hide a small one near its toggle.
         """
         h = self.h
-        assert isinstance(self.at, slice)  # a block of consecutive samples
-        lo, hi = self.at.start, self.at.stop
         column = [self.offsets.index(k) for k in QUICK]
-        totals: list[np.ndarray] = []  # the largest squares over the points
+        speed2, accel2 = into.largest  # the largest over the points, squared
+        worst: np.ndarray | None = None  # and the largest (h / d * third)**2
         for name in moving:
-            derivatives = []
+            differences = []
             for axis, (rows, f0) in enumerate(self.rows(name)):
-                fm1, f1, f2 = (rows[j] for j in column)
-                t = f1 - f0
-                u = f0 - fm1
-                odd = t + u
-                t -= u  # h**2 f''
-                d3 = f2 - f1
-                d3 -= u
-                d3 -= t
-                d3 -= t  # f_2 - 3 f_1 + 3 f_0 - f_-1
-                odd *= 3
-                odd -= d3
-                d1 = np.multiply(odd, 1 / (6 * h), out=first[name][lo:hi, axis])
-                d2 = np.multiply(t, 1 / (h * h), out=second[name][lo:hi, axis])
-                derivatives.append((d1, d2, d3))
-            (x1, x2, x3), (y1, y2, y3) = derivatives
-            squares = (x1 * x1, x2 * x2, x3 * x3)
-            for square, y in zip(squares, (y1, y2, y3), strict=True):
-                square += y * y
-            if not totals:
-                totals = list(squares)
+                before, after, farther = (rows[j] for j in column)
+                forward = after - f0
+                backward = f0 - before
+                across = forward + backward  # f_1 - f_-1
+                forward -= backward  # now f_1 - 2 f_0 + f_-1, about h**2 f''
+                third = farther - after
+                third -= backward
+                third -= forward
+                third -= forward  # f_2 - 3 f_1 + 3 f_0 - f_-1
+                across *= 3
+                across -= third
+                d1 = np.multiply(across, 1 / (6 * h), out=into.first[name][:, axis])
+                d2 = np.multiply(forward, 1 / (h * h), out=into.second[name][:, axis])
+                differences.append((d1, d2, third))
+            (x1, x2, x3), (y1, y2, y3) = differences
+            rate, curvature, third2 = x1 * x1, x2 * x2, x3 * x3
+            rate += y1 * y1
+            curvature += y2 * y2
+            third2 += y3 * y3
+            with np.errstate(divide="ignore", invalid="ignore"):
+                # (h / d)**2, at most 1; NaN where the point does not move, left out
+                ratio2 = np.fmax(third2 / (h**4 * curvature), np.sqrt(third2 / rate) / h)
+                np.fmin(ratio2, 1.0, out=ratio2)
+                ratio2 *= third2  # (h / d * third)**2, the errors but for constants
+            if worst is None:
+                speed2[...], accel2[...], worst = rate, curvature, ratio2
             else:
-                for total, square in zip(totals, squares, strict=True):
-                    np.fmax(total, square, out=total)
-        if not totals:  # nothing moves: only rounding
-            first_error[lo:hi] = ROUNDING_QUICK[0] * noise / h
-            second_error[lo:hi] = ROUNDING_QUICK[1] * noise / (h * h)
-            largest[0][...] = largest[1][...] = 0.0
+                np.fmax(speed2, rate, out=speed2)
+                np.fmax(accel2, curvature, out=accel2)
+                np.fmax(worst, ratio2, out=worst)
+        first_error, second_error = into.first_error, into.second_error
+        if worst is None:  # nothing moves: only rounding
+            first_error[...] = ROUNDING_QUICK[0] * noise / h
+            second_error[...] = ROUNDING_QUICK[1] * noise / (h * h)
+            speed2[...] = accel2[...] = 0.0
             return np.zeros(self.m, dtype=bool)
-        rate, curvature, third = totals
-        largest[0][...], largest[1][...] = rate, curvature
-        speed, accel, third = np.sqrt(rate), np.sqrt(curvature), np.sqrt(third)
-        gap1 = third / (6 * h)  # the error of (f_1 - f_-1) / 2h
-        gap2 = third / (h * h)  # h f''': how much f'' changes over a step
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.fmax(gap2 / accel, np.sqrt(6 * gap1 / speed))
-            ratio[~np.isfinite(ratio)] = 1.0
-            error1 = np.multiply(QUICK_ERROR_FACTORS[0] * ratio, gap1, out=first_error[lo:hi])
-            error1 += ROUNDING_QUICK[0] * noise / h
-            error2 = np.multiply(QUICK_ERROR_FACTORS[1] * ratio, gap2, out=second_error[lo:hi])
-            error2 += ROUNDING_QUICK[1] * noise / (h * h)
-            accel = np.fmax(accel, rate / size, out=accel)
-            again = error1 > (VELOCITY_RTOL / REFINED_BELOW) * speed
-            again |= error2 > (ACCELERATION_RTOL / REFINED_BELOW) * accel
+        worst = np.sqrt(worst, out=worst)
+        truncation1 = np.multiply(worst, QUICK_ERROR_FACTORS[0] / (6 * h), out=first_error)
+        truncation2 = np.multiply(worst, QUICK_ERROR_FACTORS[1] / (h * h), out=second_error)
+        again = truncation1 > (VELOCITY_RTOL / REFINED_BELOW) * np.sqrt(speed2)
+        again |= truncation2 > (ACCELERATION_RTOL / REFINED_BELOW) * np.sqrt(accel2)
+        first_error += ROUNDING_QUICK[0] * noise / h
+        second_error += ROUNDING_QUICK[1] * noise / (h * h)
         return again
 
     def central(self, ok, moving, first, second, estimate):
@@ -548,44 +603,43 @@ class _Estimate:
     position at a distance d in the input, the derivatives grow like
     ``1 / d**k`` and the errors of second and fourth order like
     ``(h / d)**2`` and ``(h / d)**4``; the ratio ``(h / d)**2`` is read from
-    the largest difference over the largest derivative, for the mechanism
-    as a whole, and :data:`ERROR_FACTOR` covers the constants of both kinds
-    of singularity (a square root, a pole). The rounding of the positions
-    over the step comes on top.
+    each point's differences over its derivatives (at most 1), each point on
+    its own so that a large point moving regularly does not hide a small one
+    near its toggle, and :data:`ERROR_FACTOR` covers the constants of both
+    kinds of singularity (a square root, a pole). The largest error over the
+    points is kept; the rounding of the positions over the step comes on top.
     """
 
     def __init__(self, at: slice | np.ndarray, h: float):
         self.at, self.h = at, abs(h)
-        # squared lengths, the largest over the points
-        self.rate = self.curvature = self.gap1 = self.gap2 = None
+        # the largest over the points: squared derivatives, and truncation errors
+        self.rate = self.curvature = self.error1 = self.error2 = None
 
     def add(self, first, second, d1, d2, gap1, gap2):
         """Take one point's derivatives and gaps, each (M, 2)."""
         first[self.at], second[self.at] = d1, d2
-        squares = (_squared(d1), _squared(d2), _squared(gap1), _squared(gap2))
+        rate, curvature = _squared(d1), _squared(d2)
+        gap1, gap2 = np.sqrt(_squared(gap1)), np.sqrt(_squared(gap2))
+        with np.errstate(divide="ignore", invalid="ignore"):
+            # (h / d)**2; NaN where the point does not move, then its gaps are 0
+            ratio = np.fmin(np.fmax(gap1 / np.sqrt(rate), gap2 / np.sqrt(curvature)), 1.0)
+        found = (rate, curvature, ratio * gap1, ratio * gap2)
         if self.rate is None:
-            self.rate, self.curvature, self.gap1, self.gap2 = squares
+            self.rate, self.curvature, self.error1, self.error2 = found
         else:
-            for total, square in zip((self.rate, self.curvature, self.gap1, self.gap2),
-                                     squares, strict=True):
-                np.fmax(total, square, out=total)
+            for total, value in zip((self.rate, self.curvature, self.error1, self.error2),
+                                    found, strict=True):
+                np.fmax(total, value, out=total)
 
     def finish(self, first_error, second_error, noise, rounding, largest):
         """Write the errors at the samples, and the largest squared derivatives."""
         for into, square in zip(largest, (self.rate, self.curvature), strict=True):
             into[self.at] = 0.0 if square is None else square
-        if self.rate is None:  # nothing moves: only rounding
-            first_error[self.at] = rounding[0] * noise / self.h
-            second_error[self.at] = rounding[1] * noise / (self.h * self.h)
-            return
-        rate, curvature = np.sqrt(self.rate), np.sqrt(self.curvature)
-        gap1, gap2 = np.sqrt(self.gap1), np.sqrt(self.gap2)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            ratio = np.fmax(gap1 / rate, gap2 / curvature)
-        ratio[~np.isfinite(ratio)] = 1.0
-        first_error[self.at] = ERROR_FACTOR * ratio * gap1 + rounding[0] * noise / self.h
-        second_error[self.at] = (ERROR_FACTOR * ratio * gap2
-                                 + rounding[1] * noise / (self.h * self.h))
+        first_error[self.at] = rounding[0] * noise / self.h
+        second_error[self.at] = rounding[1] * noise / (self.h * self.h)
+        if self.error1 is not None:
+            first_error[self.at] += ERROR_FACTOR * self.error1
+            second_error[self.at] += ERROR_FACTOR * self.error2
 
 
 @dataclass(frozen=True)

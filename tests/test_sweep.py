@@ -7,6 +7,7 @@ from hypothesis import strategies as st
 from mechanisms import FOURBAR_004, SIXBAR, coupler_fourbar, fourbar, sixbar, triple_rocker
 
 from geokin import Construction, ConstructionError, sweep
+from geokin.engine import evaluate
 from geokin.loops import fourbar_closed_form
 from geokin.nodes import DEGENERATE, REASONS
 
@@ -384,8 +385,17 @@ def test_a_sweep_in_blocks_is_the_sweep_in_one_pass(monkeypatch, block):
              (sixbar(), np.radians(np.arange(0, 1800.0, 7.3))),
              (triple_rocker("crank"), np.linspace(-np.pi, np.pi, 400))]
     whole = [sweep(c, theta) for c, theta in cases]
+    untracked = [evaluate(one.construction, one.inputs, len(one), held=one.branches, track=False)
+                 for one in whole]
     monkeypatch.setattr(geokin.engine, "BLOCK_SAMPLES", block)
-    for (c, theta), one in zip(cases, whole, strict=True):
+    monkeypatch.setattr(geokin.engine, "BLOCKED_ABOVE", block)
+    for (c, theta), one, alone in zip(cases, whole, untracked, strict=True):
+        # evaluated at isolated inputs on given branches (as kinematics does), in parts
+        parts = evaluate(one.construction, one.inputs, len(one), held=one.branches, track=False)
+        np.testing.assert_array_equal(parts.valid, alone.valid)
+        np.testing.assert_array_equal(parts.reason_code, alone.reason_code)
+        for name in one.construction.point_names:
+            np.testing.assert_array_equal(parts[name], alone[name])
         blocked = sweep(c, theta)
         assert blocked.events == one.events
         np.testing.assert_array_equal(blocked.valid, one.valid)
