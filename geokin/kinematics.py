@@ -175,6 +175,8 @@ class Derivatives(Frozen):
     first_error, second_error : ndarray, shape (N,)
         The estimated error of the first and second derivatives at each
         sample, the largest over the points (NaN where there is no stencil).
+    first_errors, second_errors : dict of str to ndarray, shape (N,)
+        Each point's own estimated errors (0 for a point that does not move).
     """
 
     input_name: str
@@ -184,9 +186,12 @@ class Derivatives(Frozen):
     stencil: np.ndarray
     first_error: np.ndarray
     second_error: np.ndarray
+    first_errors: dict
+    second_errors: dict
 
     input = renamed_attribute("input", "input_name")
-    _read_only = ("first", "second", "stencil", "first_error", "second_error")
+    _read_only = ("first", "second", "stencil", "first_error", "second_error", "first_errors",
+                  "second_errors")
 
     def __repr__(self) -> str:
         missing = int(np.count_nonzero(self.stencil == 2))
@@ -336,6 +341,9 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
     # each coordinate contiguous: the stencils write them one at a time
     first = {p: (np.empty((2, n)).T if p in moving else still) for p in names}
     second = {p: (np.empty((2, n)).T if p in moving else still) for p in names}
+    resting = still[:, 0]
+    first_errors = {p: (np.empty(n) if p in moving else resting) for p in names}
+    second_errors = {p: (np.empty(n) if p in moving else resting) for p in names}
     stencil = np.full(n, 2, dtype=np.int8)
     first_error, second_error = np.empty(n), np.empty(n)
     rates = {k: np.broadcast_to(np.asarray(r, dtype=float), (n,)) for k, r in direction.items()}
@@ -347,8 +355,10 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
         block = _Block(sweep, slice(lo, hi), rates, h, origin, noise, QUICK + extra, quick=True)
         ok = block.valid(QUICK + extra) & sweep.valid[lo:hi]
         into = _Into({p: first[p][lo:hi] for p in moving}, {p: second[p][lo:hi] for p in moving},
-                     first_error[lo:hi], second_error[lo:hi], (largest[0][lo:hi],
-                                                               largest[1][lo:hi]))
+                     first_error[lo:hi], second_error[lo:hi],
+                     {p: first_errors[p][lo:hi] for p in moving},
+                     {p: second_errors[p][lo:hi] for p in moving},
+                     (largest[0][lo:hi], largest[1][lo:hi]))
         again = block.quick(moving, into, _at(noise, slice(lo, hi)))
         stencil[lo:hi][ok] = 0
         # one-sided stencils where no central one can be assembled: few samples
@@ -361,10 +371,11 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
             estimate = _Estimate(again[central], h)
             fine.central(central, moving, first, second, estimate)
             estimate.finish(first_error, second_error, _at(noise, estimate.at), ROUNDING_CENTRAL,
-                            largest)
+                            largest, first_errors, second_errors)
             rest = np.union1d(rest, again[~central])
         for p in moving:
             first[p][rest] = second[p][rest] = np.nan
+            first_errors[p][rest] = second_errors[p][rest] = np.nan
         first_error[rest] = second_error[rest] = np.nan
         largest[0][rest] = largest[1][rest] = 0.0
         rest = rest[sweep.valid[rest]]
@@ -377,9 +388,10 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
                     estimate = _Estimate(rest[mask], sign * h)
                     side.one_sided(mask, sign, moving, first, second, estimate)
                     estimate.finish(first_error, second_error, _at(noise, estimate.at),
-                                    ROUNDING_ONE_SIDED, largest)
+                                    ROUNDING_ONE_SIDED, largest, first_errors, second_errors)
             stencil[rest[forward]], stencil[rest[backward]] = 1, -1
-    return Derivatives(label, h, first, second, stencil, first_error, second_error)
+    return Derivatives(label, h, first, second, stencil, first_error, second_error,
+                       first_errors, second_errors)
 
 
 def _at(value, at):
@@ -392,15 +404,18 @@ class _Into:
     """Where the stencils of some samples write: views of the results over them.
 
     ``first`` and ``second`` hold each moving point's derivatives, (M, 2);
-    ``first_error`` and ``second_error`` their estimated errors, (M,); and
-    ``largest`` the largest squared first and second derivative over the
-    points, (M,) each.
+    ``first_error`` and ``second_error`` their estimated errors, the largest
+    over the points, (M,); ``first_errors`` and ``second_errors`` each
+    point's; and ``largest`` the largest squared first and second
+    derivative over the points, (M,) each.
     """
 
     first: dict[str, np.ndarray]
     second: dict[str, np.ndarray]
     first_error: np.ndarray
     second_error: np.ndarray
+    first_errors: dict[str, np.ndarray]
+    second_errors: dict[str, np.ndarray]
     largest: tuple[np.ndarray, np.ndarray]
 
 
@@ -492,11 +507,12 @@ class _Block:
         ``h**3 f'''``. Their truncation errors are about ``h**2 f'''' / 12``
         and ``h**3 f'''' / 12``. Near a singular position at a distance ``d``
         in the input each derivative grows on the one before by about
-        ``1 / d``: for each point ``h / d`` is read as the larger of
-        ``h f''' / f''`` and ``(h**2 f''' / f')**(1/2)`` (at most 1), the
-        errors follow from it and ``third``, and the largest over the points
-        is kept. Each point is read on its own, so that a large point moving
-        regularly does not hide a small one near its toggle.
+        ``1 / d``: for each point ``h / d`` is read as ``h f''' / f''`` (at
+        most 1; not from ``f'``, which passes through zero where a point
+        stops without anything singular), the errors follow from it and
+        ``third``, and the largest over the points is kept. Each point is
+        read on its own, so that a large point moving regularly does not hide
+        a small one near its toggle.
         """
         h = self.h
         column = [self.offsets.index(k) for k in QUICK]
@@ -525,10 +541,16 @@ class _Block:
             curvature += y2 * y2
             third2 += y3 * y3
             with np.errstate(divide="ignore", invalid="ignore"):
-                # (h / d)**2, at most 1; NaN where the point does not move, left out
-                ratio2 = np.fmax(third2 / (h**4 * curvature), np.sqrt(third2 / rate) / h)
-                np.fmin(ratio2, 1.0, out=ratio2)
+                # (h / d)**2, at most 1 (where the point does not move, 0 / 0 is NaN and
+                # the cap makes it 1, times a third difference of 0)
+                ratio2 = np.fmin(third2 / (h**4 * curvature), 1.0)
                 ratio2 *= third2  # (h / d * third)**2, the errors but for constants
+            # this point's own errors, for the rates of the links it ends
+            own = np.sqrt(ratio2)
+            error = np.multiply(own, QUICK_ERROR_FACTORS[0] / (6 * h), out=into.first_errors[name])
+            error += ROUNDING_QUICK[0] * noise / h
+            error = np.multiply(own, QUICK_ERROR_FACTORS[1] / (h * h), out=into.second_errors[name])
+            error += ROUNDING_QUICK[1] * noise / (h * h)
             if worst is None:
                 speed2[...], accel2[...], worst = rate, curvature, ratio2
             else:
@@ -572,7 +594,7 @@ class _Block:
             d2 *= b
             odd1 *= c
             even1 *= e
-            estimate.add(first[name], second[name], d1, d2, d1 - odd1, d2 - even1)
+            estimate.add(name, first[name], second[name], d1, d2, d1 - odd1, d2 - even1)
 
     def one_sided(self, mask, sign, moving, first, second, estimate):
         h = sign * self.h
@@ -583,7 +605,7 @@ class _Block:
             d2 = (35 * f0 - 104 * f1 + 114 * f2 - 56 * f3 + 11 * f4) / (12 * h * h)
             low1 = (-3 * f0 + 4 * f1 - f2) / (2 * h)
             low2 = (2 * f0 - 5 * f1 + 4 * f2 - f3) / (h * h)
-            estimate.add(first[name], second[name], d1, d2, d1 - low1, d2 - low2)
+            estimate.add(name, first[name], second[name], d1, d2, d1 - low1, d2 - low2)
 
 
 def _squared(vectors: np.ndarray) -> np.ndarray:
@@ -603,8 +625,8 @@ class _Estimate:
     position at a distance d in the input, the derivatives grow like
     ``1 / d**k`` and the errors of second and fourth order like
     ``(h / d)**2`` and ``(h / d)**4``; the ratio ``(h / d)**2`` is read from
-    each point's differences over its derivatives (at most 1), each point on
-    its own so that a large point moving regularly does not hide a small one
+    each point's difference over its second derivative (at most 1), each point
+    on its own so that a large point moving regularly does not hide a small one
     near its toggle, and :data:`ERROR_FACTOR` covers the constants of both
     kinds of singularity (a square root, a pole). The largest error over the
     points is kept; the rounding of the positions over the step comes on top.
@@ -614,16 +636,20 @@ class _Estimate:
         self.at, self.h = at, abs(h)
         # the largest over the points: squared derivatives, and truncation errors
         self.rate = self.curvature = self.error1 = self.error2 = None
+        self.own: dict[str, tuple[np.ndarray, np.ndarray]] = {}  # each point's truncation
 
-    def add(self, first, second, d1, d2, gap1, gap2):
+    def add(self, name, first, second, d1, d2, gap1, gap2):
         """Take one point's derivatives and gaps, each (M, 2)."""
         first[self.at], second[self.at] = d1, d2
         rate, curvature = _squared(d1), _squared(d2)
         gap1, gap2 = np.sqrt(_squared(gap1)), np.sqrt(_squared(gap2))
         with np.errstate(divide="ignore", invalid="ignore"):
-            # (h / d)**2; NaN where the point does not move, then its gaps are 0
-            ratio = np.fmin(np.fmax(gap1 / np.sqrt(rate), gap2 / np.sqrt(curvature)), 1.0)
+            # (h / d)**2, at most 1: from the second derivative, as the first of a
+            # point that stops (a rocker at the end of its swing) passes through zero
+            # where nothing is singular; where the point does not move its gaps are 0
+            ratio = np.fmin(gap2 / np.sqrt(curvature), 1.0)
         found = (rate, curvature, ratio * gap1, ratio * gap2)
+        self.own[name] = found[2:]
         if self.rate is None:
             self.rate, self.curvature, self.error1, self.error2 = found
         else:
@@ -631,15 +657,19 @@ class _Estimate:
                                     found, strict=True):
                 np.fmax(total, value, out=total)
 
-    def finish(self, first_error, second_error, noise, rounding, largest):
-        """Write the errors at the samples, and the largest squared derivatives."""
+    def finish(self, first_error, second_error, noise, rounding, largest, first_errors,
+               second_errors):
+        """Write the errors at the samples, each point's too, and the largest squares."""
         for into, square in zip(largest, (self.rate, self.curvature), strict=True):
             into[self.at] = 0.0 if square is None else square
-        first_error[self.at] = rounding[0] * noise / self.h
-        second_error[self.at] = rounding[1] * noise / (self.h * self.h)
+        rounded = (rounding[0] * noise / self.h, rounding[1] * noise / (self.h * self.h))
+        first_error[self.at], second_error[self.at] = rounded
         if self.error1 is not None:
             first_error[self.at] += ERROR_FACTOR * self.error1
             second_error[self.at] += ERROR_FACTOR * self.error2
+        for name, (error1, error2) in self.own.items():
+            first_errors[name][self.at] = ERROR_FACTOR * error1 + rounded[0]
+            second_errors[name][self.at] = ERROR_FACTOR * error2 + rounded[1]
 
 
 @dataclass(frozen=True)
@@ -913,17 +943,21 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
     velocity = d.first
     accel = d.second
     velocity_error, acceleration_error = d.first_error, d.second_error
+    velocity_errors, acceleration_errors = d.first_errors, d.second_errors
     accelerating = {name: c for name, c in changes.items() if np.any(c != 0)}
     if accelerating.keys() == {driver} and rates.keys() == {driver} and np.all(rate != 0):
         # one input moves: its own acceleration adds the first derivative scaled
         ratio = rate_change / rate
         accel = {p: accel[p] + velocity[p] * ratio[:, None] for p in accel}
         acceleration_error = acceleration_error + velocity_error * np.abs(ratio)
+        acceleration_errors = {p: acceleration_errors[p] + velocity_errors[p] * np.abs(ratio)
+                               for p in accel}
     elif accelerating:
         # the inputs' own accelerations add a first derivative along them
         extra = _along(sweep, accelerating, _time_step(sweep, accelerating, step), driver, sizes)
         accel = {p: accel[p] + extra.first[p] for p in accel}
         acceleration_error = acceleration_error + extra.first_error
+        acceleration_errors = {p: acceleration_errors[p] + extra.first_errors[p] for p in accel}
     angle = link_angles(whole)
     angular_velocity, angular_acceleration = {}, {}
     flagged = sweep.valid & (d.stencil == 2)
@@ -953,8 +987,9 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
             turn_accel_scale = np.fmax(turn_accel_scale, np.abs(alpha))
             # both ends' errors over the link's length, and through omega into alpha
             r = np.sqrt(r2)
-            link_errors.append((2 * velocity_error / r, 2 * acceleration_error / r
-                                + 6 * np.abs(omega) * velocity_error / r))
+            ends_v = velocity_errors[start] + velocity_errors[end]
+            ends_a = acceleration_errors[start] + acceleration_errors[end]
+            link_errors.append((ends_v / r, ends_a / r + 3 * np.abs(omega) * ends_v / r))
         turn_accel_scale = np.fmax(turn_accel_scale, turn_scale**2)
         for error_w, error_al in link_errors:
             flagged |= error_w > VELOCITY_RTOL * turn_scale
@@ -979,7 +1014,8 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
         return np.reshape(value, (count, -1, *np.shape(value)[1:]))
 
     derivatives = Derivatives(d.input_name, d.step, rows(d.first), rows(d.second),
-                              rows(d.stencil), rows(d.first_error), rows(d.second_error))
+                              rows(d.stencil), rows(d.first_error), rows(d.second_error),
+                              rows(d.first_errors), rows(d.second_errors))
     return Motion(whole, driver, time, rate[:len(time)], rate_change[:len(time)],
                   rows(velocity), rows(accel), angle, rows(angular_velocity),
                   rows(angular_acceleration), rows(flagged & sweep.valid),

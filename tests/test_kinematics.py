@@ -414,6 +414,32 @@ def test_a_large_point_turning_regularly_does_not_hide_a_small_one_at_its_toggle
     assert_unflagged_samples_as_accurate_as_stated(m, rates)
 
 
+def test_links_do_not_flag_samples_far_from_the_toggles():
+    """A link's rates are judged on its own ends' errors, not the largest point's.
+
+    The double-rocker with a coupler point 20 out accelerates far more than
+    its crank, whose rate is constant: the point's error, within its own
+    bound, must not flag the crank's samples in the middle of the swing.
+    """
+    c = Construction()
+    c.input("t")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 10, 0)
+    c.polar("A", "O2", 8, "t")
+    c.circle_circle("B", ("A", "O4"), (3, 9), branch="left")
+    c.polar("P", "A", 20, 0.0, reference=("A", "B"))
+    for name, ends in (("crank", ("O2", "A")), ("coupler", ("A", "B")), ("rocker", ("O4", "B"))):
+        c.link(name, *ends)
+    t = np.radians(np.linspace(36.9, 82.8, 3601))  # toggle to toggle
+    m = motion(sweep(c, t), speed=1.0)
+    middle = (t > np.radians(40)) & (t < np.radians(80))
+    assert not m.flagged[middle].any() and m.flagged.any()
+    np.testing.assert_allclose(m.angular_velocity["crank"][~m.flagged], 1.0, rtol=1e-7)
+    # each point's own errors, whose largest is the sample's
+    errors = np.max([m.derivatives.first_errors[p] for p in ("A", "B", "P")], axis=0)
+    np.testing.assert_array_equal(errors, m.velocity_error)
+
+
 def test_the_benchmark_four_bar_and_its_coupler_point_match_the_closed_form():
     c = Construction()
     c.input("theta")
