@@ -343,8 +343,9 @@ def test_a_design_that_never_assembles_exits_1(capsys):
     assert "no sample can be assembled" in err
 
 
-@given(st.integers(0, 2**32 - 1), st.floats(1e-4, 1.0))
+@given(st.integers(0, 2**32 - 1), st.floats(1e-4, 3.0))
 def test_strokes_near_the_nominal_link_are_those_of_the_arctangent(seed, spread):
+    """Small turns from the nominal (on the series), larger ones, beyond a quarter turn."""
     from geokin.analysis.tolerance import _stroke_from
 
     rng = np.random.default_rng(seed)

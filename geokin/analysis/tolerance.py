@@ -226,10 +226,15 @@ def _stroke_from(reference, dx, dy) -> np.ndarray:
     """Return each row's stroke of a link's angle, measured from the nominal link.
 
     The angle is the nominal one plus the angle between the two directions,
-    atan2(cross, dot). Where the turn from the nominal is small at every
-    sample of a row, the samples of its largest and smallest angle are
-    chosen on ``t - t**3/3 + ... - t**11/11`` of t = cross / dot, within
-    1e-12 of the arctangent, and the stroke is computed exactly there.
+    atan2(cross, dot). A row that turns less than a quarter turn from the
+    nominal at every sample differs from it by at most the arctangent of its
+    largest ``|t|``, t = cross / dot: its largest and smallest angle can only
+    be where the nominal angle comes within twice that of its own extremes,
+    and only there are they sought. Where the turn is small (below
+    :data:`SMALL_TURN`) they are chosen on ``t - t**3/3 + ... - t**11/11``,
+    within 1e-12 of the arctangent, and the stroke computed exactly at the
+    two samples chosen. A row that cannot be assembled somewhere has no
+    stroke (NaN).
     """
     ux, uy, base = reference
     rows = max(1, STROKE_BLOCK // max(dx.shape[1], 1))
@@ -237,25 +242,48 @@ def _stroke_from(reference, dx, dy) -> np.ndarray:
         return np.concatenate([_stroke_from(reference, dx[i:i + rows], dy[i:i + rows])
                                for i in range(0, dx.shape[0], rows)])
     cross, dot = ux * dy - uy * dx, ux * dx + uy * dy
-    t = cross / dot
-    small = (np.abs(t) < SMALL_TURN) & (dot > 0)
-    simple = small.all(axis=1)
+    least = np.minimum.reduce(dot, axis=1)  # NaN where the row is not assembled
     stroke = np.full(dx.shape[0], np.nan)
-    rows = np.flatnonzero(simple)
-    if rows.size:
-        u = t[rows]
-        u2 = u * u
-        approx = base + u * (1 + u2 * (-1 / 3 + u2 * (1 / 5 + u2 * (-1 / 7 + u2 * (
-            1 / 9 - u2 / 11)))))
-        high, low = np.argmax(approx, axis=1), np.argmin(approx, axis=1)
-        exact_high = base[high] + np.arctan2(cross[rows, high], dot[rows, high])
-        exact_low = base[low] + np.arctan2(cross[rows, low], dot[rows, low])
-        stroke[rows] = exact_high - exact_low
-    rest = np.flatnonzero(~simple)
+    with np.errstate(invalid="ignore"):
+        turn = np.where(least > 0, np.maximum.reduce(np.abs(cross / dot), axis=1), np.inf)
+    small = np.flatnonzero(turn < SMALL_TURN)
+    if small.size:
+        high_columns, low_columns = _near_extremes(base, float(np.max(turn[small])))
+        t = cross[small] / dot[small]
+        high = high_columns[np.argmax(_series(base[high_columns], t[:, high_columns]), axis=1)]
+        low = low_columns[np.argmin(_series(base[low_columns], t[:, low_columns]), axis=1)]
+        stroke[small] = (base[high] + np.arctan2(cross[small, high], dot[small, high])
+                         - base[low] - np.arctan2(cross[small, low], dot[small, low]))
+    ahead = np.flatnonzero((turn >= SMALL_TURN) & (turn < np.inf))
+    if ahead.size:
+        high_columns, low_columns = _near_extremes(base, float(np.max(turn[ahead])))
+        stroke[ahead] = (_exact(base, cross, dot, ahead, high_columns).max(axis=1)
+                         - _exact(base, cross, dot, ahead, low_columns).min(axis=1))
+    rest = np.flatnonzero(least <= 0)
     if rest.size:
         angle = base + np.arctan2(cross[rest], dot[rest])
         stroke[rest] = angle.max(axis=1) - angle.min(axis=1)
     return stroke
+
+
+def _near_extremes(base, turn: float) -> tuple[np.ndarray, np.ndarray]:
+    """Return the samples where ``base`` comes within twice ``atan(turn)`` of its extremes."""
+    reach = 2 * np.arctan(turn) + 1e-9
+    return (np.flatnonzero(base >= np.max(base) - reach),
+            np.flatnonzero(base <= np.min(base) + reach))
+
+
+def _series(base, t) -> np.ndarray:
+    """Return ``base + atan(t)`` by the series of :func:`_stroke_from`, for small ``t``."""
+    t2 = t * t
+    return base + t * (1 + t2 * (-1 / 3 + t2 * (1 / 5 + t2 * (-1 / 7 + t2 * (
+        1 / 9 - t2 / 11)))))
+
+
+def _exact(base, cross, dot, rows, columns) -> np.ndarray:
+    """Return the link's angle at some rows and columns, by the arctangent."""
+    where = np.ix_(rows, columns)
+    return base[columns] + np.arctan2(cross[where], dot[where])
 
 
 def _reference(nominal: Sweep, output: _Output) -> tuple[np.ndarray, np.ndarray,
