@@ -176,7 +176,12 @@ class Derivatives(Frozen):
         The estimated error of the first and second derivatives at each
         sample, the largest over the points (NaN where there is no stencil).
     first_errors, second_errors : dict of str to ndarray, shape (N,)
-        Each point's own estimated errors (0 for a point that does not move).
+        Each point's own estimated errors (0 for a point that does not move):
+        its truncation, and the rounding of positions of the mechanism's size.
+        Estimates are to be trusted only at unflagged samples.
+
+    For design variants every array has a leading axis of variants: (V, N)
+    and (V, N, 2).
     """
 
     input_name: str
