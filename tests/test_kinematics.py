@@ -343,8 +343,9 @@ def assert_unflagged_samples_as_accurate_as_stated(m, rates):
         assert (error_a <= m.acceleration_error[ok] * 1.0001 + 1e-12 * largest[ok]).all(), name
 
 
-def test_a_grashof_double_rocker_is_accurate_wherever_it_is_not_flagged():
-    """Ground 10, input 8, coupler 3, output 9: the input rocks between two toggles."""
+def double_rocker():
+    """Ground 10, input 8, coupler 3, output 9: a Grashof double-rocker, its input
+    rocking between two toggles; and the limits of its first assembly region."""
     from geokin.circuits import limits
 
     c = Construction()
@@ -354,9 +355,20 @@ def test_a_grashof_double_rocker_is_accurate_wherever_it_is_not_flagged():
     c.polar("A", "O2", 8, "t")
     c.circle_circle("B", ("A", "O4"), (3, 9), branch="left")
     (lo, hi), _ = limits(c).as_values()  # two assembly regions: the first
-    # dense near the toggles, where the rates grow without bound
-    t = np.concatenate([lo + np.geomspace(1e-9, 0.3, 400), np.linspace(lo + 0.3, hi - 0.3, 200),
-                        hi - np.geomspace(0.3, 1e-9, 400)])
+    return c, lo, hi
+
+
+def near_toggles(lo, hi, nearest=1e-9, count=400, middle=200):
+    """Input values dense near both limits, where the rates grow without bound."""
+    ends = np.geomspace(nearest, 0.3, count)
+    inside = np.linspace(lo + 0.3, hi - 0.3, middle) if middle else []
+    return np.concatenate([lo + ends, inside, hi - ends[::-1]])
+
+
+def test_a_grashof_double_rocker_is_accurate_wherever_it_is_not_flagged():
+    """The input rocks between two toggles."""
+    c, lo, hi = double_rocker()
+    t = near_toggles(lo, hi)
     s = sweep(c, t)
     assert s.valid.all()
     m = motion(s, speed=1.0)
@@ -369,18 +381,9 @@ def test_a_grashof_double_rocker_is_accurate_wherever_it_is_not_flagged():
 def test_the_quick_stencil_alone_flags_every_sample_it_cannot_make_accurate(monkeypatch):
     """Without the second look near the toggles, fewer samples pass, each as accurate as stated."""
     import geokin.kinematics
-    from geokin.circuits import limits
 
-    c = Construction()
-    c.input("t")
-    c.fixed("O2", 0, 0)
-    c.fixed("O4", 10, 0)
-    c.polar("A", "O2", 8, "t")
-    c.circle_circle("B", ("A", "O4"), (3, 9), branch="left")
-    (lo, hi), _ = limits(c).as_values()
-    t = np.concatenate([lo + np.geomspace(1e-9, 0.3, 400), np.linspace(lo + 0.3, hi - 0.3, 200),
-                        hi - np.geomspace(0.3, 1e-9, 400)])
-    s = sweep(c, t)
+    c, lo, hi = double_rocker()
+    s = sweep(c, near_toggles(lo, hi))
     both = motion(s, speed=1.0)
     monkeypatch.setattr(geokin.kinematics, "REFINED_BELOW", 1e-30)  # never looked at again
     quick = motion(s, speed=1.0)
@@ -396,18 +399,9 @@ def test_the_quick_stencil_alone_flags_every_sample_it_cannot_make_accurate(monk
 @pytest.mark.parametrize("radius", [1e3, 1e5, 1e7])
 def test_a_large_point_turning_regularly_does_not_hide_a_small_one_at_its_toggle(radius):
     """The double-rocker's B next to its toggle, beside a crank point far larger."""
-    from geokin.circuits import limits
-
-    c = Construction()
-    c.input("t")
-    c.fixed("O2", 0, 0)
-    c.fixed("O4", 10, 0)
-    c.polar("A", "O2", 8, "t")
-    c.circle_circle("B", ("A", "O4"), (3, 9), branch="left")
-    (lo, hi), _ = limits(c).as_values()
+    c, lo, hi = double_rocker()
     c.polar("P", "O2", radius, "t")
-    t = np.concatenate([lo + np.geomspace(1e-6, 0.3, 200), hi - np.geomspace(0.3, 1e-6, 200)])
-    s = sweep(c, t)
+    s = sweep(c, near_toggles(lo, hi, nearest=1e-6, count=200, middle=0))
     m = motion(s, speed=1.0)
     rates = fourbar_rates(s, 1.0)
     rates["P"] = (np.c_[-s["P"][:, 1], s["P"][:, 0]], -s["P"])
@@ -421,12 +415,7 @@ def test_links_do_not_flag_samples_far_from_the_toggles():
     its crank, whose rate is constant: the point's error, within its own
     bound, must not flag the crank's samples in the middle of the swing.
     """
-    c = Construction()
-    c.input("t")
-    c.fixed("O2", 0, 0)
-    c.fixed("O4", 10, 0)
-    c.polar("A", "O2", 8, "t")
-    c.circle_circle("B", ("A", "O4"), (3, 9), branch="left")
+    c, _, _ = double_rocker()
     c.polar("P", "A", 20, 0.0, reference=("A", "B"))
     for name, ends in (("crank", ("O2", "A")), ("coupler", ("A", "B")), ("rocker", ("O4", "B"))):
         c.link(name, *ends)
