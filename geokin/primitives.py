@@ -318,8 +318,7 @@ def _circle_circle(x1, y1, dx, dy, r1, r2):
         margin = np.where((r1 >= 0) & (r2 >= 0), margin, np.nan)
     # decide whether the circles meet on the distances themselves: accurate to
     # rounding of the scale, however small one circle is
-    slack = TANGENCY_RTOL * scale
-    meet = (d <= r1 + r2 + slack) & (d >= np.abs(r1 - r2) - slack) & ~np.isnan(margin)
+    meet = _meet(d, d, r1, r2, scale, scale) & ~np.isnan(margin)
     h_over_d = np.sqrt(np.where(meet, np.maximum(half_chord_sq, 0.0), np.nan)) / d
     return (*_roots(x1, y1, dx, dy, k, h_over_d), margin), scale
 
