@@ -334,8 +334,7 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
                                 varied, paths, per_path)
 
     def per_sample(array, dtype=float):
-        array = np.asarray(array, dtype=dtype)
-        return read_only(array if array.shape == (n,) else np.broadcast_to(array, (n,)))
+        return read_only(_over_samples(np.asarray(array, dtype=dtype), n))
 
     return Sweep(
         construction=compiled,
