@@ -42,6 +42,7 @@ Branch rules
 
 from __future__ import annotations
 
+import math
 import threading
 import weakref
 from collections.abc import Callable, Iterator, Mapping
@@ -467,13 +468,16 @@ def _over_samples(value, n: int) -> np.ndarray:
 
 
 def _all_finite(x, y) -> bool:
-    """Whether every coordinate is finite, told by two sums.
+    """Whether every coordinate is finite, told by a dot product or two sums.
 
-    A sum is finite only if every term is; one that overflows takes the
-    longer way, which is exact.
+    A sum of products is finite only if every factor is (inf times zero is
+    NaN); one that overflows takes the longer way, which is exact.
     """
-    if np.ndim(x) == 0 and np.ndim(y) == 0:
-        return bool(np.isfinite(x) and np.isfinite(y))
+    if type(x) is np.ndarray and type(y) is np.ndarray and x.shape == y.shape:
+        if x.flags.c_contiguous and y.flags.c_contiguous and x.dtype == y.dtype == float:
+            return bool(np.isfinite(np.vdot(x, y)))
+    elif np.ndim(x) == 0 and np.ndim(y) == 0:
+        return math.isfinite(x) and math.isfinite(y)
     return bool(np.isfinite(np.add.reduce(x, axis=None) + np.add.reduce(y, axis=None)))
 
 
@@ -1080,6 +1084,7 @@ class _Tracker:
         # where the path turns back, and which steps are between finite inputs: made
         # only for paths that need them, to spare a monotone sweep two arrays
         self.turning = np.zeros(n - 1, dtype=bool) if n > 2 else np.ones(n - 1, dtype=bool)
+        turns_back = n <= 2
         self.finite: np.ndarray | bool = True
         # each input's shortest and longest step, where it runs one way
         spans: list[tuple[float, float] | None] = []
@@ -1094,7 +1099,8 @@ class _Tracker:
                 # a step between paths counts as the one before it, so that paths that
                 # each run one way still do all together
                 step[self.cut] = step[np.flatnonzero(self.cut) - 1]
-            low, high = (step.min(), step.max()) if step.size else (0.0, 0.0)
+            low, high = ((np.minimum.reduce(step), np.maximum.reduce(step)) if step.size
+                         else (0.0, 0.0))
             one_way = (low > 0 and high > 0) or (low < 0 and high < 0)
             steady = one_way and high - low <= 1e-9 * max(abs(low), abs(high))
             if len(self.inputs) == 1 and not steady:
@@ -1115,6 +1121,7 @@ class _Tracker:
                 sign = np.sign(step[moving])
                 turns = np.flatnonzero(sign[1:] * sign[:-1] < 0)
                 self.turning[moving[turns]] = self.turning[moving[turns + 1]] = True
+                turns_back = turns_back or bool(turns.size)
             travel = moved if travel is None else travel + moved
             if compiled.inputs[name].kind == "angle":
                 self.angle_steps = moved if self.angle_steps is None else np.fmax(
@@ -1145,7 +1152,7 @@ class _Tracker:
             self.even = (self.longest - float(travel.min(initial=self.longest))
                          <= 1e-9 * self.longest)
         self.travel = travel
-        self.any_coarse = (self.length_steps is not None or bool(self.turning.any())
+        self.any_coarse = (self.length_steps is not None or turns_back
                            or (self.longest if self.even and scratch is not None else float(
                                self.angle_steps.max(initial=0.0)))
                            > ANGLE_RESOLUTION * (1 + 1e-9))

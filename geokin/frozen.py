@@ -37,7 +37,8 @@ def read_only(array: np.ndarray) -> np.ndarray:
 
 def read_only_mapping(mapping: Mapping[K, Any]) -> Mapping[K, Any]:
     """Return a read-only view of a copy of ``mapping``, its arrays made read-only."""
-    return MappingProxyType({key: read_only(value) if isinstance(value, np.ndarray) else value
+    return MappingProxyType({key: read_only(value) if type(value) is np.ndarray
+                             or isinstance(value, np.ndarray) else value
                              for key, value in mapping.items()})
 
 
@@ -53,10 +54,10 @@ class Frozen:
     def __post_init__(self) -> None:
         for name in self._read_only:
             value = getattr(self, name)
-            if isinstance(value, Mapping):
-                object.__setattr__(self, name, read_only_mapping(value))
-            elif isinstance(value, np.ndarray):
+            if isinstance(value, np.ndarray):
                 object.__setattr__(self, name, read_only(value))
+            elif isinstance(value, dict | MappingProxyType | Mapping):  # the ABC last: slow
+                object.__setattr__(self, name, read_only_mapping(value))
 
     def __reduce__(self) -> tuple[Any, ...]:
         values = [getattr(self, f.name) for f in dataclasses.fields(self)  # type: ignore

@@ -47,6 +47,7 @@ configuration of fixed points gives NaN as an array does, never
 
 from __future__ import annotations
 
+import math
 from collections.abc import Iterator
 from contextlib import contextmanager
 from contextvars import ContextVar
@@ -146,6 +147,8 @@ def cos_sin(angle):
     >>> [float(v) for v in cos_sin(0.0)]
     [1.0, 0.0]
     """
+    if type(angle) is float:
+        return math.cos(angle), math.sin(angle)  # numpy's are slow on one number
     rows, length = _NEARBY_ROWS.get()
     if rows > 1 and type(angle) is np.ndarray and angle.shape == (rows * length,):
         table = angle.reshape(rows, -1)
@@ -259,18 +262,19 @@ def _guarded(kernel, rescaled, windows, *args):
     """Run ``kernel``, and redo with ``rescaled`` the elements it cannot be trusted on.
 
     The kernel returns its outputs and the quantities to check, one per
-    window, in the order given: the elements where one leaves its window are
-    computed again by ``rescaled`` (the same computation on inputs scaled by
-    a power of two). The common case, everything within, costs a reduction
-    or two.
+    window, in the order given (``None`` for one it has found within its
+    window already): the elements where one leaves its window are computed
+    again by ``rescaled`` (the same computation on inputs scaled by a power
+    of two). The common case, everything within, costs a reduction or two.
     """
     outputs, *checked = kernel(*args)
-    if all(_within(q, w) for q, w in zip(checked, windows, strict=True)):
+    if all(q is None or _within(q, w) for q, w in zip(checked, windows, strict=True)):
         return outputs
     shape = np.shape(outputs[0])
     mask = np.zeros(shape, dtype=bool)
     for q, w in zip(checked, windows, strict=True):
-        mask |= _outside(q, w, shape)
+        if q is not None:
+            mask |= _outside(q, w, shape)
     return _patch(outputs, mask, shape, rescaled, *args)
 
 
@@ -311,7 +315,7 @@ def _circle_circle(x1, y1, dx, dy, r1, r2):
         margin = np.divide(half_chord_sq, np.multiply(scale, scale, out=scale))
         h_over_d = np.sqrt(np.maximum(half_chord_sq, 0.0, out=half_chord_sq), out=half_chord_sq)
         h_over_d /= d
-        return (*_roots(x1, y1, dx, dy, k, h_over_d), margin), np.array([least, most])
+        return (*_roots(x1, y1, dx, dy, k, h_over_d), margin), None
     scale = np.maximum(d, largest)
     margin = np.where(_apart(d, scale), half_chord_sq / (scale * scale), np.nan)
     if not (_nonnegative(r1) and _nonnegative(r2)):
@@ -737,8 +741,7 @@ def relative_point(origin, start, through, distance, angle):
 def _relative_point(ox, oy, dx, dy, distance, angle):
     """Compute :func:`relative_point_xy`; also return the squared length to check it on."""
     length_sq = dx * dx + dy * dy
-    c = np.cos(angle)
-    s = np.sin(angle)
+    c, s = cos_sin(angle)
     k = distance / np.sqrt(length_sq)  # inf or NaN for a zero-length line, NaN in the result
     # rotate the direction (dx, dy) by the angle, scaled to the distance
     return (ox + k * (c * dx - s * dy), oy + k * (s * dx + c * dy)), length_sq
