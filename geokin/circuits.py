@@ -335,9 +335,8 @@ def _limits_of_variants(compiled, name, grid, held, start, turn, varied, count):
     total = count * samples
     per_sample = None if varied is None else {
         k: np.broadcast_to(v[:, None], (count, samples)).reshape(-1) for k, v in varied.items()}
-    values = np.tile(grid, count)
-    inputs = {k: np.full(total, v) for k, v in held.items()}
-    inputs[name] = values
+    inputs = {k: np.full(samples, v) for k, v in held.items()}
+    inputs[name] = grid  # every variant's path: repeated for each
     probe = evaluate(compiled, inputs, total, track=False, start=start, parameters=per_sample,
                      paths=count)
     valid = probe.valid.reshape(count, samples)
@@ -357,7 +356,7 @@ def _limits_of_variants(compiled, name, grid, held, start, turn, varied, count):
     else:
         branches = {k: np.broadcast_to(v[:, None], (count, samples)).reshape(-1)
                     for k, v in held_rows.items()}
-    probe = _evaluate_at(compiled, name, values, held, branches, per_sample)
+    probe = _evaluate_at(compiled, name, np.tile(grid, count), held, branches, per_sample)
     ok = _strictly_valid(probe).reshape(count, samples) & assembles[:, None]
     row, change = np.nonzero(ok[:, 1:] != ok[:, :-1])
     into = ok[row, change]

@@ -270,7 +270,9 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
     ----------
     construction : Construction or Compiled
     inputs : mapping of str to ndarray, shape (N,)
-        Input values in radians (lengths for length inputs).
+        Input values in radians (lengths for length inputs). Over several
+        paths, an input may instead be given once, shape (N / paths,):
+        every path takes these values.
     n : int
         The number of samples N.
     held : mapping of str to ndarray, optional
@@ -314,7 +316,7 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
     """
     compiled = as_compiled(construction)
     if paths > 1:
-        _check_paths(inputs, n, paths)
+        inputs = _over_paths(inputs, n, paths)
     varied = {name: np.asarray(values, dtype=float) for name, values in (parameters or {}).items()}
     per_path = (paths > 1 and n != paths and bool(varied)
                 and all(v.shape == (paths,) for v in varied.values()))
@@ -351,16 +353,26 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
                                         for name, values in varied.items()})
 
 
-def _check_paths(inputs, n, paths):
-    """Refuse samples that are not ``paths`` paths of the same input values."""
+def _over_paths(inputs, n, paths):
+    """Return the inputs over all samples of ``paths`` paths of the same input values.
+
+    An input given over one path's samples is repeated for every path; one
+    given over all samples is refused unless every path repeats the first.
+    """
     if n % paths:
         raise ConstructionError(f"{n} samples cannot be {paths} paths of equal length")
+    whole = {}
     for name, values in inputs.items():
+        if np.shape(values) == (n // paths,):
+            whole[name] = np.tile(values, paths)
+            continue
+        whole[name] = values
         rows = np.broadcast_to(values, (n,)).reshape(paths, -1)
         same = (rows == rows[0]) | (np.isnan(rows) & np.isnan(rows[0]))
         if not same.all():
             raise ConstructionError(f"over {paths} paths every path takes the same values of "
                                     f"input {name!r}, the first path's repeated", node=name)
+    return whole
 
 
 def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
@@ -746,8 +758,7 @@ def sweep(construction: Construction | Compiled,
         return _joined([evaluate(compiled, inputs, n, start=start,
                                  parameters={k: np.full(n, v[i]) for k, v in varied.items()})
                         for i in range(count)]).as_variants(count)
-    flat = evaluate(compiled, {k: np.tile(v, count) for k, v in inputs.items()}, count * n,
-                    start=start, parameters=varied, paths=count)
+    flat = evaluate(compiled, inputs, count * n, start=start, parameters=varied, paths=count)
     # each variant's values at its samples: a view, not a copy
     return replace(flat.as_variants(count), parameters={
         k: np.broadcast_to(v[:, None], (count, n)) for k, v in varied.items()})

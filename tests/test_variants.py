@@ -319,3 +319,18 @@ def test_paths_must_repeat_the_same_inputs():
                  parameters={"a": np.array([1.0, 2.0])})
     with pytest.raises(ConstructionError, match="cannot be 4 paths"):
         evaluate(c, {"theta": np.zeros(6)}, 6, paths=4, parameters={"a": np.ones(4)})
+
+
+def test_paths_given_once_are_the_paths_repeated():
+    from geokin.engine import evaluate
+
+    c = parametric_fourbar()
+    theta = np.linspace(0, 2 * np.pi, 7)
+    lengths = {"a": np.array([1.0, 2.0, 9.0])}
+    once = evaluate(c, {"theta": theta}, 21, paths=3, parameters=lengths)
+    repeated = evaluate(c, {"theta": np.tile(theta, 3)}, 21, paths=3, parameters=lengths)
+    assert once.inputs["theta"].shape == (21,)
+    np.testing.assert_array_equal(once.valid, repeated.valid)
+    for name in repeated.points:
+        np.testing.assert_array_equal(once[name], repeated[name])
+    np.testing.assert_array_equal(once.branches["B"], repeated.branches["B"])
