@@ -793,7 +793,8 @@ def add_plot(subparsers: Subparsers) -> None:
                     "the input) with the paths of its traced points over the whole sweep.")
     p.add_argument("script", metavar="SCRIPT", help="construction script (.toml)")
     p.add_argument("-o", "--output", metavar="FILE",
-                   help="FILE.png or FILE.svg (default: the script's name with .png, here)")
+                   help="FILE.png or FILE.svg (default, here: the script's name with .png, "
+                        "or with -kinematics.png for --kinematics)")
     p.add_argument("--at", type=_finite, metavar="VALUE",
                    help="the first input's value to draw, in script units, within the range "
                         "swept (default: the first sample that can be assembled)")
@@ -807,7 +808,9 @@ def add_plot(subparsers: Subparsers) -> None:
 
 
 def run_plot(args: argparse.Namespace) -> int:
-    output = args.output or pathlib.Path(args.script).with_suffix(".png").name
+    # the kinematics chart has a name of its own, so as not to replace the mechanism's
+    stem = pathlib.Path(args.script).stem
+    output = args.output or (f"{stem}-kinematics.png" if args.kinematics else f"{stem}.png")
     plotting = _plotting()
     _output_kind(output, plotting.SAVE_FORMATS, "a picture")
     require_folder(output)
@@ -1140,6 +1143,8 @@ class _Parser(argparse.ArgumentParser):
     """
 
     def __init__(self, *args, **kwargs):
+        # an abbreviated option would silently change meaning once a longer one is added
+        kwargs.setdefault("allow_abbrev", False)
         super().__init__(*args, **kwargs)
         # so that `--range -1e3 0` and `--at -inf` are read as values, not as options
         self._negative_number_matcher = re.compile(
@@ -1157,7 +1162,7 @@ class _Parser(argparse.ArgumentParser):
             if not arg.startswith("-") or self._negative_number_matcher.match(arg):
                 break
             name = arg.split("=", 1)[0]
-            if not any(option.startswith(name) for option in self._option_string_actions):
+            if name not in self._option_string_actions:
                 self.refuse([arg], None)
         parsed, extra = self.parse_known_args(args, namespace)
         if extra:

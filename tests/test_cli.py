@@ -1074,3 +1074,21 @@ def test_only_a_trace_takes_more_samples_than_a_sweep_held_whole(capsys):
     assert status == 2 and "at most 1000000" in err
     status, _, err = run(capsys, "trace", SIXBAR, "--samples", "2000000", "-o", "x.json")
     assert status == 2 and "CSV or NPZ" in err
+
+
+def test_plot_kinematics_keeps_the_mechanism_picture(capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    script = str(CONSTRUCTIONS / "crank_rocker.toml")
+    assert run(capsys, "plot", script, "--samples", "37")[0] == 0
+    assert run(capsys, "plot", script, "--kinematics", "--samples", "37")[0] == 0
+    assert sorted(p.name for p in tmp_path.iterdir()) == [
+        "crank_rocker-kinematics.png", "crank_rocker.png"]
+
+
+@pytest.mark.parametrize("argv, name", [
+    (["trace", SIXBAR, "--derivative"], "--derivative"), (["--vers"], "--vers"),
+    (["plot", SIXBAR, "--kinem"], "--kinem")])
+def test_an_abbreviated_option_is_refused(capsys, argv, name):
+    status, out, err = run(capsys, *argv)
+    assert status == 2 and out == ""
+    assert f"has no option '{name}'; did you mean" in err

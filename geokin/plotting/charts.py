@@ -188,8 +188,9 @@ def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
     angle of a link that turns fully over the sweep is wrapped into
     (-180, 180] (see :func:`wrap_degrees`), its legend says so, so that it
     does not run off to thousands of degrees and flatten the other links;
-    the others are drawn as they run. Samples flagged near a singular position are left out,
-    and each axis shows the 1st to 99th percentile of its values where a few
+    the others are drawn as they run. Flagged samples (rates that may be
+    less accurate than stated, as near a toggle) are left out, and each
+    axis shows the 1st to 99th percentile of its values where a few
     samples near a toggle would otherwise flatten the rest.
 
     Parameters
@@ -278,6 +279,7 @@ def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
     heading = motion.sweep.construction.name if title is None else title
     heading = shown_text(heading)
     if motion.flagged.any():
-        heading += f" ({int(motion.flagged.sum())} samples near a singular position left out)"
+        heading += (f" ({int(motion.flagged.sum())} samples left out: rates less accurate "
+                    "than stated")
     fig.suptitle(heading, parse_math=False)
     return fig, axes
