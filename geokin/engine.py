@@ -479,14 +479,21 @@ def _over_samples(value, n: int) -> np.ndarray:
     return np.broadcast_to(value, (n,))
 
 
+DOT_BELOW = 8192
+"""Arrays up to this size are checked finite by one dot product (one thread)."""
+
+
 def _all_finite(x, y) -> bool:
     """Whether every coordinate is finite, told by a dot product or two sums.
 
     A sum of products is finite only if every factor is (inf times zero is
-    NaN); one that overflows takes the longer way, which is exact.
+    NaN); one that overflows takes the longer way, which is exact. The dot
+    product only for short arrays: on long ones the BLAS starts threads
+    that keep spinning, and take the other cores' time.
     """
     if type(x) is np.ndarray and type(y) is np.ndarray and x.shape == y.shape:
-        if x.flags.c_contiguous and y.flags.c_contiguous and x.dtype == y.dtype == float:
+        if (x.size <= DOT_BELOW and x.flags.c_contiguous and y.flags.c_contiguous
+                and x.dtype == y.dtype == float):
             return bool(np.isfinite(np.vdot(x, y)))
     elif np.ndim(x) == 0 and np.ndim(y) == 0:
         return math.isfinite(x) and math.isfinite(y)
