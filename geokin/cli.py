@@ -1030,7 +1030,8 @@ def _tolerance_text(result: Tolerance, construction: Construction) -> str:
     units = one_line(construction.units, 100) if construction.units else ""
     spread = ("sigma = T/3" if result.distribution == "normal" else "uniform in +-T")
     assembled = int(result.assembled.sum())
-    lines = [f"{one_line(result.construction.name, 200)}: {result.variants:,} variants, "
+    variants = f"{result.variants:,} variant{'' if result.variants == 1 else 's'}"
+    lines = [f"{one_line(result.construction.name, 200)}: {variants}, "
              f"{result.distribution} ({spread}), seed {result.seed}",
              "tolerances: " + ", ".join(f"{k} = {result.construction.parameters[k]:g} +- {v:g}"
                                         for k, v in result.tolerances.items())
@@ -1058,8 +1059,11 @@ def _tolerance_text(result: Tolerance, construction: Construction) -> str:
                        else f"; nominal {d['nominal']:.6g}{unit}")
             lines.append(f"stroke of {name}: no variant assembles at every sample{nominal}")
             continue
-        if d["std"] <= 1e-9 * max(1.0, abs(d["nominal"])):
-            lines.append(f"stroke of {name}: {d['nominal']:.6g}{unit} in every variant")
+        if d["std"] <= 1e-9 * max(1.0, abs(d["mean"])):
+            # the variants' own stroke, which need not be the nominal design's
+            same = abs(d["mean"] - d["nominal"]) <= 1e-9 * max(1.0, abs(d["nominal"]))
+            lines.append(f"stroke of {name}: {d['mean']:.6g}{unit} in every variant"
+                         + ("" if same else f" (nominal {d['nominal']:.6g}{unit})"))
             continue
         lines.append(f"stroke of {name}: nominal {d['nominal']:.6g}{unit}, mean "
                      f"{d['mean']:.6g}, std {d['std']:.3g}, 5% {d['p5']:.6g}, "

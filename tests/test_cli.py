@@ -1092,3 +1092,19 @@ def test_an_abbreviated_option_is_refused(capsys, argv, name):
     status, out, err = run(capsys, *argv)
     assert status == 2 and out == ""
     assert f"has no option '{name}'; did you mean" in err
+
+
+def test_the_kinematics_heading_says_how_many_samples_it_leaves_out():
+    from geokin import plotting
+    from geokin.kinematics import motion
+
+    s = geokin.circuit(geokin.load(CONSTRUCTIONS / "triple_rocker_crank.toml"))
+    m = motion(s)
+    assert m.flagged.any()  # through its toggles
+    fig, _ = plotting.figure_kinematics(m)
+    heading = fig._suptitle.get_text()
+    assert heading.endswith(f"({int(m.flagged.sum())} samples left out: rates less accurate "
+                            "than stated)")
+    import matplotlib.pyplot as plt
+
+    plt.close(fig)

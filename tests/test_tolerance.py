@@ -375,3 +375,19 @@ def test_a_study_where_no_variant_assembles_is_printed_then_exits_1(capsys):
 def test_set_on_an_input_says_it_is_swept(capsys):
     status, _, err = run(capsys, "trace", FOURBAR, "--set", "theta2=5")
     assert status == 2 and "'theta2' is an input, swept over its range" in err
+
+
+def test_one_variant_prints_its_own_stroke_not_the_nominal(capsys):
+    from geokin.analysis.tolerance import draw_variants
+
+    status, out, _ = run(capsys, "tolerance", FOURBAR, "--tol", "a=1", "-n", "1", "--seed", "3")
+    assert status == 0 and ": 1 variant, " in out
+    a = float(draw_variants(geokin.load(FOURBAR).compile().parameters, {"a": 1.0}, 3, 0, 1,
+                            "normal")["a"][0])
+    line = next(x for x in out.splitlines() if x.startswith("stroke of rocker.angle"))
+    own = float(line.split(": ")[1].split(" deg")[0])
+    nominal = math.degrees(rocker_stroke(**NOMINAL))
+    assert own == pytest.approx(math.degrees(rocker_stroke(**{**NOMINAL, "a": a})), abs=0.05)
+    assert abs(own - nominal) > 0.1
+    printed = float(line.split("(nominal ")[1].split(" deg)")[0])  # measured at the samples
+    assert printed == pytest.approx(nominal, abs=0.05)

@@ -280,6 +280,6 @@ def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
     heading = shown_text(heading)
     if motion.flagged.any():
         heading += (f" ({int(motion.flagged.sum())} samples left out: rates less accurate "
-                    "than stated")
+                    "than stated)")
     fig.suptitle(heading, parse_math=False)
     return fig, axes
