@@ -1101,10 +1101,13 @@ def test_the_kinematics_heading_says_how_many_samples_it_leaves_out():
     s = geokin.circuit(geokin.load(CONSTRUCTIONS / "triple_rocker_crank.toml"))
     m = motion(s)
     assert m.flagged.any()  # through its toggles
-    fig, _ = plotting.figure_kinematics(m)
+    fig, axes = plotting.figure_kinematics(m)
     heading = fig._suptitle.get_text()
-    assert heading.endswith(f"({int(m.flagged.sum())} samples left out: rates less accurate "
-                            "than stated)")
+    assert heading.endswith(f"(rates left out at {int(m.flagged.sum())} samples: less "
+                            "accurate than stated)")
+    angle, rate = (axes[i].get_lines()[1].get_ydata() for i in (0, 1))  # the coupler's
+    # the angle is drawn wherever the circuit assembles; its rate not where flagged
+    assert np.isfinite(angle).sum() == len(angle) and np.isnan(rate).sum() == m.flagged.sum()
     import matplotlib.pyplot as plt
 
     plt.close(fig)

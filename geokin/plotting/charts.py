@@ -188,9 +188,9 @@ def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
     angle of a link that turns fully over the sweep is wrapped into
     (-180, 180] (see :func:`wrap_degrees`), its legend says so, so that it
     does not run off to thousands of degrees and flatten the other links;
-    the others are drawn as they run. Flagged samples (rates that may be
-    less accurate than stated, as near a toggle) are left out, and each
-    axis shows the 1st to 99th percentile of its values where a few
+    the others are drawn as they run. The rates at flagged samples (they
+    may be less accurate than stated, as near a toggle) are left out, and
+    each axis shows the 1st to 99th percentile of its values where a few
     samples near a toggle would otherwise flatten the rest.
 
     Parameters
@@ -257,7 +257,9 @@ def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
     for ax, (values, label), reference in zip(axes, quantities, references, strict=True):
         shown = []
         for name in names:
-            y = np.where(keep, np.degrees(values[name]), np.nan)
+            # an angle is as accurate at a flagged sample as anywhere: only rates are left out
+            shown_at = motion.sweep.valid if values is motion.angle else keep
+            y = np.where(shown_at, np.degrees(values[name]), np.nan)
             if values is motion.angle and name in turning:
                 x, y = wrap_degrees(motion.time, y)
                 ax.plot(x, y, label=f"{name} (wrapped to ±180°)")
@@ -279,7 +281,7 @@ def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
     heading = motion.sweep.construction.name if title is None else title
     heading = shown_text(heading)
     if motion.flagged.any():
-        heading += (f" ({int(motion.flagged.sum())} samples left out: rates less accurate "
+        heading += (f" (rates left out at {int(motion.flagged.sum())} samples: less accurate "
                     "than stated)")
     fig.suptitle(heading, parse_math=False)
     return fig, axes
