@@ -487,14 +487,15 @@ def _all_finite(x, y) -> bool:
     """Whether every coordinate is finite, told by a dot product or two sums.
 
     A sum of products is finite only if every factor is (inf times zero is
-    NaN); one that overflows takes the longer way, which is exact. The dot
+    NaN); one that overflows (coordinates beyond about 1e154) takes the
+    longer way, which is exact. The dot
     product only for short arrays: on long ones the BLAS starts threads
     that keep spinning, and take the other cores' time.
     """
     if type(x) is np.ndarray and type(y) is np.ndarray and x.shape == y.shape:
         if (x.size <= DOT_BELOW and x.flags.c_contiguous and y.flags.c_contiguous
                 and x.dtype == y.dtype == float):
-            return bool(np.isfinite(np.vdot(x, y)))
+            return math.isfinite(np.vdot(x, y))
     elif np.ndim(x) == 0 and np.ndim(y) == 0:
         return math.isfinite(x) and math.isfinite(y)
     return bool(np.isfinite(np.add.reduce(x, axis=None) + np.add.reduce(y, axis=None)))

@@ -37,9 +37,11 @@ def read_only(array: np.ndarray) -> np.ndarray:
 
 def read_only_mapping(mapping: Mapping[K, Any]) -> Mapping[K, Any]:
     """Return a read-only view of a copy of ``mapping``, its arrays made read-only."""
-    return MappingProxyType({key: read_only(value) if type(value) is np.ndarray
-                             or isinstance(value, np.ndarray) else value
+    return MappingProxyType({key: read_only(value) if isinstance(value, np.ndarray) else value
                              for key, value in mapping.items()})
+
+
+_MAPPINGS = (dict, MappingProxyType, Mapping)  # the abstract class last: its test is slow
 
 
 class Frozen:
@@ -56,7 +58,7 @@ class Frozen:
             value = getattr(self, name)
             if isinstance(value, np.ndarray):
                 object.__setattr__(self, name, read_only(value))
-            elif isinstance(value, dict | MappingProxyType | Mapping):  # the ABC last: slow
+            elif isinstance(value, _MAPPINGS):
                 object.__setattr__(self, name, read_only_mapping(value))
 
     def __reduce__(self) -> tuple[Any, ...]:

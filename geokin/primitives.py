@@ -147,7 +147,7 @@ def cos_sin(angle):
     >>> [float(v) for v in cos_sin(0.0)]
     [1.0, 0.0]
     """
-    if type(angle) is float:
+    if type(angle) is float and math.isfinite(angle):
         return math.cos(angle), math.sin(angle)  # numpy's are slow on one number
     rows, length = _NEARBY_ROWS.get()
     if rows > 1 and type(angle) is np.ndarray and angle.shape == (rows * length,):
@@ -284,7 +284,8 @@ def _circle_circle(x1, y1, dx, dy, r1, r2):
     Where the circles meet at every element and none is degenerate (the
     common case), the masks are skipped: each test is monotone in the
     distance of the centres, so its least and largest value decide it for
-    all, exactly as elementwise. The scale to check is then those two values.
+    all, exactly as elementwise; so do the scale's, which is then found
+    within its window here and given as None.
     """
     d2 = dx * dx + dy * dy
     d = np.sqrt(d2)

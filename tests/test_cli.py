@@ -1103,8 +1103,7 @@ def test_the_kinematics_heading_says_how_many_samples_it_leaves_out():
     assert m.flagged.any()  # through its toggles
     fig, axes = plotting.figure_kinematics(m)
     heading = fig._suptitle.get_text()
-    assert heading.endswith(f"(rates left out at {int(m.flagged.sum())} samples: less "
-                            "accurate than stated)")
+    assert heading.endswith(f"(rates not drawn at {int(m.flagged.sum())} flagged samples)")
     angle, rate = (axes[i].get_lines()[1].get_ydata() for i in (0, 1))  # the coupler's
     # the angle is drawn wherever the circuit assembles; its rate not where flagged
     assert np.isfinite(angle).sum() == len(angle) and np.isnan(rate).sum() == m.flagged.sum()

@@ -1070,3 +1070,12 @@ def test_cos_sin_leaves_nan_to_numpy():
     with nearby_rows(2, 2):
         c, _ = cos_sin(angles)
     np.testing.assert_array_equal(c, np.cos(angles))
+
+
+@given(st.floats(allow_nan=True, allow_infinity=True))
+def test_cos_sin_of_one_number_never_raises(angle):
+    """A Python float takes the math module's way, and gives what numpy gives."""
+    with np.errstate(invalid="ignore"):
+        expected = np.cos(angle), np.sin(angle)
+        found = cos_sin(angle)
+    np.testing.assert_allclose(found, expected, rtol=0, atol=2 * np.finfo(float).eps)

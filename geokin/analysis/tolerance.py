@@ -218,9 +218,11 @@ nominal link, its angle's extremes are found on a series for the arctangent
 (error below 1e-12 there) and only they are computed exactly."""
 
 
-TURN_GROUPS = SMALL_TURN * 2.0 ** np.arange(1, 6)
-"""Bounds of the groups of rows whose strokes :func:`_stroke_from` takes
-together beyond :data:`SMALL_TURN`, by their largest turn from the nominal."""
+TURN_GROUPS = tuple(SMALL_TURN * 2.0**k for k in range(1, 6))
+"""Upper bounds of the groups of rows whose strokes :func:`_stroke_from` takes
+together beyond :data:`SMALL_TURN`, by their largest turn from the nominal (a
+tangent, ``|cross / dot|``); the last group, from 3.2 up to a quarter turn,
+has none."""
 
 
 STROKE_BLOCK = 2**17
@@ -268,10 +270,10 @@ def _stroke_from(reference, dx, dy) -> np.ndarray:
         # extremes as its own largest turn needs (a few times fewer arctangents)
         group = np.searchsorted(TURN_GROUPS, turn, side="right")
         for k in np.unique(group[ahead]):
-            rows = np.flatnonzero(ahead & (group == k))
-            high_columns, low_columns = _near_extremes(base, float(np.max(turn[rows])))
-            stroke[rows] = (_exact(base, cross, dot, rows, high_columns).max(axis=1)
-                            - _exact(base, cross, dot, rows, low_columns).min(axis=1))
+            members = np.flatnonzero(ahead & (group == k))
+            high_columns, low_columns = _near_extremes(base, float(np.max(turn[members])))
+            stroke[members] = (_exact(base, cross, dot, members, high_columns).max(axis=1)
+                               - _exact(base, cross, dot, members, low_columns).min(axis=1))
     rest = np.flatnonzero(least <= 0)
     if rest.size:
         angle = base + np.arctan2(cross[rest], dot[rest])

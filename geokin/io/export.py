@@ -6,7 +6,8 @@ of column name to a 1-D array with one value per sample, in this order:
 - one column per input, named as the input: radians for an angle input;
 - ``valid``: whether each sample can be assembled;
 - with a :class:`~geokin.kinematics.Motion`: ``time`` (seconds from the
-  first sample) and ``flagged`` (near a singular position);
+  first sample) and ``flagged`` (1 where the rates may be less accurate
+  than stated, as near a toggle);
 - where the sweep changes branch, or when asked: ``<node>.branch``, 0 or 1
   for every two-root node, as the input value alone no longer tells the
   samples apart;

@@ -281,7 +281,8 @@ def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
     heading = motion.sweep.construction.name if title is None else title
     heading = shown_text(heading)
     if motion.flagged.any():
-        heading += (f" (rates left out at {int(motion.flagged.sum())} samples: less accurate "
-                    "than stated)")
+        count = int(motion.flagged.sum())
+        # flagged: the rates there may be less accurate than stated
+        heading += f" (rates not drawn at {count} flagged sample{'' if count == 1 else 's'})"
     fig.suptitle(heading, parse_math=False)
     return fig, axes
