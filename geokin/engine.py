@@ -785,7 +785,7 @@ def variant_values(compiled: Compiled,
     ------
     ConstructionError
         For a name that is not a parameter of the construction, or values
-        that are not numbers, or do not broadcast to one shape (V,).
+        that are not finite numbers, or do not broadcast to one shape (V,).
 
     Examples
     --------
@@ -813,6 +813,12 @@ def variant_values(compiled: Compiled,
         if array.ndim > 1:
             raise ConstructionError(f"the values of parameter {name!r} must be a number or "
                                     f"one-dimensional, got shape {array.shape}", node=name)
+        if not np.isfinite(array).all():
+            # as with_parameters refuses: a variant of NaN size is no design
+            first = int(np.flatnonzero(~np.isfinite(array.reshape(-1)))[0])
+            which = f"variant {first} is" if array.ndim else "it is"
+            raise ConstructionError(f"the values of parameter {name!r} must be finite numbers; "
+                                    f"{which} {array.reshape(-1)[first]}", node=name)
         arrays[name] = array
     try:
         shape = np.broadcast_shapes(*(a.shape for a in arrays.values()))

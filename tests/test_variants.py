@@ -148,6 +148,8 @@ def test_flat_and_back():
     ({"a": [[1.0, 2.0]]}, "one-dimensional"),
     ({"a": []}, "at least one variant"),
     ({"a": ["x"]}, "not numbers"),
+    ({"a": [10.0, np.nan]}, "must be finite numbers; variant 1 is nan"),
+    ({"b": np.inf}, "must be finite numbers; it is inf"),
 ])
 def test_bad_variants_are_refused(parameters, message):
     with pytest.raises(ConstructionError, match=message):
