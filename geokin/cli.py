@@ -1028,7 +1028,7 @@ def _cluster(args: argparse.Namespace):
 def _tolerance_text(result: Tolerance, construction: Construction) -> str:
     """Return the study as the text ``geokin tolerance`` prints, angles in degrees."""
     units = one_line(construction.units, 100) if construction.units else ""
-    spread = ("sigma = T/3" if result.distribution == "normal" else "uniform in +-T")
+    spread = ("sigma = T/3" if result.distribution == "normal" else "anywhere in +-T")
     assembled = int(result.assembled.sum())
     variants = f"{result.variants:,} variant{'' if result.variants == 1 else 's'}"
     lines = [f"{one_line(result.construction.name, 200)}: {variants}, "
@@ -1048,9 +1048,9 @@ def _tolerance_text(result: Tolerance, construction: Construction) -> str:
             continue
         worst = (f"worst {d['largest_worst']:.4g} (variant {p.worst_variant})"
                  if p.worst_variant >= 0 else "no variant assembles")
-        lines.append(f"path of {point}: deviation from nominal up to {d['largest_mean']:.4g} "
-                     f"on average, {p.level:g}% within {d[f'largest_p{p.level:g}']:.4g}, "
-                     f"{worst}")
+        lines.append(f"path of {point}: mean deviation from nominal at most "
+                     f"{d['largest_mean']:.4g} over the samples, {p.level:g}% of variants within "
+                     f"{d[f'largest_p{p.level:g}']:.4g}, {worst}")
     for name, stroke in result.strokes.items():
         d = stroke.to_dict(degrees=True)
         unit = " deg" if stroke.kind == "angle" else (f" {units}" if units else "")
@@ -1075,8 +1075,11 @@ def _tolerance_text(result: Tolerance, construction: Construction) -> str:
         if all(v == 0 for _, v in ranked):
             lines.append(f"  {output}: none of the parameters changes it")
             continue
-        lines.append(f"  {output}: " + ", ".join(f"{k} {v * scale:+.4g}" if math.isfinite(v)
-                                                 else f"{k} n/a" for k, v in ranked))
+        # differences of the batch leave rounding where a parameter changes nothing
+        largest = max((abs(v) for _, v in ranked if math.isfinite(v)), default=0.0)
+        lines.append(f"  {output}: " + ", ".join(
+            f"{k} n/a" if not math.isfinite(v) else f"{k} +0" if abs(v) <= 1e-8 * largest
+            else f"{k} {v * scale:+.4g}" for k, v in ranked))
     return "\n".join(lines)
 
 

@@ -284,7 +284,7 @@ def test_the_command_prints_text_and_draws_a_picture(capsys, tmp_path):
     status, out, err = run(capsys, "tolerance", FOURBAR, "--tol", "c=0.5", "--tol", "d=0.5",
                            "-n", "300", "--distribution", "uniform", "-o", path)
     assert status == 0 and err == f"wrote {path}\n"
-    assert "300 variants, uniform (uniform in +-T), seed 0" in out
+    assert "300 variants, uniform (anywhere in +-T), seed 0" in out
     assert "assemble at every sample: 300 of 300 (100.00% +- 0.00%)" in out
     assert "stroke of crank.angle: 360 deg in every variant" in out
     assert "rocker.angle: " in out
@@ -391,3 +391,14 @@ def test_one_variant_prints_its_own_stroke_not_the_nominal(capsys):
     assert abs(own - nominal) > 0.1
     printed = float(line.split("(nominal ")[1].split(" deg)")[0])  # measured at the samples
     assert printed == pytest.approx(nominal, abs=0.05)
+
+
+def test_a_parameter_that_changes_nothing_is_ranked_plus_zero(capsys):
+    # turning the guide turns the whole slider-crank, its crank turning fully: the rod's
+    # stroke does not change with the guide's angle, whatever the differences leave
+    script = str(CONSTRUCTIONS / "slider_crank_inclined.toml")
+    status, out, _ = run(capsys, "tolerance", script, "--tol", "beta=0.5", "--tol", "r=0.2",
+                         "-n", "200")
+    line = next(x for x in out.splitlines() if x.strip().startswith("rod.angle:"))
+    assert status == 0 and line.strip().startswith("rod.angle: r +") and line.endswith(
+        "beta +0")
