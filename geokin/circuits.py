@@ -427,9 +427,9 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
     input_name : str, optional
         The input to move; the only input by default.
     start : float, optional
-        Where to start (radians or length units); by default the middle of
-        the assemblable interval that contains the declared range's start, or
-        of the first interval.
+        Where to start (radians or length units); by default the declared
+        range's start where it can be assembled, else the middle of the
+        assemblable interval that overlaps the declared range the most.
     samples_per_pass : int
         Samples on each pass from one limit to the other.
     at, start_branches : mapping, optional
