@@ -78,7 +78,7 @@ def test_a_repr_says_what_a_result_holds():
                                              "-132.177 to 132.177, 2 limit(s)>")
     assert repr(report.inputs["theta2"].limits[0]) == "<LimitReport: tangent at -132.177, " \
                                                       "node 'C'>"
-    assert re.fullmatch(r"<FourBarReport at 'C': triple-rocker RRR1 \(RRR1\); ground 7, "
+    assert re.fullmatch(r"<FourBarReport at 'C': triple-rocker RRR1; ground 7, "
                         r"input 5, coupler 6, output 5>", repr(report.four_bars[0]))
 
 

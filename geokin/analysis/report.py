@@ -162,8 +162,14 @@ class FourBarReport:
 
     def __repr__(self) -> str:
         sides = ", ".join(f"{role} {self.lengths[role]:.6g}" for role in ROLES)
-        return (f"<FourBarReport at {short_name(self.node)}: {self.kind}"
-                f"{' (' + self.code + ')' if self.code else ''}; {sides}>")
+        return f"<FourBarReport at {short_name(self.node)}: {self.named}; {sides}>"
+
+    @property
+    def named(self) -> str:
+        """The class with its code, once: ``crank-rocker (GCRR)``, ``triple-rocker RRR1``."""
+        if not self.code or self.code in self.kind:
+            return self.kind
+        return f"{self.kind} ({self.code})"
 
     def to_dict(self) -> dict[str, Any]:
         """Return the four-bar as plain data, each length under its role's name."""
@@ -510,8 +516,7 @@ class Report:
         for bar in self.four_bars:
             sides = ", ".join(f"{role} {bar.lengths[role]:g}" for role in ROLES)
             turning = ", ".join(bar.turning) or "no link"
-            lines.append(f"four-bar {'-'.join(bar.points)} ({sides}): {bar.kind}"
-                         f"{' (' + bar.code + ')' if bar.code else ''}; "
+            lines.append(f"four-bar {'-'.join(bar.points)} ({sides}): {bar.named}; "
                          f"{turning} turns fully")
         for node, mu in self.transmission_angles.items():
             lines.append(f"transmission angle at {node}: {mu.minimum:.2f} to "
