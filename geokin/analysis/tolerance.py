@@ -212,17 +212,15 @@ def _strokes(coords: Callable[[str], tuple[Any, Any]], output: _Output,
         return along.max(axis=1) - along.min(axis=1)
 
 
-SMALL_TURN = 0.1
-"""Where every variant's link stays within atan(0.1), about 5.7 degrees, of the
-nominal link, its angle's extremes are found on a series for the arctangent
-(error below 1e-12 there) and only they are computed exactly."""
+FROM_REFERENCE = 0.5
+"""Rows whose link turns less than atan(0.5), about 26.6 degrees, from the nominal
+link find their extremes without arctangents (see :func:`_extreme_angles`)."""
 
 
-TURN_GROUPS = tuple(SMALL_TURN * 2.0**k for k in range(1, 6))
+TURN_GROUPS = tuple(FROM_REFERENCE * 2.0**k for k in range(-5, 4))
 """Upper bounds of the groups of rows whose strokes :func:`_stroke_from` takes
-together beyond :data:`SMALL_TURN`, by their largest turn from the nominal (a
-tangent, ``|cross / dot|``); the last group, from 3.2 up to a quarter turn,
-has none."""
+together, by their largest turn from the nominal (a tangent, ``|cross /
+dot|``); the last group, from 4 up to a quarter turn, has none."""
 
 
 STROKE_BLOCK = 2**17
@@ -239,10 +237,7 @@ def _stroke_from(reference, dx, dy) -> np.ndarray:
     nominal at every sample differs from it by at most the arctangent of its
     largest ``|t|``, t = cross / dot: its largest and smallest angle can only
     be where the nominal angle comes within twice that of its own extremes,
-    and only there are they sought. Where the turn is small (below
-    :data:`SMALL_TURN`) they are chosen on ``t - t**3/3 + ... - t**11/11``,
-    within 1e-12 of the arctangent, and the stroke computed exactly at the
-    two samples chosen; beyond, rows are taken in groups of like turn
+    and only there are they sought, for rows in groups of like turn
     (:data:`TURN_GROUPS`). A row that cannot be assembled somewhere has no
     stroke (NaN).
     """
@@ -256,24 +251,19 @@ def _stroke_from(reference, dx, dy) -> np.ndarray:
     stroke = np.full(dx.shape[0], np.nan)
     with np.errstate(invalid="ignore"):
         turn = np.where(least > 0, np.maximum.reduce(np.abs(cross / dot), axis=1), np.inf)
-    small = np.flatnonzero(turn < SMALL_TURN)
-    if small.size:
-        high_columns, low_columns = _near_extremes(base, float(np.max(turn[small])))
-        t = cross[small] / dot[small]
-        high = high_columns[np.argmax(_series(base[high_columns], t[:, high_columns]), axis=1)]
-        low = low_columns[np.argmin(_series(base[low_columns], t[:, low_columns]), axis=1)]
-        stroke[small] = (base[high] + np.arctan2(cross[small, high], dot[small, high])
-                         - base[low] - np.arctan2(cross[small, low], dot[small, low]))
-    ahead = (turn >= SMALL_TURN) & (turn < np.inf)
-    if ahead.any():
-        # rows that turn alike together: each group looks only as far from the nominal
-        # extremes as its own largest turn needs (a few times fewer arctangents)
-        group = np.searchsorted(TURN_GROUPS, turn, side="right")
-        for k in np.unique(group[ahead]):
-            members = np.flatnonzero(ahead & (group == k))
-            high_columns, low_columns = _near_extremes(base, float(np.max(turn[members])))
-            stroke[members] = (_exact(base, cross, dot, members, high_columns).max(axis=1)
-                               - _exact(base, cross, dot, members, low_columns).min(axis=1))
+    near = turn < np.inf
+    group = np.searchsorted(TURN_GROUPS, turn, side="right")
+    for k in np.unique(group[near]):
+        members = np.flatnonzero(near & (group == k))
+        largest = float(np.max(turn[members]))
+        high_columns, low_columns = _near_extremes(base, largest)
+        if largest < FROM_REFERENCE:
+            high = _extreme_angles(reference, dx, dy, members, high_columns, np.argmax)
+            low = _extreme_angles(reference, dx, dy, members, low_columns, np.argmin)
+        else:
+            high = _exact(base, cross, dot, members, high_columns).max(axis=1)
+            low = _exact(base, cross, dot, members, low_columns).min(axis=1)
+        stroke[members] = high - low
     rest = np.flatnonzero(least <= 0)
     if rest.size:
         angle = base + np.arctan2(cross[rest], dot[rest])
@@ -288,11 +278,25 @@ def _near_extremes(base, turn: float) -> tuple[np.ndarray, np.ndarray]:
             np.flatnonzero(base <= np.min(base) + reach))
 
 
-def _series(base, t) -> np.ndarray:
-    """Return ``base + atan(t)`` by the series of :func:`_stroke_from`, for small ``t``."""
-    t2 = t * t
-    return base + t * (1 + t2 * (-1 / 3 + t2 * (1 / 5 + t2 * (-1 / 7 + t2 * (
-        1 / 9 - t2 / 11)))))
+def _extreme_angles(reference, dx, dy, rows, columns, pick) -> np.ndarray:
+    """Return the largest (``pick`` np.argmax) or least (np.argmin) angle of some rows.
+
+    Sought over ``columns``, all within twice atan(turn) of the nominal's
+    extreme, for rows that turn less than :data:`FROM_REFERENCE` from the
+    nominal: every angle there is within three times atan(0.5) < 90 degrees of
+    the nominal link at that extreme, so it is the nominal angle there plus
+    the arctangent of the tangent from that link, which orders the columns
+    as the angles do. One arctangent a row, at the column picked.
+    """
+    ux, uy, base = reference
+    at = columns[pick(base[columns])]  # the nominal's extreme
+    where = np.ix_(rows, columns)
+    x, y = dx[where], dy[where]
+    cross = ux[at] * y - uy[at] * x
+    dot = ux[at] * x + uy[at] * y
+    chosen = pick(cross / dot, axis=1)
+    every = np.arange(len(rows))
+    return base[at] + np.arctan2(cross[every, chosen], dot[every, chosen])
 
 
 def _exact(base, cross, dot, rows, columns) -> np.ndarray:
