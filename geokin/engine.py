@@ -464,18 +464,21 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
                       reason_code)
 
 
-def _constant(value: float, n: int) -> np.ndarray:
+def _constant(value: float, n: int, dtype=float) -> np.ndarray:
     """Return one number as a read-only array of N samples, without memory for them."""
     # what np.broadcast_to(value, (n,)) gives, a few times faster
-    array = np.ndarray((n,), float, np.array([value], dtype=float), 0, (0,))
+    array = np.ndarray((n,), dtype, np.array([value], dtype=dtype), 0, (0,))
     array.flags.writeable = False
     return array
 
 
 def _over_samples(value, n: int) -> np.ndarray:
     """Return ``value`` as an array of N samples: itself if it is one, else broadcast."""
-    if type(value) is np.ndarray and value.shape == (n,):
-        return value
+    if type(value) is np.ndarray:
+        if value.shape == (n,):
+            return value
+        if value.ndim == 0:
+            return _constant(value, n, value.dtype)
     return np.broadcast_to(value, (n,))
 
 
