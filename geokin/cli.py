@@ -84,6 +84,7 @@ from . import __version__
 from .analysis import analyze, degrees_of_freedom
 from .analysis.tolerance import (
     DISTRIBUTIONS,
+    SENSITIVITY_STEP,
     Tolerance,
     dask_distributed,
     local_cluster,
@@ -1025,6 +1026,25 @@ def _cluster(args: argparse.Namespace):
         yield client
 
 
+def _sensitivity_noise(result: Tolerance, output: str) -> float:
+    """Return the rounding a central difference of the batch may leave in a sensitivity.
+
+    A sensitivity is the output's change over :data:`SENSITIVITY_STEP` of the
+    tolerance, divided by it: the output's rounding, a few units in the last
+    place of its size (a stroke's angles, or the traced point's
+    coordinates), divided by the step. Below it, a parameter changes nothing
+    that can be told.
+    """
+    if output in result.strokes:
+        stroke = result.strokes[output]
+        size = max(abs(stroke.nominal), 2 * math.pi if stroke.kind == "angle" else 0.0)
+    else:
+        with np.errstate(invalid="ignore"):
+            size = float(np.nanmax(np.abs(result.nominal[output.removesuffix(".path")]),
+                                   initial=0.0))
+    return 8 * np.finfo(float).eps * size / (2 * SENSITIVITY_STEP)
+
+
 def _tolerance_text(result: Tolerance, construction: Construction) -> str:
     """Return the study as the text ``geokin tolerance`` prints, angles in degrees."""
     units = one_line(construction.units, 100) if construction.units else ""
@@ -1048,8 +1068,8 @@ def _tolerance_text(result: Tolerance, construction: Construction) -> str:
             continue
         worst = (f"worst {d['largest_worst']:.4g} (variant {p.worst_variant})"
                  if p.worst_variant >= 0 else "no variant assembles")
-        lines.append(f"path of {point}: mean deviation from nominal at most "
-                     f"{d['largest_mean']:.4g} over the samples, {p.level:g}% of variants within "
+        lines.append(f"path of {point}: over the samples, mean deviation from nominal at "
+                     f"most {d['largest_mean']:.4g}, percentile {p.level:g} at most "
                      f"{d[f'largest_p{p.level:g}']:.4g}, {worst}")
     for name, stroke in result.strokes.items():
         d = stroke.to_dict(degrees=True)
@@ -1075,10 +1095,9 @@ def _tolerance_text(result: Tolerance, construction: Construction) -> str:
         if all(v == 0 for _, v in ranked):
             lines.append(f"  {output}: none of the parameters changes it")
             continue
-        # differences of the batch leave rounding where a parameter changes nothing
-        largest = max((abs(v) for _, v in ranked if math.isfinite(v)), default=0.0)
+        floor = _sensitivity_noise(result, output)
         lines.append(f"  {output}: " + ", ".join(
-            f"{k} n/a" if not math.isfinite(v) else f"{k} +0" if abs(v) <= 1e-8 * largest
+            f"{k} n/a" if not math.isfinite(v) else f"{k} 0" if abs(v) <= floor
             else f"{k} {v * scale:+.4g}" for k, v in ranked))
     return "\n".join(lines)
 

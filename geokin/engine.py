@@ -464,7 +464,7 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
                       reason_code)
 
 
-def _constant(value: float, n: int, dtype=float) -> np.ndarray:
+def _constant(value: float | np.ndarray, n: int, dtype=float) -> np.ndarray:
     """Return one number as a read-only array of N samples, without memory for them."""
     # what np.broadcast_to(value, (n,)) gives, a few times faster
     array = np.ndarray((n,), dtype, np.array([value], dtype=dtype), 0, (0,))

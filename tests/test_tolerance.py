@@ -343,16 +343,25 @@ def test_a_design_that_never_assembles_exits_1(capsys):
     assert "no sample can be assembled" in err
 
 
-@given(st.integers(0, 2**32 - 1), st.floats(1e-4, 3.0))
-def test_strokes_near_the_nominal_link_are_those_of_the_arctangent(seed, spread):
-    """Small turns from the nominal (on the series), larger ones, beyond a quarter turn."""
-    from geokin.analysis.tolerance import _stroke_from
+@given(st.integers(0, 2**32 - 1), st.floats(1e-4, 3.0), st.booleans())
+def test_strokes_near_the_nominal_link_are_those_of_the_arctangent(seed, spread, rising):
+    """Small turns from the nominal, larger ones, beyond a quarter turn; links that stretch.
+
+    The nominal angle either rises (its extremes at the ends) or swings,
+    coming near its extremes several times; some rows turn not at all, one
+    exactly atan(0.5), where the way the extremes are picked changes.
+    """
+    from geokin.analysis.tolerance import FROM_REFERENCE, _stroke_from
 
     rng = np.random.default_rng(seed)
     n, count = 121, 40
-    base = np.unwrap(np.linspace(0, 3, n) + 0.3 * np.sin(np.linspace(0, 6, n)))
-    turn = spread * rng.normal(size=(count, 1)) * np.sin(np.linspace(0, 5, n) + rng.normal())
-    radius = rng.uniform(0.5, 2, (count, 1))
+    s = np.linspace(0, 6, n)
+    base = (np.unwrap(np.linspace(0, 3, n) + 0.3 * np.sin(s)) if rising
+            else 0.4 * np.sin(3 * s) + 2 * np.pi * rng.integers(-3, 4))
+    turn = spread * rng.normal(size=(count, 1)) * np.sin(s + rng.normal())
+    turn[1] = 0.0
+    turn[2] = np.arctan(FROM_REFERENCE) * np.sign(np.sin(s + 0.5))
+    radius = rng.uniform(0.5, 2, (count, n))  # the links stretch from sample to sample
     dx, dy = radius * np.cos(base + turn), radius * np.sin(base + turn)
     dx[0, rng.integers(n)] = np.nan
     ux, uy = np.cos(base), np.sin(base)
@@ -393,12 +402,24 @@ def test_one_variant_prints_its_own_stroke_not_the_nominal(capsys):
     assert printed == pytest.approx(nominal, abs=0.05)
 
 
-def test_a_parameter_that_changes_nothing_is_ranked_plus_zero(capsys):
+@pytest.mark.parametrize("tolerances", [("beta=0.5", "r=0.2"), ("beta=0.5", "r=1e-4")])
+def test_a_parameter_that_changes_nothing_is_ranked_zero(capsys, tolerances):
     # turning the guide turns the whole slider-crank, its crank turning fully: the rod's
-    # stroke does not change with the guide's angle, whatever the differences leave
+    # stroke does not change with the guide's angle, whatever rounding the differences
+    # leave, and whatever the other parameter's tolerance
     script = str(CONSTRUCTIONS / "slider_crank_inclined.toml")
-    status, out, _ = run(capsys, "tolerance", script, "--tol", "beta=0.5", "--tol", "r=0.2",
-                         "-n", "200")
+    status, out, _ = run(capsys, "tolerance", script, "--tol", tolerances[0], "--tol",
+                         tolerances[1], "-n", "200")
     line = next(x for x in out.splitlines() if x.strip().startswith("rod.angle:"))
     assert status == 0 and line.strip().startswith("rod.angle: r +") and line.endswith(
-        "beta +0")
+        "beta 0")
+
+
+def test_a_tiny_real_sensitivity_is_not_taken_for_rounding(capsys):
+    # the rod swings between asin((e - r) / l) and asin((e + r) / l) from the guide: a
+    # longer rod swings less, by little for 1e-9
+    script = str(CONSTRUCTIONS / "slider_crank_inclined.toml")
+    status, out, _ = run(capsys, "tolerance", script, "--tol", "r=0.2", "--tol", "l=1e-9",
+                         "-n", "50")
+    line = next(x for x in out.splitlines() if x.strip().startswith("rod.angle:"))
+    assert status == 0 and " l -" in line and not line.endswith(" l 0")

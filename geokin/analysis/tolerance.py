@@ -214,7 +214,8 @@ def _strokes(coords: Callable[[str], tuple[Any, Any]], output: _Output,
 
 FROM_REFERENCE = 0.5
 """Rows whose link turns less than atan(0.5), about 26.6 degrees, from the nominal
-link find their extremes without arctangents (see :func:`_extreme_angles`)."""
+link pick their extremes on tangents, then take one arctangent at each (see
+:func:`_extreme_angles`)."""
 
 
 TURN_GROUPS = tuple(FROM_REFERENCE * 2.0**k for k in range(-5, 4))
