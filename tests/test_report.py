@@ -274,3 +274,29 @@ def test_the_text_gives_angles_in_the_reports_unit():
     assert "transmission angle at C: 18.19 to 180.00 deg" in degrees
     assert "transmission angle at C: 0.32 to 3.14 rad" in radians
     assert " deg" not in radians and " rad" not in degrees
+
+
+def test_a_circuits_extremes_are_those_of_a_dense_sweep_of_the_same_circuit():
+    """The triple rocker's samples are far apart near its limits: the extremes between
+    them come from the mechanism evaluated again, not from a parabola by index."""
+    from geokin import circuit
+    from geokin.analysis import refine_extreme
+    from geokin.kinematics import link_angles
+
+    c = fourbar(7, 5, 6, 5)
+    report = analyze(c, degrees=True)
+    dense = circuit(c, samples_per_pass=20_001)
+    theta = dense.inputs["theta2"]
+
+    def extreme(values, sign):  # on the dense samples, then between them
+        i = int(np.nanargmax(sign * values))
+        return refine_extreme(theta[i - 1:i + 2], values[i - 1:i + 2])[1]
+
+    angles = {name: np.degrees(v) for name, v in link_angles(dense).items()}
+    for name in ("follower", "coupler"):
+        swing = report.strokes[f"{name}.angle"]
+        np.testing.assert_allclose(
+            [swing.minimum, swing.maximum],
+            [extreme(angles[name], -1), extreme(angles[name], 1)], rtol=0, atol=1e-7)
+    np.testing.assert_allclose(report.strokes["C.x"].maximum, extreme(dense["C"][:, 0], 1),
+                               rtol=0, atol=1e-8)

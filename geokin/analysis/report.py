@@ -15,6 +15,7 @@ import html
 import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -730,22 +731,65 @@ _AROUND = np.array([-1.0, 0.0, 1.0])
 """A sample and its neighbours, by index."""
 
 
-def _extreme(values, sign, smooth) -> float:
+REFINE_SAMPLES = 65
+"""How many samples of the mechanism :func:`_strokes` evaluates again between
+the neighbours of an extreme sample, to place the extreme between them."""
+
+
+def _extreme(values, sign, smooth, densely=None) -> float:
     """Return the largest (sign 1) or smallest (sign -1) value, refined between samples.
 
-    :func:`~geokin.analysis.measures.refine_extreme` places the extreme
-    between samples through the extreme sample and its neighbours, where
-    the motion runs smoothly through that sample (``smooth``); at the ends
-    of a run, where the neighbours are missing, and where the input turns
-    back or a branch changes (a limit, where the output may have a corner),
-    the sample itself is taken.
+    Where the motion runs smoothly through the extreme sample (``smooth``),
+    ``densely(i, sign)`` places the extreme on the mechanism evaluated again
+    between sample ``i``'s neighbours, or, without it or where it cannot,
+    :func:`~geokin.analysis.measures.refine_extreme` on a parabola through
+    the sample and its neighbours by index. At the ends of a run, where the
+    neighbours are missing, and where the input turns back or a branch
+    changes (a limit, where the output may have a corner), the sample itself
+    is taken.
     """
     finite = np.where(np.isfinite(values), sign * values, -np.inf)
     i = int(np.argmax(finite))
     if (0 < i < len(values) - 1 and smooth[i] and np.isfinite(finite[i - 1])
             and np.isfinite(finite[i + 1])):
+        found = None if densely is None else densely(i, sign)
+        if found is not None:
+            return found
         return refine_extreme(_AROUND, values[i - 1:i + 2])[1]
     return float(values[i])
+
+
+def _coordinate(s: Sweep, point: str, axis: int) -> np.ndarray:
+    return np.asarray(s[point])[:, axis]
+
+
+def _slider(s: Sweep, name: str) -> np.ndarray:
+    return slider_positions(s)[name]
+
+
+def _angle(s: Sweep, name: str) -> np.ndarray:
+    return link_angles(s)[name]
+
+
+def _dense_extreme(inputs, values, at_sample, sign, is_angle) -> float | None:
+    """Return the extreme of an output evaluated densely about a sample, or None.
+
+    ``values`` over ``inputs`` (evenly spaced, the sample's neighbours at the
+    ends); a link angle is first moved by whole turns to agree with the
+    sample's ``at_sample``. None where some value is missing or the extreme
+    is not inside: the caller keeps its own estimate.
+    """
+    if not np.isfinite(values).all():
+        return None
+    if is_angle:
+        middle = values[len(values) // 2]
+        values = values + 2 * np.pi * np.round((at_sample - middle) / (2 * np.pi))
+    k = int(np.argmax(sign * values))
+    if not 0 < k < len(values) - 1:
+        return None
+    found = refine_extreme(inputs[k - 1:k + 2], values[k - 1:k + 2])[1]
+    # at least as far out as the sample itself, which lies between the neighbours
+    return found if sign * found >= sign * at_sample - 1e-9 * max(abs(at_sample), 1.0) else None
 
 
 def _strokes(compiled: Compiled, motion: Sweep,
@@ -760,17 +804,33 @@ def _strokes(compiled: Compiled, motion: Sweep,
         return {}
     name, declared = next(iter(compiled.inputs.items()))
     turns = declared.kind == "angle" and not motion.events and motion.valid.all()
-    outputs = {}
+    # each output's values, whether it is an angle, and how to read it off another sweep
+    outputs: dict[str, tuple[np.ndarray, bool, Callable[[Sweep], np.ndarray]]] = {}
     for point in compiled.traced:
-        outputs[f"{point}.x"] = (motion[point][:, 0], False)
-        outputs[f"{point}.y"] = (motion[point][:, 1], False)
+        for axis, coordinate in enumerate("xy"):
+            outputs[f"{point}.{coordinate}"] = (motion[point][:, axis], False,
+                                                partial(_coordinate, point=point, axis=axis))
     for slider, position in slider_positions(motion).items():
-        outputs[f"{slider}.position"] = (position, False)
+        outputs[f"{slider}.position"] = (position, False, partial(_slider, name=slider))
     angles = link_angles(motion)
     for link in compiled.links:
         if set(link.points[:2]) <= compiled.ground:
             continue
-        outputs[f"{link.name}.angle"] = (angles[link.name], True)
+        outputs[f"{link.name}.angle"] = (angles[link.name], True, partial(_angle, name=link.name))
+    # the extremes of a motion that does not turn fully are placed on the mechanism
+    # evaluated again between an extreme sample's neighbours (a circuit's samples
+    # are too far apart near its limits for a parabola through three)
+    around: dict[int, tuple[np.ndarray, Sweep]] = {}
+    dense = not turns and not any(step.node.continued for step in compiled.steps)
+
+    def near(i: int) -> tuple[np.ndarray, Sweep]:
+        if i not in around:
+            x = np.linspace(motion.inputs[name][i - 1], motion.inputs[name][i + 1],
+                            REFINE_SAMPLES)
+            branches = {k: int(np.broadcast_to(b, (len(motion),))[i - 1])
+                        for k, b in motion.branches.items()}
+            around[i] = (x, sweep(compiled, x, start_branches=branches))
+        return around[i]
     # where the input runs on through a sample, on the same branches
     step = np.diff(motion.inputs[name])
     smooth = np.zeros(len(motion), dtype=bool)
@@ -778,7 +838,7 @@ def _strokes(compiled: Compiled, motion: Sweep,
     for event in motion.events:
         smooth[max(event.index - 1, 0):event.index + 1] = False
     strokes: dict[str, StrokeReport] = {}
-    for label, (values, is_angle) in outputs.items():
+    for label, (values, is_angle, of) in outputs.items():
         if not np.isfinite(values).any():
             continue
         low, high = np.nanmin(values), np.nanmax(values)
@@ -788,7 +848,12 @@ def _strokes(compiled: Compiled, motion: Sweep,
             strokes[label] = StrokeReport(turns=True)
             continue
         convert = angle if is_angle else float
-        low, high = _extreme(values, -1, smooth), _extreme(values, 1, smooth)
+        def densely(i, sign, values=values, is_angle=is_angle, of=of):
+            x, local = near(i)
+            return _dense_extreme(x, of(local), values[i], sign, is_angle)
+
+        low = _extreme(values, -1, smooth, densely if dense else None)
+        high = _extreme(values, 1, smooth, densely if dense else None)
         found = None
         if turns:
             try:
