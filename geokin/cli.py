@@ -1026,6 +1026,19 @@ def _cluster(args: argparse.Namespace):
         yield client
 
 
+def _angle_parameters(compiled: Compiled) -> set[str]:
+    """Return the parameters used as angles: their script values are in degrees."""
+    found: set[str] = set()
+    for step in compiled.steps:
+        fields = step.node.value_fields()
+        for key in step.node.keys:
+            if key.angle:
+                for attribute in key.attributes or (key.name,):
+                    if attribute in fields:
+                        found |= fields[attribute].names() & compiled.parameters.keys()
+    return found
+
+
 def _sensitivity_noise(result: Tolerance, output: str) -> float:
     """Return the rounding a central difference of the batch may leave in a sensitivity.
 
@@ -1050,12 +1063,15 @@ def _tolerance_text(result: Tolerance, construction: Construction) -> str:
     units = one_line(construction.units, 100) if construction.units else ""
     spread = ("sigma = T/3" if result.distribution == "normal" else "anywhere in +-T")
     assembled = int(result.assembled.sum())
+    angles = _angle_parameters(result.construction)
     variants = f"{result.variants:,} variant{'' if result.variants == 1 else 's'}"
     lines = [f"{one_line(result.construction.name, 200)}: {variants}, "
              f"{result.distribution} ({spread}), seed {result.seed}",
-             "tolerances: " + ", ".join(f"{k} = {result.construction.parameters[k]:g} +- {v:g}"
-                                        for k, v in result.tolerances.items())
-             + (f" ({units})" if units else ""),
+             "tolerances: " + ", ".join(
+                 f"{k} = {result.construction.parameters[k]:g} +- {v:g}"
+                 + (" deg" if k in angles else "")
+                 for k, v in result.tolerances.items())
+             + (f" ({units})" if units and set(result.tolerances) - angles else ""),
              f"assemble at every sample: {assembled:,} of {result.variants:,} "
              f"({100 * result.assemblable_fraction:.2f}% +- "
              f"{100 * result.assemblable_error:.2f}%)"]

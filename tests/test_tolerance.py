@@ -423,3 +423,12 @@ def test_a_tiny_real_sensitivity_is_not_taken_for_rounding(capsys):
                          "-n", "50")
     line = next(x for x in out.splitlines() if x.strip().startswith("rod.angle:"))
     assert status == 0 and " l -" in line and not line.endswith(" l 0")
+
+
+def test_an_angle_parameters_tolerance_is_given_in_degrees(capsys):
+    script = str(CONSTRUCTIONS / "slider_crank_inclined.toml")
+    status, out, _ = run(capsys, "tolerance", script, "--tol", "beta=0.5", "-n", "20")
+    assert status == 0 and "tolerances: beta = 30 +- 0.5 deg\n" in out
+    status, out, _ = run(capsys, "tolerance", script, "--tol", "beta=0.5", "--tol", "r=0.2",
+                         "-n", "20")
+    assert "tolerances: beta = 30 +- 0.5 deg, r = 20 +- 0.2 (mm)\n" in out
