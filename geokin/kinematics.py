@@ -927,9 +927,14 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
     rate = size * direction
     rate_change = np.broadcast_to(np.asarray(acceleration, dtype=float), (n,)) * direction
     with np.errstate(divide="ignore", invalid="ignore"):
-        # time to travel between samples at the mean rate of the two
-        dt = np.abs(np.diff(values)) / np.abs(0.5 * (size[1:] + size[:-1]))
-    time = np.concatenate([[0.0], np.cumsum(dt)])
+        moved = np.diff(values)
+        if n >= 2 and (size == size[0]).all() and ((moved >= 0).all() or (moved <= 0).all()):
+            # one way at one speed: the distance travelled, without a sum's rounding
+            time = np.abs(values - values[0]) / size[0]
+        else:
+            # time to travel between samples at the mean rate of the two
+            dt = np.abs(moved) / np.abs(0.5 * (size[1:] + size[:-1]))
+            time = np.concatenate([[0.0], np.cumsum(dt)])
     # the other inputs move as the sweep moves them, in step with the driving one
     rates, changes = {driver: rate}, {driver: rate_change}
     for name, other in whole.inputs.items():

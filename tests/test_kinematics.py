@@ -501,3 +501,11 @@ def test_a_speed_that_is_not_a_positive_number_is_refused(speed):
     s = sweep(triple_rocker("crank"), [0.0, 0.1])
     with pytest.raises(ConstructionError, match="positive number"):
         motion(s, speed=speed)
+
+
+def test_time_one_way_at_one_speed_is_the_distance_over_the_speed():
+    # no running sum: each sample's time is rounded once, however many samples before it
+    c, lo, hi = double_rocker()
+    theta = np.linspace(hi, lo, 20_001)  # backwards: time still runs forwards
+    m = motion(sweep(c, theta), speed=3.0)
+    np.testing.assert_array_equal(m.time, (theta[0] - theta) / 3.0)
