@@ -96,6 +96,7 @@ from .construction import MAX_SAMPLES, Compiled, Construction, whole_steps
 from .engine import STREAM_BLOCK_SAMPLES, evaluate, sweep_in_blocks
 from .engine import sweep as run_sweep
 from .errors import AssemblyError, ConstructionError, GeokinError, did_you_mean, quote
+from .expressions import BinOp, Call, Expr, Name, Neg
 from .io import (
     EXPORT_FORMATS,
     columns,
@@ -1027,16 +1028,33 @@ def _cluster(args: argparse.Namespace):
 
 
 def _angle_parameters(compiled: Compiled) -> set[str]:
-    """Return the parameters used as angles: their script values are in degrees."""
-    found: set[str] = set()
+    """Return the parameters that scripts give in degrees, and only so.
+
+    A script's angle is read in degrees, and the loader converts it with
+    ``radians(...)``: a parameter is in degrees where it stands in such a
+    call (through arithmetic, not through another function: in
+    ``radians(degrees(asin(e / h)))`` the lengths e and h are not angles).
+    One that also appears anywhere else is not counted.
+    """
+    in_degrees: set[str] = set()
+    elsewhere: set[str] = set()
+
+    def walk(expr: Expr, degrees: bool) -> None:
+        if isinstance(expr, Name):
+            (in_degrees if degrees else elsewhere).add(expr.name)
+        elif isinstance(expr, Neg):
+            walk(expr.operand, degrees)
+        elif isinstance(expr, BinOp):
+            walk(expr.left, degrees)
+            walk(expr.right, degrees)
+        elif isinstance(expr, Call):
+            for argument in expr.args:
+                walk(argument, expr.function == "radians")
+
     for step in compiled.steps:
-        fields = step.node.value_fields()
-        for key in step.node.keys:
-            if key.angle:
-                for attribute in key.attributes or (key.name,):
-                    if attribute in fields:
-                        found |= fields[attribute].names() & compiled.parameters.keys()
-    return found
+        for value in step.node.value_fields().values():
+            walk(value, False)
+    return (in_degrees - elsewhere) & compiled.parameters.keys()
 
 
 def _sensitivity_noise(result: Tolerance, output: str) -> float:

@@ -425,6 +425,45 @@ def test_a_tiny_real_sensitivity_is_not_taken_for_rounding(capsys):
     assert status == 0 and " l -" in line and not line.endswith(" l 0")
 
 
+def test_only_parameters_given_in_degrees_are_labelled_deg(capsys, tmp_path):
+    # e and h are lengths inside an angle (asin of their ratio, in degrees); gam is an
+    # angle inside a distance; a stands both for a length and an angle
+    script = tmp_path / "mixed.toml"
+    script.write_text("""
+[construction]
+name = "mixed"
+units = "mm"
+[parameters]
+e = 10
+h = 35
+gam = 20
+a = 5
+[inputs.t]
+kind = "angle"
+range = [0, 90]
+samples = 19
+[points]
+O = { op = "fixed", at = [0, 0] }
+[points.G]
+op = "polar"
+origin = "O"
+distance = "h * sin(radians(gam))"
+angle = "degrees(asin(e / h))"
+[points.A]
+op = "polar"
+origin = "G"
+distance = "a"
+angle = "t + a"
+[links]
+crank = ["G", "A"]
+""")
+    status, out, _ = run(capsys, "tolerance", str(script), "--tol", "e=0.1", "--tol", "h=0.1",
+                         "--tol", "gam=0.5", "--tol", "a=0.1", "-n", "20")
+    assert status == 0
+    assert ("tolerances: e = 10 +- 0.1, h = 35 +- 0.1, gam = 20 +- 0.5 deg, a = 5 +- 0.1 "
+            "(mm)\n") in out
+
+
 def test_an_angle_parameters_tolerance_is_given_in_degrees(capsys):
     script = str(CONSTRUCTIONS / "slider_crank_inclined.toml")
     status, out, _ = run(capsys, "tolerance", script, "--tol", "beta=0.5", "-n", "20")
