@@ -300,3 +300,60 @@ def test_a_circuits_extremes_are_those_of_a_dense_sweep_of_the_same_circuit():
             [extreme(angles[name], -1), extreme(angles[name], 1)], rtol=0, atol=1e-7)
     np.testing.assert_allclose(report.strokes["C.x"].maximum, extreme(dense["C"][:, 0], 1),
                                rtol=0, atol=1e-8)
+
+
+def coupler_point_fourbar(ground, crank, coupler, rocker, start, point):
+    c = Construction("four-bar with a coupler point")
+    c.input("t", range=(start, start + 2 * np.pi))
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", ground, 0)
+    c.polar("A", "O2", crank, "t")
+    c.circle_circle("B", ("A", "O4"), (coupler, rocker), branch="left")
+    c.local("P", "A", "B", point)
+    c.trace("P")
+    c.link("crank", "O2", "A")
+    c.link("coupler", "A", "B", "P")
+    c.link("rocker", "O4", "B")
+    return c
+
+
+def dense_extremes(c, name):
+    """An output's extremes over a circuit of 20,001 samples a pass, placed between them."""
+    from geokin import circuit
+    from geokin.analysis import refine_extreme
+    from geokin.kinematics import link_angles
+
+    dense = circuit(c, samples_per_pass=20_001)
+    x = dense.inputs[next(iter(dense.inputs))]
+    point, what = name.split(".")
+    values = (np.degrees(link_angles(dense)[point]) if what == "angle"
+              else dense[point][:, "xy".index(what)])
+
+    def extreme(sign):
+        i = int(np.nanargmax(sign * values))
+        if 0 < i < len(values) - 1:
+            return refine_extreme(x[i - 1:i + 2], values[i - 1:i + 2])[1]
+        return values[i]
+
+    return extreme(-1), extreme(1)
+
+
+def test_an_extreme_in_the_step_beside_a_toggle_is_placed_inside_it():
+    # the coupler point's least x lies between the circuit's limit and the next sample
+    c = coupler_point_fourbar(3.9676, 8.0959, 3.7288, 5.0815, -2.2994, (-0.969, -2.965))
+    swing = analyze(c).strokes["P.x"]
+    np.testing.assert_allclose([swing.minimum, swing.maximum], dense_extremes(c, "P.x"),
+                               rtol=0, atol=1e-7)
+
+
+def test_an_extreme_at_a_closed_circuits_seam_is_placed_between_samples(tmp_path):
+    # seed 000's triple rocker declared over -20 to 20 degrees: its circuit starts and ends
+    # at -20, beside the follower's extreme
+    text = (CONSTRUCTIONS / "triple_rocker_crank.toml").read_text()
+    assert "range = [-132, 132]" in text
+    script = tmp_path / "narrow.toml"
+    script.write_text(text.replace("range = [-132, 132]", "range = [-20, 20]"))
+    c = load(script)
+    swing = analyze(c, degrees=True).strokes["follower.angle"]
+    np.testing.assert_allclose([swing.minimum, swing.maximum],
+                               dense_extremes(c, "follower.angle"), rtol=0, atol=1e-6)

@@ -731,30 +731,25 @@ _AROUND = np.array([-1.0, 0.0, 1.0])
 """A sample and its neighbours, by index."""
 
 
-REFINE_SAMPLES = 65
-"""How many samples of the mechanism :func:`_strokes` evaluates again between
-the neighbours of an extreme sample, to place the extreme between them."""
+REFINE_SAMPLES = 129
+"""How many samples of the mechanism :func:`_strokes` evaluates again along a
+step next to an extreme sample, to place the extreme inside it."""
 
 
-def _extreme(values, sign, smooth, densely=None) -> float:
+def _extreme(values, sign, smooth) -> float:
     """Return the largest (sign 1) or smallest (sign -1) value, refined between samples.
 
-    Where the motion runs smoothly through the extreme sample (``smooth``),
-    ``densely(i, sign)`` places the extreme on the mechanism evaluated again
-    between sample ``i``'s neighbours, or, without it or where it cannot,
-    :func:`~geokin.analysis.measures.refine_extreme` on a parabola through
-    the sample and its neighbours by index. At the ends of a run, where the
-    neighbours are missing, and where the input turns back or a branch
-    changes (a limit, where the output may have a corner), the sample itself
-    is taken.
+    :func:`~geokin.analysis.measures.refine_extreme` places the extreme
+    between samples through the extreme sample and its neighbours, where
+    the motion runs smoothly through that sample (``smooth``); at the ends
+    of a run, where the neighbours are missing, and where the input turns
+    back or a branch changes (a limit, where the output may have a corner),
+    the sample itself is taken.
     """
     finite = np.where(np.isfinite(values), sign * values, -np.inf)
     i = int(np.argmax(finite))
     if (0 < i < len(values) - 1 and smooth[i] and np.isfinite(finite[i - 1])
             and np.isfinite(finite[i + 1])):
-        found = None if densely is None else densely(i, sign)
-        if found is not None:
-            return found
         return refine_extreme(_AROUND, values[i - 1:i + 2])[1]
     return float(values[i])
 
@@ -771,25 +766,71 @@ def _angle(s: Sweep, name: str) -> np.ndarray:
     return link_angles(s)[name]
 
 
-def _dense_extreme(inputs, values, at_sample, sign, is_angle) -> float | None:
-    """Return the extreme of an output evaluated densely about a sample, or None.
+class _Steps:
+    """The steps of a one-input motion, each evaluated again densely when first asked.
 
-    ``values`` over ``inputs`` (evenly spaced, the sample's neighbours at the
-    ends); a link angle is first moved by whole turns to agree with the
-    sample's ``at_sample``. None where some value is missing or the extreme
-    is not inside: the caller keeps its own estimate.
+    Step ``a`` runs from sample a to a + 1 along the straight segment of
+    the input. Over a closed circuit (it ends where it began, on the same
+    branches) the step before the first sample is the last step.
     """
-    if not np.isfinite(values).all():
-        return None
-    if is_angle:
-        middle = values[len(values) // 2]
-        values = values + 2 * np.pi * np.round((at_sample - middle) / (2 * np.pi))
-    k = int(np.argmax(sign * values))
-    if not 0 < k < len(values) - 1:
-        return None
-    found = refine_extreme(inputs[k - 1:k + 2], values[k - 1:k + 2])[1]
-    # at least as far out as the sample itself, which lies between the neighbours
-    return found if sign * found >= sign * at_sample - 1e-9 * max(abs(at_sample), 1.0) else None
+
+    def __init__(self, compiled: Compiled, motion: Sweep, name: str):
+        self.compiled = compiled
+        self.x = motion.inputs[name]
+        n = self.n = len(motion)
+        self.labels = {k: np.broadcast_to(b, (n,)) for k, b in motion.branches.items()}
+        self.changes = {event.index for event in motion.events}  # in the step ending there
+        self.closed = (n > 2 and self.x[0] == self.x[-1]
+                       and all(b[0] == b[-1] for b in self.labels.values()))
+        self.dense: dict[int, tuple[np.ndarray, Sweep]] = {}
+
+    def about(self, i: int) -> list[int]:
+        """Return the steps that sample ``i`` ends or begins (not those of no length)."""
+        found = [i - 1] if i >= 1 else [self.n - 2] if self.closed else []
+        found += [i] if i <= self.n - 2 else [0] if self.closed else []
+        return [a for a in found if self.x[a] != self.x[a + 1]]
+
+    def evaluated(self, a: int) -> tuple[np.ndarray, Sweep]:
+        """Return step ``a``'s inputs at :data:`REFINE_SAMPLES` samples, and its sweep.
+
+        Swept from its end after a change of branch in it, if there is one:
+        that end's branches hold back to the change, which the sweep follows
+        where it lies inside the step.
+        """
+        if a not in self.dense:
+            start, end = (a + 1, a) if a + 1 in self.changes else (a, a + 1)
+            x = np.linspace(self.x[start], self.x[end], REFINE_SAMPLES)
+            branches = {k: int(v[start]) for k, v in self.labels.items()}
+            self.dense[a] = (x, sweep(self.compiled, x, start_branches=branches))
+        return self.dense[a]
+
+
+def _placed_extreme(values, sign, steps: _Steps, of: Callable[[Sweep], np.ndarray],
+                    is_angle: bool) -> float:
+    """Return the largest (sign 1) or smallest (sign -1) value, placed inside the steps.
+
+    The extreme sample's two steps are evaluated again densely
+    (:meth:`_Steps.evaluated`); an extreme strictly inside one, further out
+    than the sample, is placed by a parabola through the dense samples about
+    it. A link angle is moved by whole turns to agree with the sample.
+    """
+    finite = np.where(np.isfinite(values), sign * values, -np.inf)
+    i = int(np.argmax(finite))
+    best = float(values[i])
+    for a in steps.about(i):
+        x, local = steps.evaluated(a)
+        dense = np.asarray(of(local), dtype=float)
+        if not np.isfinite(dense).all():
+            continue
+        if is_angle:
+            at = int(np.argmin(np.abs(x - steps.x[i])))
+            dense = dense + 2 * np.pi * np.round((best - dense[at]) / (2 * np.pi))
+        k = int(np.argmax(sign * dense))
+        if 0 < k < len(dense) - 1:
+            found = refine_extreme(x[k - 1:k + 2], dense[k - 1:k + 2])[1]
+            if sign * found > sign * best:
+                best = found
+    return best
 
 
 def _strokes(compiled: Compiled, motion: Sweep,
@@ -818,19 +859,11 @@ def _strokes(compiled: Compiled, motion: Sweep,
             continue
         outputs[f"{link.name}.angle"] = (angles[link.name], True, partial(_angle, name=link.name))
     # the extremes of a motion that does not turn fully are placed on the mechanism
-    # evaluated again between an extreme sample's neighbours (a circuit's samples
+    # evaluated again along the steps about an extreme sample (a circuit's samples
     # are too far apart near its limits for a parabola through three)
-    around: dict[int, tuple[np.ndarray, Sweep]] = {}
-    dense = not turns and not any(step.node.continued for step in compiled.steps)
-
-    def near(i: int) -> tuple[np.ndarray, Sweep]:
-        if i not in around:
-            x = np.linspace(motion.inputs[name][i - 1], motion.inputs[name][i + 1],
-                            REFINE_SAMPLES)
-            branches = {k: int(np.broadcast_to(b, (len(motion),))[i - 1])
-                        for k, b in motion.branches.items()}
-            around[i] = (x, sweep(compiled, x, start_branches=branches))
-        return around[i]
+    steps = (_Steps(compiled, motion, name)
+             if not turns and not any(step.node.continued for step in compiled.steps)
+             else None)
     # where the input runs on through a sample, on the same branches
     step = np.diff(motion.inputs[name])
     smooth = np.zeros(len(motion), dtype=bool)
@@ -848,12 +881,11 @@ def _strokes(compiled: Compiled, motion: Sweep,
             strokes[label] = StrokeReport(turns=True)
             continue
         convert = angle if is_angle else float
-        def densely(i, sign, values=values, is_angle=is_angle, of=of):
-            x, local = near(i)
-            return _dense_extreme(x, of(local), values[i], sign, is_angle)
-
-        low = _extreme(values, -1, smooth, densely if dense else None)
-        high = _extreme(values, 1, smooth, densely if dense else None)
+        if steps is not None:
+            low = _placed_extreme(values, -1, steps, of, is_angle)
+            high = _placed_extreme(values, 1, steps, of, is_angle)
+        else:
+            low, high = _extreme(values, -1, smooth), _extreme(values, 1, smooth)
         found = None
         if turns:
             try:
