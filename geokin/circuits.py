@@ -431,7 +431,9 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
         range's start where it can be assembled, else the middle of the
         assemblable interval that overlaps the declared range the most.
     samples_per_pass : int
-        Samples on each pass from one limit to the other.
+        Samples on each pass from one limit to the other, spaced evenly along
+        the motion of the points: in the input, closer towards the limits,
+        where the points move fastest for it.
     at, start_branches : mapping, optional
         As for :func:`limits`.
 
