@@ -1062,3 +1062,19 @@ def test_labels_of_the_quick_returns_blocks_keep_off_the_ground_symbols(index):
             covered = symbol_covers(s[pivot][index], layout.ground_directions[pivot],
                                     layout.ground_sizes[pivot], grid)
             assert not covered.any(), (name, pivot)
+
+
+def test_a_link_is_wrapped_only_if_it_turns_fully_within_one_run():
+    """A crank of 60 assembles at 0 to 78 deg and 282 to 360 deg only: across the gap the
+    unwrapped angles of coupler and rocker span 360 deg, yet neither turns fully."""
+    from geokin import load
+    from geokin.kinematics import motion
+
+    c = load("constructions/crank_rocker.toml").compile().with_parameters({"l2": 60})
+    m = motion(sweep(c))
+    assert not m.sweep.valid.all() and np.nanmax(m.angle["rocker"]) - np.nanmin(
+        m.angle["rocker"]) >= 2 * np.pi - 1e-9
+    fig, axes = gp.figure_kinematics(m)
+    labels = {line.get_label() for line in axes[0].get_lines()}
+    assert labels == {"crank", "coupler", "rocker"}
+    plt.close(fig)

@@ -95,9 +95,16 @@ def plot_input_output(sweep: Sweep, outputs: Mapping[str, ArrayLike] | ArrayLike
 
 
 def _turns_fully(angle: np.ndarray) -> bool:
-    """Whether a link's angle (radians, unwrapped) covers a whole turn over the sweep."""
-    finite = angle[np.isfinite(angle)]
-    return bool(finite.size) and float(np.ptp(finite)) >= 2 * np.pi * (1 - 1e-9)
+    """Whether a link's angle (radians, unwrapped) covers a whole turn in one run.
+
+    A run is a stretch of samples that can be assembled: across a gap the
+    unwrapped angle may take up a turn the link never makes.
+    """
+    finite = np.isfinite(angle)
+    edges = np.flatnonzero(np.diff(finite)) + 1
+    return any(run.size and float(np.ptp(run)) >= 2 * np.pi * (1 - 1e-9)
+               for run, ok in zip(np.split(angle, edges), np.split(finite, edges), strict=True)
+               if ok[0])
 
 
 def wrap_degrees(x: ArrayLike, angle: ArrayLike) -> tuple[np.ndarray, np.ndarray]:
