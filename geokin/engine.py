@@ -21,8 +21,8 @@ Branch rules
    motion over the step could close (:data:`SAFETY`) is settled by its ends;
    any other step is cut into pieces (:data:`ANGLE_RESOLUTION`,
    :data:`LENGTH_RESOLUTION`) and the construction is evaluated at
-   intermediate inputs, all doubtful pieces at once, halving pieces until
-   the roots provably stay apart or come within :data:`MEET_RTOL` of the
+   intermediate inputs, all doubtful pieces at once, cutting pieces in
+   :data:`CUTS` until the roots provably stay apart or come within :data:`MEET_RTOL` of the
    node's scale of each other: they meet there.
 4. Roots that meet at a sample (within :data:`MEET_RTOL`) meet there: the
    node changes branch after that sample if it can be assembled at the
@@ -88,7 +88,7 @@ is located inside a step, as a fraction of the step: about the rounding of
 the inputs."""
 
 MAX_PIECES = 2**16
-"""The most pieces one step is cut into before halving (a step of 180 turns at
+"""The most pieces one step is cut into before cutting finer (a step of 180 turns at
 :data:`ANGLE_RESOLUTION`): a longer step cannot be resolved, and is not looked
 into (the node keeps its branch across it)."""
 
@@ -98,8 +98,15 @@ one step's pieces stay together): memory stays bounded however coarse and
 long the sweep."""
 
 MAX_HALVINGS = 60
-"""How often a doubtful piece of a step may be halved; what is still open
-then lies within rounding of the inputs, and counts as a meeting."""
+"""How often, in halvings, a doubtful piece of a step may be cut; what is
+still open then lies within rounding of the inputs, and counts as a meeting."""
+
+CUT_BITS = 3
+CUTS = 2**CUT_BITS
+"""How many pieces a doubtful piece is cut into at a time: eight, so that
+locating a gap's edge or a meeting to rounding takes a third of the rounds
+halving would, each evaluating the construction once for every piece
+(a power of two: the cuts are exact)."""
 
 
 def input_arrays(compiled: Compiled, values: ArrayLike | Mapping[str, ArrayLike] | None = None,
@@ -1345,10 +1352,10 @@ class _Tracker:
         """Return where the roots meet inside the given steps, as step + fraction, sorted.
 
         Each step is cut into its pieces; pieces whose roots neither stay
-        provably apart nor meet are halved, all at once, until each is
-        decided. A piece's rate (how far the roots' distance may change over
+        provably apart nor meet are cut again in :data:`CUTS`, all at once,
+        until each is decided. A piece's rate (how far the roots' distance may change over
         a whole step) is the largest seen over it, its neighbours and the
-        step's neighbours, and never falls as pieces are halved. Meetings
+        step's neighbours, and never falls as pieces are cut. Meetings
         that touch a sample where the roots meet belong to that sample
         (rule 4) and are left out here. Where only some samples are looked
         at, ``steps``, ``apart`` and ``at_sample`` are of those, and
@@ -1378,7 +1385,7 @@ class _Tracker:
         tolerance = MEET_RTOL
         found_step, found_low, found_high = [], [], []
         edge_step, edge_low, edge_high = [], [], []
-        for _ in range(MAX_HALVINGS):
+        for _ in range(-(-MAX_HALVINGS // CUT_BITS)):
             closest = np.fmin(at_low, at_high)
             reach = rate * (high - low)
             present = np.isfinite(at_low) & np.isfinite(at_high)
@@ -1386,7 +1393,7 @@ class _Tracker:
             # an end within the tolerance meets, and nothing closer is settled apart
             meet = present & (closest <= tolerance) & (reach <= tolerance)
             settled = (closest > SAFETY * reach) & (closest > tolerance)
-            # a piece with one end in a gap holds the gap's edge: halved until it is found
+            # a piece with one end in a gap holds the gap's edge: cut until it is found
             straddling = np.isfinite(at_low) != np.isfinite(at_high)
             found = straddling & (high - low <= EDGE_WIDTH)
             edge_step.append(step[found])
@@ -1402,17 +1409,22 @@ class _Tracker:
             if not open_.any():
                 break
             step, low, high, rate = step[open_], low[open_], high[open_], rate[open_]
-            at_low, at_high = at_low[open_], at_high[open_]
-            middle = 0.5 * (low + high)
-            at_middle = self._apart(position, sweep_step(step), middle)
-            rate = np.fmax(rate, np.fmax(np.abs(at_middle - at_low),
-                                         np.abs(at_high - at_middle)) / (middle - low))
-            step, rate = np.concatenate([step, step]), np.concatenate([rate, rate])
-            low, high = np.concatenate([low, middle]), np.concatenate([middle, high])
-            at_low = np.concatenate([at_low, at_middle])
-            at_high = np.concatenate([at_middle, at_high])
+            # each open piece cut into CUTS pieces, their ends shared
+            width = (high - low) * (1 / CUTS)  # exact: a power of two
+            ends = np.empty((step.size, CUTS + 1))
+            ends[:, 0], ends[:, -1] = low, high
+            np.multiply.outer(width, np.arange(1, CUTS), out=ends[:, 1:-1])
+            ends[:, 1:-1] += low[:, None]
+            at = np.empty_like(ends)
+            at[:, 0], at[:, -1] = at_low[open_], at_high[open_]
+            at[:, 1:-1] = self._apart(position, np.repeat(sweep_step(step), CUTS - 1),
+                                      ends[:, 1:-1].reshape(-1)).reshape(-1, CUTS - 1)
+            rate = np.fmax(rate, np.fmax.reduce(np.abs(np.diff(at, axis=1)), axis=1) / width)
+            step, rate = np.repeat(step, CUTS), np.repeat(rate, CUTS)
+            low, high = ends[:, :-1].reshape(-1), ends[:, 1:].reshape(-1)
+            at_low, at_high = at[:, :-1].reshape(-1), at[:, 1:].reshape(-1)
         else:
-            # still open after every halving: the roots meet within rounding of the inputs
+            # still open after every cut: the roots meet within rounding of the inputs
             found_step.append(step)
             found_low.append(low)
             found_high.append(high)
