@@ -247,11 +247,16 @@ def _stroke_from(reference, dx, dy) -> np.ndarray:
     if dx.shape[0] > rows:  # a block of rows at a time: its temporaries stay in the cache
         return np.concatenate([_stroke_from(reference, dx[i:i + rows], dy[i:i + rows])
                                for i in range(0, dx.shape[0], rows)])
-    cross, dot = ux * dy - uy * dx, ux * dx + uy * dy
+    cross = ux * dy
+    cross -= uy * dx
+    dot = ux * dx
+    dot += uy * dy
     least = np.minimum.reduce(dot, axis=1)  # NaN where the row is not assembled
     stroke = np.full(dx.shape[0], np.nan)
     with np.errstate(invalid="ignore"):
-        turn = np.where(least > 0, np.maximum.reduce(np.abs(cross / dot), axis=1), np.inf)
+        tangent = np.divide(cross, dot)
+        turn = np.maximum(np.maximum.reduce(tangent, axis=1), -np.minimum.reduce(tangent, axis=1))
+        turn[~(least > 0)] = np.inf
     near = turn < np.inf
     group = np.searchsorted(TURN_GROUPS, turn, side="right")
     for k in np.unique(group[near]):
@@ -291,7 +296,7 @@ def _extreme_angles(reference, dx, dy, rows, columns, pick) -> np.ndarray:
     """
     ux, uy, base = reference
     at = columns[pick(base[columns])]  # the nominal's extreme
-    where = np.ix_(rows, columns)
+    where = _cells(rows, columns)
     x, y = dx[where], dy[where]
     cross = ux[at] * y - uy[at] * x
     dot = ux[at] * x + uy[at] * y
@@ -300,9 +305,20 @@ def _extreme_angles(reference, dx, dy, rows, columns, pick) -> np.ndarray:
     return base[at] + np.arctan2(cross[every, chosen], dot[every, chosen])
 
 
+def _cells(rows: np.ndarray, columns: np.ndarray) -> tuple:
+    """Return the index of some rows at some columns, a slice where the columns run on.
+
+    The columns near an extreme most often do, and a slice takes them
+    several times faster than a second index array.
+    """
+    if columns.size and columns[-1] - columns[0] == columns.size - 1:
+        return rows, slice(int(columns[0]), int(columns[-1]) + 1)
+    return np.ix_(rows, columns)
+
+
 def _exact(base, cross, dot, rows, columns) -> np.ndarray:
     """Return the link's angle at some rows and columns, by the arctangent."""
-    where = np.ix_(rows, columns)
+    where = _cells(rows, columns)
     return base[columns] + np.arctan2(cross[where], dot[where])
 
 
