@@ -390,7 +390,12 @@ def _evaluate_block(study: _Study, start: int, stop: int) -> _Block:
             paths[name] = np.stack([x[:draw], y[:draw]], axis=-1)
         nominal = study.nominal_paths[name]
         # not np.hypot, several times slower: deviations are far from overflow
-        deviation = np.sqrt((x - nominal[:, 0]) ** 2 + (y - nominal[:, 1]) ** 2)[assembled]
+        along = x - nominal[:, 0]
+        across = y - nominal[:, 1]
+        along *= along
+        across *= across
+        along += across
+        deviation = np.sqrt(along, out=along)[assembled]
         n = nominal.shape[0]
         if count:
             mean[name] = deviation.mean(axis=0)
