@@ -214,6 +214,8 @@ def test_a_study_reads_back_as_json_and_pickles():
     ({}, {}, AnalysisError, "at least one parameter"),
     ({"a": 0}, {}, AnalysisError, "tolerance of 'a' must be a positive number"),
     ({"a": float("nan")}, {}, AnalysisError, "positive number"),
+    ({"a": "1"}, {}, AnalysisError, "tolerance of 'a' must be a number, got '1'"),
+    ({"a": True}, {}, AnalysisError, "tolerance of 'a' must be a number, got True"),
     ({"a": 1}, {"n": 0}, AnalysisError, "number of variants"),
     ({"a": 1}, {"seed": -1}, AnalysisError, "seed"),
     ({"a": 1}, {"distribution": "gauss"}, AnalysisError, "unknown distribution 'gauss'"),
@@ -365,11 +367,28 @@ def test_strokes_near_the_nominal_link_are_those_of_the_arctangent(seed, spread,
     dx, dy = radius * np.cos(base + turn), radius * np.sin(base + turn)
     dx[0, rng.integers(n)] = np.nan
     ux, uy = np.cos(base), np.sin(base)
-    angle = base + np.arctan2(ux * dy - uy * dx, ux * dx + uy * dy)
+    # the links' own angles, continuous along the samples: a turn beyond half a
+    # turn from the nominal is not cut there
+    angle = base + turn
     expected = angle.max(axis=1) - angle.min(axis=1)
     found = _stroke_from((ux, uy, base), dx, dy)
-    np.testing.assert_allclose(found, expected, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(found[1:], expected[1:], rtol=0, atol=1e-11)
     assert np.isnan(found[0])
+
+
+def test_a_link_opposite_the_nominal_has_the_nominal_stroke():
+    """A link pointing the other way (a negative length drawn) turns as the nominal does.
+
+    Its difference from the nominal is half a turn, where rounding flips the
+    arctangent between +pi and -pi from sample to sample: followed along the
+    samples, the stroke is the nominal's, not a turn more.
+    """
+    from geokin.analysis.tolerance import _stroke_from
+
+    base = np.linspace(0, 2 * np.pi, 361)
+    ux, uy = np.cos(base), np.sin(base)
+    found = _stroke_from((ux, uy, base), -0.5 * ux[None], -0.5 * uy[None])
+    np.testing.assert_allclose(found, [2 * np.pi], rtol=0, atol=1e-12)
 
 
 def test_a_study_where_no_variant_assembles_is_printed_then_exits_1(capsys):

@@ -273,7 +273,9 @@ def _stroke_from(reference, dx, dy) -> np.ndarray:
         stroke[members] = high - low
     rest = np.flatnonzero(least <= 0)
     if rest.size:
-        angle = base + np.arctan2(cross[rest], dot[rest])
+        # a link that turns a quarter turn or more from the nominal: its difference
+        # from it followed along the samples, never cut at half a turn
+        angle = base + np.unwrap(np.arctan2(cross[rest], dot[rest]), axis=1)
         stroke[rest] = angle.max(axis=1) - angle.min(axis=1)
     return stroke
 
@@ -786,7 +788,7 @@ def _check_tolerances(compiled: Compiled, tolerances: Mapping[str, float]) -> di
         raise AnalysisError("a tolerance study needs at least one parameter with its "
                             "tolerance, such as {'a': 0.1}")
     names = list(compiled.parameters)
-    checked = {}
+    checked: dict[str, float] = {}
     for name, value in tolerances.items():
         if name not in compiled.parameters:
             where = (" (it is an input)" if name in compiled.inputs
@@ -795,11 +797,10 @@ def _check_tolerances(compiled: Compiled, tolerances: Mapping[str, float]) -> di
                 "the construction has no parameters: give its lengths names in [parameters]"
             raise ConstructionError(f"cannot tolerance {quote(name)}{where}: no such parameter"
                                     f"{did_you_mean(name, names)} ({listed})", node=name)
-        try:
-            half = float(value)
-        except (TypeError, ValueError):
+        if isinstance(value, bool) or not isinstance(value, numbers.Real):
             raise AnalysisError(f"the tolerance of {quote(name)} must be a number, got "
-                                f"{value!r}") from None
+                                f"{value!r}")
+        half = float(value)
         if not (math.isfinite(half) and half > 0):
             raise AnalysisError(f"the tolerance of {quote(name)} must be a positive number, "
                                 f"got {half:g}")
