@@ -21,9 +21,9 @@ Branch rules
    motion over the step could close (:data:`SAFETY`) is settled by its ends;
    any other step is cut into pieces (:data:`ANGLE_RESOLUTION`,
    :data:`LENGTH_RESOLUTION`) and the construction is evaluated at
-   intermediate inputs, all doubtful pieces at once, cutting pieces in
-   :data:`CUTS` until the roots provably stay apart or come within :data:`MEET_RTOL` of the
-   node's scale of each other: they meet there.
+   intermediate inputs, all doubtful pieces at once, cutting pieces finer
+   (:data:`CUTS`) until the roots provably stay apart or come within
+   :data:`MEET_RTOL` of the node's scale of each other: they meet there.
 4. Roots that meet at a sample (within :data:`MEET_RTOL`) meet there: the
    node changes branch after that sample if it can be assembled at the
    samples on both sides and the path goes on through the sample; where the
@@ -98,15 +98,17 @@ one step's pieces stay together): memory stays bounded however coarse and
 long the sweep."""
 
 MAX_HALVINGS = 60
-"""How often, in halvings, a doubtful piece of a step may be cut; what is
-still open then lies within rounding of the inputs, and counts as a meeting."""
+"""How many rounds a doubtful piece of a step may be cut in (each cuts it in
+two at least); what is still open then lies within rounding of the inputs,
+and counts as a meeting."""
 
-CUT_BITS = 3
-CUTS = 2**CUT_BITS
-"""How many pieces a doubtful piece is cut into at a time: eight, so that
-locating a gap's edge or a meeting to rounding takes a third of the rounds
-halving would, each evaluating the construction once for every piece
-(a power of two: the cuts are exact)."""
+CUTS = 8
+"""The most pieces a doubtful piece is cut into in one round: as many as its
+test asks (a power of two, two at least), and always this many for a piece
+holding a gap's edge, which is so found in a third of the rounds halving
+would take. Each round evaluates the construction once for all its cuts, at
+most :data:`PIECES_PER_BLOCK` at a time. The pieces' widths are exact, and
+neighbouring pieces share their ends."""
 
 
 def input_arrays(compiled: Compiled, values: ArrayLike | Mapping[str, ArrayLike] | None = None,
@@ -1352,10 +1354,12 @@ class _Tracker:
         """Return where the roots meet inside the given steps, as step + fraction, sorted.
 
         Each step is cut into its pieces; pieces whose roots neither stay
-        provably apart nor meet are cut again in :data:`CUTS`, all at once,
-        until each is decided. A piece's rate (how far the roots' distance may change over
-        a whole step) is the largest seen over it, its neighbours and the
-        step's neighbours, and never falls as pieces are cut. Meetings
+        provably apart nor meet are cut again (:data:`CUTS`), all at once,
+        until each is decided. A piece's rate (how far the roots' distance
+        may change over a whole step) is at first the largest seen over it,
+        its neighbours and the step's neighbours; a piece cut from another
+        takes the largest of that one's rate and the rates seen over each
+        of its pieces, so that it never falls. Meetings
         that touch a sample where the roots meet belong to that sample
         (rule 4) and are left out here. Where only some samples are looked
         at, ``steps``, ``apart`` and ``at_sample`` are of those, and
@@ -1385,7 +1389,7 @@ class _Tracker:
         tolerance = MEET_RTOL
         found_step, found_low, found_high = [], [], []
         edge_step, edge_low, edge_high = [], [], []
-        for _ in range(-(-MAX_HALVINGS // CUT_BITS)):
+        for _ in range(MAX_HALVINGS):
             closest = np.fmin(at_low, at_high)
             reach = rate * (high - low)
             present = np.isfinite(at_low) & np.isfinite(at_high)
@@ -1408,21 +1412,48 @@ class _Tracker:
             found_high.append(high[meet])
             if not open_.any():
                 break
+            # each open piece is cut as finely as its test asks, in 2 to CUTS pieces
+            # (a power of two); one holding a gap's edge in CUTS, to find it in few
+            # rounds
+            closest, reach = closest[open_], reach[open_]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                asks = np.where(closest <= tolerance, reach / tolerance, SAFETY * reach / closest)
+                asks = 2.0 ** np.ceil(np.log2(asks))
+            ways = np.where(straddling[open_] | ~(asks < CUTS), CUTS,
+                            np.maximum(asks, 2)).astype(np.int64)
+            del closest, reach, asks
             step, low, high, rate = step[open_], low[open_], high[open_], rate[open_]
-            # each open piece cut into CUTS pieces, their ends shared
-            width = (high - low) * (1 / CUTS)  # exact: a power of two
-            ends = np.empty((step.size, CUTS + 1))
-            ends[:, 0], ends[:, -1] = low, high
-            np.multiply.outer(width, np.arange(1, CUTS), out=ends[:, 1:-1])
-            ends[:, 1:-1] += low[:, None]
-            at = np.empty_like(ends)
-            at[:, 0], at[:, -1] = at_low[open_], at_high[open_]
-            at[:, 1:-1] = self._apart(position, np.repeat(sweep_step(step), CUTS - 1),
-                                      ends[:, 1:-1].reshape(-1)).reshape(-1, CUTS - 1)
-            rate = np.fmax(rate, np.fmax.reduce(np.abs(np.diff(at, axis=1)), axis=1) / width)
-            step, rate = np.repeat(step, CUTS), np.repeat(rate, CUTS)
-            low, high = ends[:, :-1].reshape(-1), ends[:, 1:].reshape(-1)
-            at_low, at_high = at[:, :-1].reshape(-1), at[:, 1:].reshape(-1)
+            width = (high - low) / ways  # exact: a power of two
+            # the ends of each piece's pieces in a row (low, the cuts, high), each
+            # cut shared by the two pieces either side of it
+            first = np.cumsum(ways + 1) - (ways + 1)
+            last = first + ways
+            owner = np.repeat(np.arange(step.size, dtype=np.int32), ways + 1)
+            ends = np.arange(owner.size, dtype=float)
+            ends -= first[owner]  # each end's place in its piece: 0 to ways
+            ends *= width[owner]
+            ends += low[owner]
+            ends[last] = high
+            at = np.empty(ends.size)
+            at[first], at[last] = at_low[open_], at_high[open_]
+            inner = np.ones(ends.size, dtype=bool)
+            inner[first] = inner[last] = False
+            cuts = np.flatnonzero(inner)
+            del inner
+            for lo in range(0, cuts.size, PIECES_PER_BLOCK):
+                some = cuts[lo:lo + PIECES_PER_BLOCK]
+                at[some] = self._apart(position, sweep_step(step[owner[some]]), ends[some])
+            del cuts
+            moved = np.abs(np.diff(at))
+            moved[first[1:] - 1] = np.nan  # from one piece's high end to the next one's low
+            rate = np.fmax(rate, np.fmax.reduceat(moved, first) / width)
+            del moved
+            new = np.ones(ends.size, dtype=bool)
+            new[last] = False  # every end but a piece's last starts a new piece
+            new = np.flatnonzero(new)
+            owner = owner[new]
+            step, rate = step[owner], rate[owner]
+            low, high, at_low, at_high = ends[new], ends[new + 1], at[new], at[new + 1]
         else:
             # still open after every cut: the roots meet within rounding of the inputs
             found_step.append(step)

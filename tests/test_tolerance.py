@@ -216,6 +216,8 @@ def test_a_study_reads_back_as_json_and_pickles():
     ({"a": float("nan")}, {}, AnalysisError, "positive number"),
     ({"a": "1"}, {}, AnalysisError, "tolerance of 'a' must be a number, got '1'"),
     ({"a": True}, {}, AnalysisError, "tolerance of 'a' must be a number, got True"),
+    ({"a": np.True_}, {}, AnalysisError, "tolerance of 'a' must be a number"),
+    ({"a": b"1"}, {}, AnalysisError, "tolerance of 'a' must be a number"),
     ({"a": 1}, {"n": 0}, AnalysisError, "number of variants"),
     ({"a": 1}, {"seed": -1}, AnalysisError, "seed"),
     ({"a": 1}, {"distribution": "gauss"}, AnalysisError, "unknown distribution 'gauss'"),
@@ -246,6 +248,23 @@ def test_a_real_local_cluster_gives_the_figures_found_in_process():
         there = tolerance(c, PLUS_MINUS_3, n=n, seed=5, client=client,
                           chunk_size=BLOCK_VARIANTS)
     assert_same(here, there)
+
+
+def test_a_local_cluster_is_quiet_has_geokin_and_leaves_dask_as_it_was():
+    dask = pytest.importorskip("dask")
+    pytest.importorskip("dask.distributed")
+    from geokin.analysis.tolerance import QUIET_CLUSTER, local_cluster
+
+    before = {key: dask.config.get(key) for key in QUIET_CLUSTER}
+
+    def seen():
+        return ({key: dask.config.get(key) for key in QUIET_CLUSTER},
+                "geokin.analysis.tolerance" in sys.modules)
+
+    with local_cluster(1) as client:
+        on_workers = list(client.run(seen).values())
+    assert on_workers == [(QUIET_CLUSTER, True)]
+    assert {key: dask.config.get(key) for key in QUIET_CLUSTER} == before != QUIET_CLUSTER
 
 
 def test_the_command_runs_on_two_local_workers(capsys):

@@ -797,10 +797,14 @@ def _check_tolerances(compiled: Compiled, tolerances: Mapping[str, float]) -> di
                 "the construction has no parameters: give its lengths names in [parameters]"
             raise ConstructionError(f"cannot tolerance {quote(name)}{where}: no such parameter"
                                     f"{did_you_mean(name, names)} ({listed})", node=name)
-        if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        try:
+            # text and truth values convert to numbers, but are not tolerances
+            if isinstance(value, str | bytes | bool | np.bool_):
+                raise TypeError
+            half = float(value)
+        except (TypeError, ValueError):
             raise AnalysisError(f"the tolerance of {quote(name)} must be a number, got "
-                                f"{value!r}")
-        half = float(value)
+                                f"{value!r}") from None
         if not (math.isfinite(half) and half > 0):
             raise AnalysisError(f"the tolerance of {quote(name)} must be a positive number, "
                                 f"got {half:g}")
@@ -907,9 +911,17 @@ QUIET_CLUSTER = {"distributed.worker.profile.enabled": False,
                  "distributed.admin.system-monitor.gil.enabled": False,
                  "distributed.admin.system-monitor.interval": "2s",
                  "distributed.admin.tick.interval": "1s"}
-"""The dask settings :func:`local_cluster` runs with: it has no dashboard to
-show a profile or the event loops' health, and sampling them (every 10 ms,
-1 ms and 20 ms by default) took about a tenth of a 2-core machine."""
+"""The dask settings :func:`local_cluster` runs with. It has no dashboard to
+show what dask samples by default: each worker's stack every 10 ms, the
+event loops' health every 20 ms, the processes' use of the machine every
+0.5 s (here every 2 s, as dask still reads memory from it), and the GIL
+every 1 ms where ``gilknocker`` is installed. Idle, that sampling took about
+a tenth of a 2-core machine."""
+
+
+def _imported() -> None:
+    """Import this module, and with it geokin (run on each worker once started)."""
+    importlib.import_module(__name__)
 
 
 @contextlib.contextmanager
@@ -933,12 +945,15 @@ def local_cluster(workers: int) -> Iterator[Any]:
     environ = {**dask.config.get("distributed.nanny.pre-spawn-environ", {}),
                **WORKER_ENVIRONMENT}
     with dask.config.set({"distributed.nanny.pre-spawn-environ": environ, **QUIET_CLUSTER}):
+        # no dashboard; the scheduler's own HTTP server (health, metrics) on any
+        # free port, not dask's 8787, which another cluster may hold
         cluster = distributed.LocalCluster(n_workers=workers, threads_per_worker=1,
                                            processes=True, dashboard_address=None,
+                                           scheduler_kwargs={"dashboard_address": ":0"},
                                            silence_logs=logging.ERROR)
     try:
         with distributed.Client(cluster) as client:
-            client.run(importlib.import_module, __name__)
+            client.run(_imported)
             yield client
     finally:
         cluster.close()
