@@ -1066,11 +1066,15 @@ def _sensitivity_noise(result: Tolerance, output: str) -> float:
     coordinates), divided by the step. Below it, a parameter changes nothing
     that can be told.
     """
-    if output in result.strokes:
-        stroke = result.strokes[output]
-        size = max(abs(stroke.nominal), 2 * math.pi if stroke.kind == "angle" else 0.0)
-    else:
-        with np.errstate(invalid="ignore"):
+    with np.errstate(invalid="ignore"):
+        # a slider's place on its guide is rounded as the points' coordinates are
+        coordinates = max((float(np.nanmax(np.abs(result.nominal[point]), initial=0.0))
+                           for point in result.paths), default=0.0)
+        if output in result.strokes:
+            stroke = result.strokes[output]
+            size = max(abs(stroke.nominal),
+                       2 * math.pi if stroke.kind == "angle" else coordinates)
+        else:
             size = float(np.nanmax(np.abs(result.nominal[output.removesuffix(".path")]),
                                    initial=0.0))
     return 8 * np.finfo(float).eps * size / (2 * SENSITIVITY_STEP)

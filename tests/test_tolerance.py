@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 from PIL import Image
 
 import geokin
-from geokin import AnalysisError, ConstructionError, GeokinError, tolerance
+from geokin import AnalysisError, ConstructionError, GeokinError, load, tolerance
 from geokin.analysis.tolerance import BLOCK_VARIANTS, draw_variants
 from geokin.cli import main
 from geokin.kinematics import link_angles
@@ -509,3 +509,24 @@ def test_an_angle_parameters_tolerance_is_given_in_degrees(capsys):
     status, out, _ = run(capsys, "tolerance", script, "--tol", "beta=0.5", "--tol", "r=0.2",
                          "-n", "20")
     assert "tolerances: beta = 30 +- 0.5 deg, r = 20 +- 0.2 (mm)\n" in out
+
+
+def test_a_block_that_keeps_its_place_on_its_guide_has_no_stroke(capsys):
+    """The seed six-bar's block does not slide: its stroke is the coordinates' rounding.
+
+    It reads 0, no parameter changes it, and the picture's histogram shows a
+    stroke that does spread.
+    """
+    from geokin.plotting.tolerance import spread_output
+
+    six = load(CONSTRUCTIONS / "sixbar.toml")
+    t = tolerance(six, {"l3": 1, "l4": 1}, n=200, seed=3)
+    block = t.strokes["block.position"]
+    assert block.nominal == 0 and not block.assembled.any()
+    assert dict(t.sensitivity["block.position"]) == {"l3": 0.0, "l4": 0.0}
+    assert spread_output(t) != "block.position"
+    status, out, _ = run(capsys, "tolerance", str(CONSTRUCTIONS / "sixbar.toml"),
+                         "--tol", "l3=1", "--tol", "l4=1", "-n", "200")
+    assert status == 0
+    assert "stroke of block.position: 0 mm in every variant" in out
+    assert "block.position: none of the parameters changes it" in out

@@ -210,7 +210,17 @@ def _strokes(coords: Callable[[str], tuple[Any, Any]], output: _Output,
         (px, py), (sx, sy), (ex, ey) = (coords(p) for p in output.points)
         gx, gy = ex - sx, ey - sy
         along = np.atleast_2d(((px - sx) * gx + (py - sy) * gy) / np.hypot(gx, gy))
-        return along.max(axis=1) - along.min(axis=1)
+        stroke = along.max(axis=1) - along.min(axis=1)
+        # a point that keeps its place on its guide moves by the rounding of its
+        # coordinates: no stroke
+        size = np.atleast_2d(np.abs(px) + np.abs(py) + np.abs(sx) + np.abs(sy))
+        return np.where(stroke <= SLIDE_ROUNDING * np.max(size, axis=1), 0.0, stroke)
+
+
+SLIDE_ROUNDING = 16 * np.finfo(float).eps
+"""A slider's stroke up to this times the size of its coordinates is their
+rounding, and counts as none: a block fixed on its guide is not drawn as
+the slider that spreads the most."""
 
 
 FROM_REFERENCE = 0.5
