@@ -1057,6 +1057,29 @@ def _angle_parameters(compiled: Compiled) -> set[str]:
     return (in_degrees - elsewhere) & compiled.parameters.keys()
 
 
+SIGN_CHANGE_WARNING = 1e-3
+"""``geokin tolerance`` warns where at least this share of the variants is
+expected to draw a parameter with the other sign than its nominal value
+(a length drawn below zero is no part that can be made)."""
+
+
+def _sign_changes(nominal: float, half: float, distribution: str) -> float:
+    """Return the share of draws expected on the other side of zero from ``nominal``.
+
+    Examples
+    --------
+    >>> round(_sign_changes(10.0, 10.0, "normal"), 5)  # three standard deviations
+    0.00135
+    >>> _sign_changes(10.0, 30.0, "uniform")
+    0.3333333333333333
+    """
+    if nominal == 0:
+        return 0.0
+    if distribution == "uniform":
+        return max(0.0, (half - abs(nominal)) / (2 * half))
+    return 0.5 * math.erfc(abs(nominal) / (half / 3) / math.sqrt(2))
+
+
 def _sensitivity_noise(result: Tolerance, output: str) -> float:
     """Return the rounding a central difference of the batch may leave in a sensitivity.
 
@@ -1155,6 +1178,12 @@ def run_tolerance(args: argparse.Namespace) -> int:
             raise UsageError(f"--tol {name}={value:g}: the tolerance must be a positive number")
     if not 0 < args.percentile < 100:
         raise UsageError(f"--percentile must be between 0 and 100, got {args.percentile:g}")
+    cores = (len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
+             else os.cpu_count()) or 1
+    if args.workers is not None and args.workers > cores:
+        raise UsageError(f"--workers {args.workers}: more than the {cores} "
+                         f"core{'s' if cores > 1 else ''} this machine gives the program; to "
+                         "run on more, join a cluster with --scheduler")
     construction, compiled = script_of(args.script, args)
     names = list(compiled.parameters)
     for name in tolerances:
@@ -1168,6 +1197,13 @@ def run_tolerance(args: argparse.Namespace) -> int:
     args.circuit = False
     values = sweep_values(construction, args)
     radians = {k: from_script(construction.inputs[k], v) for k, v in values.items()}
+    for name, half in tolerances.items():
+        share = _sign_changes(compiled.parameters[name], half, args.distribution)
+        if share >= SIGN_CHANGE_WARNING:
+            nominal = compiled.parameters[name]
+            print(one_line(f"geokin: warning: --tol {name}={half:g}: about {100 * share:.2g}% "
+                           f"of the variants draw {name} {'below' if nominal > 0 else 'above'} "
+                           f"zero, where its nominal value is {nominal:g}"), file=sys.stderr)
     with _cluster(args) as client:
         result = tolerance(compiled, tolerances, n=args.variants, seed=args.seed,
                            distribution=args.distribution, values=radians or None,
@@ -1186,7 +1222,8 @@ def run_tolerance(args: argparse.Namespace) -> int:
     else:
         _print_lines(_tolerance_text(result, construction))
     if not result.assembled.any():
-        raise AssemblyError("no variant assembles at every sample; no picture is drawn")
+        raise AssemblyError("no variant assembles at every sample"
+                            + ("; no picture is drawn" if plotting is not None else ""))
     if plotting is not None:
         fig, _ = plotting.figure_tolerance(result, output=args.histogram)
         print(escape(f"wrote {plotting.save(fig, args.output)}"), file=sys.stderr)
@@ -1242,9 +1279,14 @@ class _Parser(argparse.ArgumentParser):
         if not options:
             self.error(f"{who} does not take the argument {quote(extra[0])}")
         name = options[0].split("=", 1)[0]
-        # a long option has a closest one; a letter is as near to any other letter
-        close = did_you_mean(name, [o for o in self._option_string_actions
-                                    if o.startswith("--")]) if name.startswith("--") else ""
+        # a long option has a closest one, first one it begins or ends (--tolerance for
+        # --tol); a letter is as near to any other letter
+        close = ""
+        if name.startswith("--"):
+            longs = [o for o in self._option_string_actions if o.startswith("--")]
+            within = [o for o in longs if name.startswith(o) or o.startswith(name)]
+            close = (f"; did you mean {quote(within[0])}?" if len(within) == 1
+                     else did_you_mean(name, longs))
         self.error(f"{who} has no option {quote(name)}{close}")
 
 

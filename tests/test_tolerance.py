@@ -530,3 +530,29 @@ def test_a_block_that_keeps_its_place_on_its_guide_has_no_stroke(capsys):
     assert status == 0
     assert "stroke of block.position: 0 mm in every variant" in out
     assert "block.position: none of the parameters changes it" in out
+
+
+def test_a_tolerance_that_crosses_zero_is_warned_of(capsys):
+    status, _, err = run(capsys, "tolerance", FOURBAR, "--tol", "a=100", "-n", "50")
+    assert status == 0
+    assert err == ("geokin: warning: --tol a=100: about 38% of the variants draw a below "
+                   "zero, where its nominal value is 10.55\n")
+    for argv in (["--tol", "a=3"], ["--tol", "a=10", "--distribution", "uniform"]):
+        status, _, err = run(capsys, "tolerance", FOURBAR, *argv, "-n", "50")
+        assert status == 0 and err == ""
+
+
+def test_a_study_of_variants_that_never_assemble_says_so_in_one_line(capsys):
+    status, _, err = run(capsys, "tolerance", FOURBAR, "--tol", "a=1e300", "-n", "50")
+    assert status == 1
+    # the sign warning and the error; no numpy warning, and no word of a picture
+    assert err.splitlines()[1:] == [f"geokin: error: {FOURBAR}: no variant assembles at "
+                                    "every sample"]
+    assert err.splitlines()[0].startswith("geokin: warning: --tol a=1e+300: about 50%")
+
+
+def test_more_workers_than_cores_are_refused_before_any_start(capsys):
+    status, out, err = run(capsys, "tolerance", FOURBAR, "--tol", "a=1", "--workers", "100000")
+    assert status == 2 and out == ""
+    assert err.startswith("geokin: error: --workers 100000: more than the ")
+    assert err.count("\n") == 1
