@@ -965,7 +965,7 @@ def add_tolerance(subparsers: Subparsers) -> None:
     where = p.add_mutually_exclusive_group()
     where.add_argument("--workers", type=_variant_count, metavar="K",
                        help="run the variants on a local dask.distributed cluster of K worker "
-                            "processes (pip install 'geokin[dask]')")
+                            "processes, at most one a core (pip install 'geokin[dask]')")
     where.add_argument("--scheduler", metavar="ADDRESS",
                        help="run the variants on the dask.distributed cluster whose scheduler "
                             "is at ADDRESS (tcp://host:8786); its workers need geokin")
@@ -1060,7 +1060,8 @@ def _angle_parameters(compiled: Compiled) -> set[str]:
 SIGN_CHANGE_WARNING = 1e-3
 """``geokin tolerance`` warns where at least this share of the variants is
 expected to draw a parameter with the other sign than its nominal value
-(a length drawn below zero is no part that can be made)."""
+(a length drawn below zero is no part that can be made); not for a
+parameter the script gives in degrees, which may turn either way."""
 
 
 def _sign_changes(nominal: float, half: float, distribution: str) -> float:
@@ -1076,7 +1077,7 @@ def _sign_changes(nominal: float, half: float, distribution: str) -> float:
     if nominal == 0:
         return 0.0
     if distribution == "uniform":
-        return max(0.0, (half - abs(nominal)) / (2 * half))
+        return max(0.0, 0.5 * (1 - abs(nominal) / half))  # 2 * half may overflow
     return 0.5 * math.erfc(abs(nominal) / (half / 3) / math.sqrt(2))
 
 
@@ -1085,21 +1086,25 @@ def _sensitivity_noise(result: Tolerance, output: str) -> float:
 
     A sensitivity is the output's change over :data:`SENSITIVITY_STEP` of the
     tolerance, divided by it: the output's rounding, a few units in the last
-    place of its size (a stroke's angles, or the traced point's
-    coordinates), divided by the step. Below it, a parameter changes nothing
-    that can be told.
+    place of its size (a link's angles, the coordinates of a slider's
+    points, or the traced point's), divided by the step. Below it, a
+    parameter changes nothing that can be told.
     """
-    with np.errstate(invalid="ignore"):
-        # a slider's place on its guide is rounded as the points' coordinates are
-        coordinates = max((float(np.nanmax(np.abs(result.nominal[point]), initial=0.0))
-                           for point in result.paths), default=0.0)
-        if output in result.strokes:
-            stroke = result.strokes[output]
-            size = max(abs(stroke.nominal),
-                       2 * math.pi if stroke.kind == "angle" else coordinates)
-        else:
-            size = float(np.nanmax(np.abs(result.nominal[output.removesuffix(".path")]),
-                                   initial=0.0))
+    def largest(points):
+        with np.errstate(invalid="ignore"):
+            return max(float(np.nanmax(np.abs(result.nominal[p]), initial=0.0)) for p in points)
+
+    if output not in result.strokes:
+        return 8 * np.finfo(float).eps * largest([output.removesuffix(".path")]) / (
+            2 * SENSITIVITY_STEP)
+    stroke = result.strokes[output]
+    if stroke.kind == "angle":
+        size = max(abs(stroke.nominal), 2 * math.pi)
+    else:
+        # a slider's place on its guide is rounded as its points' coordinates are
+        slider = next(s for s in result.construction.sliders
+                      if f"{s.name}.position" == output)
+        size = max(abs(stroke.nominal), largest((slider.point, *slider.along)))
     return 8 * np.finfo(float).eps * size / (2 * SENSITIVITY_STEP)
 
 
@@ -1197,13 +1202,15 @@ def run_tolerance(args: argparse.Namespace) -> int:
     args.circuit = False
     values = sweep_values(construction, args)
     radians = {k: from_script(construction.inputs[k], v) for k, v in values.items()}
+    angles = _angle_parameters(compiled)
     for name, half in tolerances.items():
         share = _sign_changes(compiled.parameters[name], half, args.distribution)
-        if share >= SIGN_CHANGE_WARNING:
+        if share >= SIGN_CHANGE_WARNING and name not in angles:  # an angle may turn negative
             nominal = compiled.parameters[name]
             print(one_line(f"geokin: warning: --tol {name}={half:g}: about {100 * share:.2g}% "
-                           f"of the variants draw {name} {'below' if nominal > 0 else 'above'} "
-                           f"zero, where its nominal value is {nominal:g}"), file=sys.stderr)
+                           f"of the variants draw {quote(name)} "
+                           f"{'below' if nominal > 0 else 'above'} zero, where its nominal "
+                           f"value is {nominal:g}"), file=sys.stderr)
     with _cluster(args) as client:
         result = tolerance(compiled, tolerances, n=args.variants, seed=args.seed,
                            distribution=args.distribution, values=radians or None,
@@ -1279,14 +1286,18 @@ class _Parser(argparse.ArgumentParser):
         if not options:
             self.error(f"{who} does not take the argument {quote(extra[0])}")
         name = options[0].split("=", 1)[0]
-        # a long option has a closest one, first one it begins or ends (--tolerance for
-        # --tol); a letter is as near to any other letter
+        # a long option has a closest one, among those it starts with or that start
+        # with it if any (--tol for --tolerance); a letter is as near to any other letter
         close = ""
         if name.startswith("--"):
             longs = [o for o in self._option_string_actions if o.startswith("--")]
             within = [o for o in longs if name.startswith(o) or o.startswith(name)]
-            close = (f"; did you mean {quote(within[0])}?" if len(within) == 1
-                     else did_you_mean(name, longs))
+            if within:
+                named = [quote(o) for o in sorted(within)]
+                close = "; did you mean " + " or ".join(
+                    [", ".join(named[:-1]), named[-1]] if len(named) > 1 else named) + "?"
+            else:
+                close = did_you_mean(name, longs)
         self.error(f"{who} has no option {quote(name)}{close}")
 
 

@@ -479,6 +479,13 @@ def test_errors_exit_2_without_a_traceback(capsys, argv, message):
                                       "(see 'geokin trace --help')"),
     (["--verison"], "geokin has no option '--verison'; did you mean '--version'? "
                     "(see 'geokin --help')"),
+    # an option the given one starts with, before one closer by letters (--range)
+    (["tolerance", SIXBAR, "--tolerance", "l3=1"], "tolerance has no option '--tolerance'; "
+                                                   "did you mean '--tol'? "
+                                                   "(see 'geokin tolerance --help')"),
+    (["tolerance", SIXBAR, "--p", "3"], "tolerance has no option '--p'; did you mean "
+                                        "'--percentile' or '--points'? "
+                                        "(see 'geokin tolerance --help')"),
 ])
 def test_an_unknown_option_is_named_by_its_command_with_the_closest_one(capsys, argv,
                                                                         message):

@@ -2,6 +2,7 @@
 
 import json
 import math
+import os
 import pathlib
 import sys
 
@@ -228,12 +229,12 @@ def test_bad_arguments_say_what_is_wrong(tolerances, kwargs, error, message):
         tolerance(fourbar(), tolerances, **kwargs)
 
 
-def test_a_cluster_without_dask_names_the_extra(monkeypatch):
+def test_a_cluster_without_dask_names_the_extra(monkeypatch, capsys):
     monkeypatch.setitem(sys.modules, "dask.distributed", None)
     with pytest.raises(GeokinError, match=r"pip install 'geokin\[dask\]'"):
         tolerance(fourbar(), {"a": 1}, n=10, client=object())
-    status = main(["tolerance", FOURBAR, "--tol", "a=1", "-n", "10", "--workers", "2"])
-    assert status == 2
+    status = main(["tolerance", FOURBAR, "--tol", "a=1", "-n", "10", "--workers", "1"])
+    assert status == 2 and "pip install 'geokin[dask]'" in capsys.readouterr().err
 
 
 def test_a_real_local_cluster_gives_the_figures_found_in_process():
@@ -267,6 +268,9 @@ def test_a_local_cluster_is_quiet_has_geokin_and_leaves_dask_as_it_was():
     assert {key: dask.config.get(key) for key in QUIET_CLUSTER} == before != QUIET_CLUSTER
 
 
+@pytest.mark.skipif((len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
+                     else os.cpu_count() or 1) < 2,
+                    reason="--workers 2 needs two cores")
 def test_the_command_runs_on_two_local_workers(capsys):
     pytest.importorskip("dask.distributed")
     argv = ["tolerance", FOURBAR, "--tol", "c=2", "--tol", "d=2", "-n", "1200", "--json"]
@@ -535,11 +539,19 @@ def test_a_block_that_keeps_its_place_on_its_guide_has_no_stroke(capsys):
 def test_a_tolerance_that_crosses_zero_is_warned_of(capsys):
     status, _, err = run(capsys, "tolerance", FOURBAR, "--tol", "a=100", "-n", "50")
     assert status == 0
-    assert err == ("geokin: warning: --tol a=100: about 38% of the variants draw a below "
+    assert err == ("geokin: warning: --tol a=100: about 38% of the variants draw 'a' below "
                    "zero, where its nominal value is 10.55\n")
+    status, _, err = run(capsys, "tolerance", FOURBAR, "--set", "a=-10.55", "--tol", "a=1e308",
+                         "--distribution", "uniform", "-n", "50")
+    assert err.startswith("geokin: warning: --tol a=1e+308: about 50% of the variants draw "
+                          "'a' above zero, where its nominal value is -10.55\n")
     for argv in (["--tol", "a=3"], ["--tol", "a=10", "--distribution", "uniform"]):
         status, _, err = run(capsys, "tolerance", FOURBAR, *argv, "-n", "50")
         assert status == 0 and err == ""
+    # a guide's angle in degrees may turn negative
+    status, _, err = run(capsys, "tolerance", str(CONSTRUCTIONS / "slider_crank_inclined.toml"),
+                         "--tol", "beta=40", "-n", "50")
+    assert status == 0 and err == ""
 
 
 def test_a_study_of_variants_that_never_assemble_says_so_in_one_line(capsys):
@@ -551,8 +563,16 @@ def test_a_study_of_variants_that_never_assemble_says_so_in_one_line(capsys):
     assert err.splitlines()[0].startswith("geokin: warning: --tol a=1e+300: about 50%")
 
 
-def test_more_workers_than_cores_are_refused_before_any_start(capsys):
-    status, out, err = run(capsys, "tolerance", FOURBAR, "--tol", "a=1", "--workers", "100000")
+def test_more_workers_than_cores_are_refused_before_any_start(capsys, monkeypatch):
+    import geokin.cli
+
+    def no_start(workers):
+        raise AssertionError("a cluster was started")
+
+    monkeypatch.setattr(os, "sched_getaffinity", lambda pid: {0}, raising=False)
+    monkeypatch.setattr(os, "cpu_count", lambda: 1)
+    monkeypatch.setattr(geokin.cli, "local_cluster", no_start)
+    status, out, err = run(capsys, "tolerance", FOURBAR, "--tol", "a=1", "--workers", "2")
     assert status == 2 and out == ""
-    assert err.startswith("geokin: error: --workers 100000: more than the ")
-    assert err.count("\n") == 1
+    assert err == ("geokin: error: --workers 2: more than the 1 core this machine gives the "
+                   "program; to run on more, join a cluster with --scheduler\n")

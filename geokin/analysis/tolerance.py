@@ -852,7 +852,7 @@ def _sensitivity(compiled: Compiled, inputs, tolerances: dict[str, float], point
         xy = np.asarray(s[point])
         rate = (xy[0::2] - xy[1::2]) / (2 * steps[:, None, None])
         with np.errstate(all="ignore"):
-            # the mean over the samples where both assemble: NaN, not a warning, where none
+            # NaN, not a warning, for a design that assembles nowhere (never ranked)
             square = (rate ** 2).sum(axis=2)
             rms = np.sqrt(np.nansum(square, axis=1) / np.sum(~np.isnan(square), axis=1))
         result[f"{point}.path"] = [(p, float(rms[j] * tolerances[p]) if both[j] else math.nan)

@@ -186,6 +186,8 @@ def plot_histogram(result: Tolerance, output: str | None = None, *, ax: Axes | N
     'stroke of rocker.angle (deg)'
     >>> plt.close(fig)
     """
+    from matplotlib.ticker import MaxNLocator
+
     names = list(result.strokes)
     if output is None:
         output = spread_output(result)
@@ -218,8 +220,6 @@ def plot_histogram(result: Tolerance, output: str | None = None, *, ax: Axes | N
     ax.set_xlabel(shown_text(f"stroke of {output}" + (f" ({unit})" if unit else "")),
                   parse_math=False)
     ax.set_ylabel("variants")
-    from matplotlib.ticker import MaxNLocator
-
     ax.yaxis.set_major_locator(MaxNLocator(integer=True))  # counts: no "17.5 variants"
     ax.set_title(shown_text(f"{short_name(output)[1:-1]}: mean {spread.mean * scale:.4g}, "
                             f"std {spread.std * scale:.3g} over {values.size:,} variants"),
