@@ -317,6 +317,28 @@ def test_the_command_prints_text_and_draws_a_picture(capsys, tmp_path):
     assert image.shape[0] > 300 and image.std() > 10  # drawn, not blank
 
 
+def test_the_histogram_counts_whole_variants():
+    import matplotlib.pyplot as plt
+
+    from geokin.plotting.tolerance import plot_histogram
+
+    t = tolerance(fourbar(), {"c": 0.5}, n=30, seed=2)
+    fig, ax = plt.subplots()
+    plot_histogram(t, "rocker.angle", ax=ax)
+    ticks = ax.get_yticks()
+    plt.close(fig)
+    assert ticks.size >= 2 and np.array_equal(ticks, np.round(ticks))
+
+
+def test_no_picture_is_drawn_of_a_study_where_nothing_assembles(capsys, tmp_path):
+    path = tmp_path / "none.png"
+    status, _, err = run(capsys, "tolerance", FOURBAR, "--set", "c=2", "--tol", "a=0.01",
+                         "-n", "20", "-o", path)
+    assert status == 1 and not path.exists()
+    assert err == (f"geokin: error: {FOURBAR}: no variant assembles at every sample; no "
+                   "picture is drawn\n")
+
+
 @pytest.mark.parametrize("argv, message", [
     (["--tol", "a3"], "--tol 'a3': expected NAME=VALUE, such as --tol a=10.5"),
     (["--tol", "a=x"], "--tol 'a=x': expected a number after '=', got 'x'"),
