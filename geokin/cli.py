@@ -1064,6 +1064,13 @@ expected to draw a parameter with the other sign than its nominal value
 parameter the script gives in degrees, which may turn either way."""
 
 
+def usable_cores() -> int:
+    """Return how many cores this process may run on (its affinity, where known)."""
+    if hasattr(os, "sched_getaffinity"):
+        return len(os.sched_getaffinity(0)) or 1
+    return os.cpu_count() or 1
+
+
 def _sign_changes(nominal: float, half: float, distribution: str) -> float:
     """Return the share of draws expected on the other side of zero from ``nominal``.
 
@@ -1094,11 +1101,10 @@ def _sensitivity_noise(result: Tolerance, output: str) -> float:
         with np.errstate(invalid="ignore"):
             return max(float(np.nanmax(np.abs(result.nominal[p]), initial=0.0)) for p in points)
 
-    if output not in result.strokes:
-        return 8 * np.finfo(float).eps * largest([output.removesuffix(".path")]) / (
-            2 * SENSITIVITY_STEP)
-    stroke = result.strokes[output]
-    if stroke.kind == "angle":
+    stroke = result.strokes.get(output)
+    if stroke is None:
+        size = largest([output.removesuffix(".path")])
+    elif stroke.kind == "angle":
         size = max(abs(stroke.nominal), 2 * math.pi)
     else:
         # a slider's place on its guide is rounded as its points' coordinates are
@@ -1183,8 +1189,7 @@ def run_tolerance(args: argparse.Namespace) -> int:
             raise UsageError(f"--tol {name}={value:g}: the tolerance must be a positive number")
     if not 0 < args.percentile < 100:
         raise UsageError(f"--percentile must be between 0 and 100, got {args.percentile:g}")
-    cores = (len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
-             else os.cpu_count()) or 1
+    cores = usable_cores()
     if args.workers is not None and args.workers > cores:
         raise UsageError(f"--workers {args.workers}: more than the {cores} "
                          f"core{'s' if cores > 1 else ''} this machine gives the program; to "
@@ -1294,8 +1299,8 @@ class _Parser(argparse.ArgumentParser):
             within = [o for o in longs if name.startswith(o) or o.startswith(name)]
             if within:
                 named = [quote(o) for o in sorted(within)]
-                close = "; did you mean " + " or ".join(
-                    [", ".join(named[:-1]), named[-1]] if len(named) > 1 else named) + "?"
+                either = ", ".join(named[:-1]) + " or " if len(named) > 1 else ""
+                close = f"; did you mean {either}{named[-1]}?"
             else:
                 close = did_you_mean(name, longs)
         self.error(f"{who} has no option {quote(name)}{close}")

@@ -15,7 +15,7 @@ from PIL import Image
 import geokin
 from geokin import AnalysisError, ConstructionError, GeokinError, load, tolerance
 from geokin.analysis.tolerance import BLOCK_VARIANTS, draw_variants
-from geokin.cli import main
+from geokin.cli import main, usable_cores
 from geokin.kinematics import link_angles
 
 CONSTRUCTIONS = pathlib.Path(__file__).resolve().parent.parent / "constructions"
@@ -268,9 +268,7 @@ def test_a_local_cluster_is_quiet_has_geokin_and_leaves_dask_as_it_was():
     assert {key: dask.config.get(key) for key in QUIET_CLUSTER} == before != QUIET_CLUSTER
 
 
-@pytest.mark.skipif((len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity")
-                     else os.cpu_count() or 1) < 2,
-                    reason="--workers 2 needs two cores")
+@pytest.mark.skipif(usable_cores() < 2, reason="--workers 2 needs two cores")
 def test_the_command_runs_on_two_local_workers(capsys):
     pytest.importorskip("dask.distributed")
     argv = ["tolerance", FOURBAR, "--tol", "c=2", "--tol", "d=2", "-n", "1200", "--json"]
