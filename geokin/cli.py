@@ -1151,13 +1151,17 @@ def _tolerance_text(result: Tolerance, construction: Construction) -> str:
                        else f"; nominal {d['nominal']:.6g}{unit}")
             lines.append(f"stroke of {name}: no variant assembles at every sample{nominal}")
             continue
+        # a nominal design that fails at some samples has no stroke, some variants may
+        nominal = ("none (not assembled at every sample)" if d["nominal"] is None
+                   else f"{d['nominal']:.6g}{unit}")
         if d["std"] <= 1e-9 * max(1.0, abs(d["mean"])):
             # the variants' own stroke, which need not be the nominal design's
-            same = abs(d["mean"] - d["nominal"]) <= 1e-9 * max(1.0, abs(d["nominal"]))
+            same = d["nominal"] is not None and (
+                abs(d["mean"] - d["nominal"]) <= 1e-9 * max(1.0, abs(d["nominal"])))
             lines.append(f"stroke of {name}: {d['mean']:.6g}{unit} in every variant"
-                         + ("" if same else f" (nominal {d['nominal']:.6g}{unit})"))
+                         + ("" if same else f" (nominal {nominal})"))
             continue
-        lines.append(f"stroke of {name}: nominal {d['nominal']:.6g}{unit}, mean "
+        lines.append(f"stroke of {name}: nominal {nominal}, mean "
                      f"{d['mean']:.6g}, std {d['std']:.3g}, 5% {d['p5']:.6g}, "
                      f"95% {d['p95']:.6g}")
     lines.append("sensitivity (derivative x tolerance), largest first:")

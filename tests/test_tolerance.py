@@ -596,3 +596,32 @@ def test_more_workers_than_cores_are_refused_before_any_start(capsys, monkeypatc
     assert status == 2 and out == ""
     assert err == ("geokin: error: --workers 2: more than the 1 core this machine gives the "
                    "program; to run on more, join a cluster with --scheduler\n")
+
+
+def test_a_nominal_without_a_stroke_beside_variants_with_one(capsys, tmp_path):
+    """A crank of 13.01 fails at a few samples; some variants assemble everywhere.
+
+    The text says the nominal has no stroke (it raised a TypeError), and the
+    picture's histogram is a stroke that spreads, not the crank's rounding.
+    """
+    from geokin.plotting.tolerance import spread_output
+
+    path = tmp_path / "edge.png"
+    status, out, err = run(capsys, "tolerance", FOURBAR, "--tol", "a=0.05", "--set", "a=13.01",
+                           "-n", "300", "-o", path)
+    assert status == 0 and path.exists() and err == f"wrote {path}\n"
+    line = next(x for x in out.splitlines() if x.startswith("stroke of rocker.angle"))
+    assert line.startswith("stroke of rocker.angle: nominal none (not assembled at every "
+                           "sample), mean ")
+    c = load(FOURBAR).compile().with_parameters({"a": 13.01})
+    t = tolerance(c, {"a": 0.05}, n=300)
+    assert spread_output(t) != "crank.angle"
+    import matplotlib.pyplot as plt
+
+    from geokin.plotting.tolerance import plot_histogram
+
+    fig, ax = plt.subplots()
+    plot_histogram(t, ax=ax)
+    labels = ax.get_legend_handles_labels()[1]
+    plt.close(fig)
+    assert not any(label.startswith("nominal") for label in labels)  # no "nominal nan"

@@ -131,6 +131,9 @@ def plot_envelope(result: Tolerance, point: str | None = None, *, ax: Axes | Non
 def spread_output(result: Tolerance) -> str | None:
     """Return the stroke whose spread is the largest relative to its nominal value.
 
+    Relative to the variants' mean instead where the nominal design has no
+    stroke (it does not assemble at every sample).
+
     Strokes the same in every variant (a crank's full turn) come last;
     None for a study without strokes.
 
@@ -145,7 +148,9 @@ def spread_output(result: Tolerance) -> str | None:
     """
     best, largest = None, -1.0
     for name, spread in result.strokes.items():
-        relative = spread.std / max(abs(spread.nominal), 1e-300)
+        # relative to the variants' mean where the nominal design has no stroke
+        reference = spread.nominal if math.isfinite(spread.nominal) else spread.mean
+        relative = spread.std / max(abs(reference), 1e-300)
         relative = relative if math.isfinite(relative) else -0.5
         if relative > largest:
             best, largest = name, relative
@@ -211,8 +216,9 @@ def plot_histogram(result: Tolerance, output: str | None = None, *, ax: Axes | N
         if not hi - lo > 1e-9 * max(1.0, abs(hi)):  # the same in every variant: one bar
             lo, hi = lo - 0.5, hi + 0.5
         ax.hist(values, bins=bins, range=(lo, hi), color=TRACE_COLORS[1], alpha=0.8)
-    ax.axvline(spread.nominal * scale, color="#222222", lw=1.2, ls="--",
-               label=f"nominal {spread.nominal * scale:.4g}")
+    if math.isfinite(spread.nominal):  # none where the nominal fails at some sample
+        ax.axvline(spread.nominal * scale, color="#222222", lw=1.2, ls="--",
+                   label=f"nominal {spread.nominal * scale:.4g}")
     for q, style in ((5, ":"), (95, ":")):
         if values.size:
             ax.axvline(np.percentile(values, q), color="#555555", lw=1, ls=style,
