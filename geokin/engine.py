@@ -55,7 +55,6 @@ from .budgets import check_sweep_memory
 from .compat import renamed_keywords
 from .construction import Compiled, Construction, as_compiled
 from .errors import AssemblyError, ConstructionError, did_you_mean
-from .frozen import read_only
 from .nodes import Node, failure_reasons
 from .results import BranchEvent, PointTable, Sweep
 
@@ -346,20 +345,17 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
                                 varied, paths, per_path)
 
     def per_sample(array, dtype=float):
-        return read_only(_over_samples(np.asarray(array, dtype=dtype), n))
+        return _over_samples(np.asarray(array, dtype=dtype), n)
 
+    # the Sweep makes its arrays and mappings read-only
     return Sweep(
-        construction=compiled,
-        inputs={name: read_only(values) for name, values in inputs.items()},
-        points=PointTable(parts.coords, parts.valid),
-        valid=read_only(parts.valid), failed_step=read_only(parts.failed_step),
-        reason_code=read_only(parts.reason_code),
+        construction=compiled, inputs=inputs, points=PointTable(parts.coords, parts.valid),
+        valid=parts.valid, failed_step=parts.failed_step, reason_code=parts.reason_code,
         branches={name: per_sample(label, np.int8) for name, label in parts.labels.items()},
         events=tuple(parts.events),
         margins={name: per_sample(margin) for name, margin in parts.margins.items()},
         line_parameters={name: per_sample(t) for name, t in parts.parameters.items()},
-        parameters={} if per_path else {name: read_only(values)
-                                        for name, values in varied.items()})
+        parameters={} if per_path else varied)
 
 
 def _over_paths(inputs, n, paths):
@@ -409,7 +405,8 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
     margins: dict[str, np.ndarray] = {}
     parameters: dict[str, np.ndarray] = {}
     events: list[BranchEvent] = []
-    valid = np.ones(n, dtype=bool)
+    valid = np.empty(n, dtype=bool)
+    valid.fill(True)  # what np.ones does, without its Python
     failed_step = np.zeros(n, dtype=np.int32)
     reason_code = np.zeros(n, dtype=np.int8)
     with np.errstate(all="ignore"):
@@ -491,6 +488,8 @@ def _over_samples(value, n: int) -> np.ndarray:
     return np.broadcast_to(value, (n,))
 
 
+_NUMBERS = (float, np.float64)
+
 DOT_BELOW = 8192
 """Arrays up to this size are checked finite by one dot product (one thread)."""
 
@@ -508,7 +507,7 @@ def _all_finite(x, y) -> bool:
         if (x.size <= DOT_BELOW and x.flags.c_contiguous and y.flags.c_contiguous
                 and x.dtype == y.dtype == float):
             return math.isfinite(np.vdot(x, y))
-    elif np.ndim(x) == 0 and np.ndim(y) == 0:
+    elif type(x) in _NUMBERS and type(y) in _NUMBERS or np.ndim(x) == 0 and np.ndim(y) == 0:
         return math.isfinite(x) and math.isfinite(y)
     return bool(np.isfinite(np.add.reduce(x, axis=None) + np.add.reduce(y, axis=None)))
 
@@ -635,7 +634,7 @@ def _fill(whole, value, lo, hi):
 
 def _choose(cand, label):
     """Take root ``label`` (an int, or an array of 0 and 1 per sample)."""
-    if np.ndim(label) == 0:
+    if type(label) is int or np.ndim(label) == 0:
         x, y = cand.x[label], cand.y[label]
         if cand.on_line is not None:
             off = ~cand.on_line[label]
@@ -1097,11 +1096,25 @@ class _Tracker:
                  paths: int = 1, per_path: bool = False):
         self.compiled = compiled
         self.plan = plan
-        self.inputs = {k: _over_samples(v, n) for k, v in inputs.items()}
+        self.given_inputs = inputs
         self.varied = varied or {}
         self.per_path = per_path  # the varied parameters are given once per path
         self.n = n
         self.origin = origin
+        self.paths = paths
+        self.labels: dict[str, object] = {}
+        self.flip_after: dict[str, np.ndarray] = {}  # a meeting at the sample itself
+        self.meetings: dict[str, np.ndarray] = {}    # step + fraction, sorted
+        # a continued node's solution at the samples, (N, 2k): between two samples it
+        # starts from their solutions interpolated
+        self.solutions: dict[str, np.ndarray] = {}
+        self.prepared = False
+
+    def _prepare(self) -> None:
+        """Read the path of the inputs: made when a first node is tracked, not before."""
+        self.prepared = True
+        compiled, n, paths = self.compiled, self.n, self.paths
+        self.inputs = {k: _over_samples(v, n) for k, v in self.given_inputs.items()}
         # the steps from the end of one path to the start of the next (design variants):
         # never looked into, nor crossed by a branch
         self.length = n // paths
@@ -1109,12 +1122,6 @@ class _Tracker:
         if paths > 1:
             self.cut = np.zeros(n - 1, dtype=bool)
             self.cut[self.length - 1::self.length] = True
-        self.labels: dict[str, object] = {}
-        self.flip_after: dict[str, np.ndarray] = {}  # a meeting at the sample itself
-        self.meetings: dict[str, np.ndarray] = {}    # step + fraction, sorted
-        # a continued node's solution at the samples, (N, 2k): between two samples it
-        # starts from their solutions interpolated
-        self.solutions: dict[str, np.ndarray] = {}
         self.angle_steps = self.length_steps = None
         # how far the path moves in each step, all inputs together, and where it turns
         travel = None
@@ -1198,6 +1205,8 @@ class _Tracker:
 
     def track(self, position: int, cand, start: int | np.ndarray):
         """Return the branch of node ``plan[position]`` at every sample, and its events."""
+        if not self.prepared:
+            self._prepare()
         node = self.plan[position].node
         n = self.n
         margin = _over_samples(cand.margin, n)

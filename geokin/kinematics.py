@@ -65,6 +65,7 @@ Time derivatives follow by the chain rule from the input's rate
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from contextlib import nullcontext
 from dataclasses import dataclass
@@ -215,7 +216,9 @@ def _variant_sizes(sweep: Sweep) -> np.ndarray:
     The largest extent of the points over the variant's samples, where
     any of them is assembled; else the largest coordinate, else 1.
     """
-    rows = sweep.variants or 1
+    if sweep.variants is None:
+        return np.array([_design_size(sweep)])
+    rows = sweep.variants
     low, high = np.full((rows, 2), np.inf), np.full((rows, 2), -np.inf)
     for name in sweep.construction.point_names:
         for axis, values in enumerate(sweep.points.coords(name)):
@@ -234,6 +237,27 @@ def _variant_sizes(sweep: Sweep) -> np.ndarray:
         largest = np.where(np.isfinite(low).all(axis=1),
                            np.abs(np.c_[low, high]).max(axis=1), 0.0)
     return np.where(size > 0, size, np.where(largest > 0, largest, 1.0))
+
+
+def _design_size(sweep: Sweep) -> float:
+    """Return :func:`_variant_sizes` of a sweep of one design, on numbers."""
+    low, high = [math.inf, math.inf], [-math.inf, -math.inf]
+    if sweep.valid.any():
+        for name in sweep.construction.point_names:
+            for axis, values in enumerate(sweep.points.coords(name)):
+                if type(values) is np.ndarray and values.ndim:
+                    least, most = np.minimum.reduce(values), np.maximum.reduce(values)
+                    if least != least:  # NaN: leave it out
+                        least, most = np.fmin.reduce(values), np.fmax.reduce(values)
+                else:
+                    least = most = values
+                if least == least:  # what np.fmin and np.fmax keep
+                    low[axis], high[axis] = min(low[axis], least), max(high[axis], most)
+    spans = (high[0] - low[0], high[1] - low[1])
+    size = max(spans) if all(map(math.isfinite, spans)) else 0.0
+    largest = (max(abs(low[0]), abs(low[1]), abs(high[0]), abs(high[1]))
+               if math.isfinite(low[0]) and math.isfinite(low[1]) else 0.0)
+    return float(size if size > 0 else largest if largest > 0 else 1.0)
 
 
 def _leaving_nan(fast: np.ufunc, careful: np.ufunc, values: np.ndarray) -> np.ndarray:
@@ -333,7 +357,8 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
     middle = np.zeros(2)
     if sweep.valid.any():
         first_valid = int(np.argmax(sweep.valid))
-        middle = np.mean([sweep.points[p][first_valid] for p in names], axis=0)
+        middle = np.mean([[np.take(c, first_valid) if np.ndim(c) else c
+                            for c in sweep.points.coords(p)] for p in names], axis=0)
     origin = (float(middle[0]), float(middle[1])) if np.hypot(*middle) > 4 * size else None
     # the rounding of positions: a few units in the last place of their size in the
     # frame they are evaluated in

@@ -387,8 +387,9 @@ def _scaled_and_shifted(values, factor, offset):
     ``values`` is a fresh array; its memory is used where ``factor`` and
     ``offset`` are numbers or of its shape.
     """
-    if (type(values) is np.ndarray and np.ndim(factor) == 0
-            and (np.ndim(offset) == 0 or np.shape(offset) == values.shape)):
+    if type(values) is np.ndarray and (
+            type(factor) is float or np.ndim(factor) == 0) and (
+            type(offset) is float or np.ndim(offset) == 0 or np.shape(offset) == values.shape):
         values *= factor
         values += offset
         return values

@@ -296,11 +296,13 @@ def _circle_circle(x1, y1, dx, dy, r1, r2):
     half_chord_sq = r1 - m
     m += r1
     half_chord_sq *= m
-    largest = np.maximum(np.abs(r1), np.abs(r2))
+    # radii given as numbers (NaN excepted, which np.maximum spreads): no numpy call
+    plain = type(r1) is float and type(r2) is float and r1 == r1 and r2 == r2
+    largest = max(abs(r1), abs(r2)) if plain else np.maximum(np.abs(r1), np.abs(r2))
     # NaN in a reduction fails every test below, and takes the masked way
     fits = False
     if np.ndim(d) and _nonnegative(r1) and _nonnegative(r2):
-        if np.ndim(largest) == 0:
+        if plain or np.ndim(largest) == 0:
             low, high = np.minimum.reduce(d, axis=None), np.maximum.reduce(d, axis=None)
             least, most = max(low, largest), max(high, largest)  # of the scale
             fits = bool(_apart(low, largest) and _meet(low, high, r1, r2, least, most))
