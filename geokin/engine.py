@@ -55,7 +55,7 @@ from .budgets import check_sweep_memory
 from .compat import renamed_keywords
 from .construction import Compiled, Construction, as_compiled
 from .errors import AssemblyError, ConstructionError, did_you_mean
-from .nodes import Node, failure_reasons
+from .nodes import Candidates, Node, failure_reasons
 from .results import BranchEvent, PointTable, Sweep
 
 __all__ = ["assembly_guesses", "evaluate", "input_arrays", "start_labels", "sweep",
@@ -157,6 +157,10 @@ def input_arrays(compiled: Compiled, values: ArrayLike | Mapping[str, ArrayLike]
     return {k: _over_samples(v, n).astype(float, copy=False) for k, v in arrays.items()}, n
 
 
+_NUMBERS = (float, np.float64)
+"""The types of one number as evaluated (checked with ``type(x) in _NUMBERS``)."""
+
+
 @dataclass(frozen=True)
 class _PlannedStep:
     """A step with its constant values evaluated once and its varying ones listed."""
@@ -165,6 +169,9 @@ class _PlannedStep:
     node: Node
     constants: dict
     varying: tuple  # (field, expression)
+    known: Candidates | None = None
+    """The candidates of a point that never moves, found once: a one-root
+    node of the ground whose values are all constants; None for any other."""
 
 
 _PLANS: dict[tuple[int, frozenset[str]], tuple[_PlannedStep, ...]] = {}
@@ -184,6 +191,7 @@ def _plan(compiled: Compiled, varied: frozenset[str] = frozenset()) -> tuple[_Pl
         return plan
     planned = []
     fixed = compiled.parameters.keys() - varied
+    known: dict[str, tuple] = {}  # the coordinates of the points found once
     with np.errstate(all="ignore"):
         for step in compiled.steps:
             node = step.node
@@ -193,7 +201,16 @@ def _plan(compiled: Compiled, varied: frozenset[str] = frozenset()) -> tuple[_Pl
                     constants[field_name] = float(expr.evaluate(compiled.parameters))
                 else:
                     varying.append((field_name, expr))
-            planned.append(_PlannedStep(step.index, node, constants, tuple(varying)))
+            cand = None
+            if (node.name in compiled.ground and not varying and node.roots == 1
+                    and not node.continued and set(node.depends_on()) <= known.keys()):
+                cand = node.candidates(known, constants)
+                x, y = cand.x[0], cand.y[0]
+                if type(x) in _NUMBERS and type(y) in _NUMBERS:
+                    known[node.name] = (x, y)
+                else:
+                    cand = None
+            planned.append(_PlannedStep(step.index, node, constants, tuple(varying), cand))
     plan = tuple(planned)
     # the plan lives as long as the construction: a later one may reuse the id
     weakref.finalize(compiled, _PLANS.pop, key, None)
@@ -423,6 +440,8 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
                     found = {**(cand.also or {}), node.name: (cand.x[0], cand.y[0])}
                     tracker.solutions[node.name] = np.column_stack([
                         np.broadcast_to(c, (n,)) for p in node.defines for c in found[p]])
+            elif step.known is not None and origin is None:
+                cand = step.known
             elif rows is not None:
                 cand = _candidates_in_rows(step, by_rows, values, origin, rows)
             else:
@@ -487,8 +506,6 @@ def _over_samples(value, n: int) -> np.ndarray:
             return _constant(value, n, value.dtype)
     return np.broadcast_to(value, (n,))
 
-
-_NUMBERS = (float, np.float64)
 
 DOT_BELOW = 8192
 """Arrays up to this size are checked finite by one dot product (one thread)."""
