@@ -368,12 +368,16 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
     # a ground point does not move: its derivatives are zero wherever it is assembled
     moving = [p for p in names if p not in compiled.ground]
     still = read_only(np.where(sweep.valid, 0.0, np.nan)[:, None] * np.ones(2))
-    # each coordinate contiguous: the stencils write them one at a time
-    first = {p: (np.empty((2, n)).T if p in moving else still) for p in names}
-    second = {p: (np.empty((2, n)).T if p in moving else still) for p in names}
+    # the moving points' derivatives and errors as rows of one array each, every
+    # coordinate contiguous: the stencils work on all points at once
+    firsts, seconds = np.empty((len(moving), 2, n)), np.empty((len(moving), 2, n))
+    errors1, errors2 = np.empty((len(moving), n)), np.empty((len(moving), n))
+    row = {p: i for i, p in enumerate(moving)}
+    first = {p: (firsts[row[p]].T if p in row else still) for p in names}
+    second = {p: (seconds[row[p]].T if p in row else still) for p in names}
     resting = still[:, 0]
-    first_errors = {p: (np.empty(n) if p in moving else resting) for p in names}
-    second_errors = {p: (np.empty(n) if p in moving else resting) for p in names}
+    first_errors = {p: (errors1[row[p]] if p in row else resting) for p in names}
+    second_errors = {p: (errors2[row[p]] if p in row else resting) for p in names}
     stencil = np.full(n, 2, dtype=np.int8)
     first_error, second_error = np.empty(n), np.empty(n)
     rates = {k: np.broadcast_to(np.asarray(r, dtype=float), (n,)) for k, r in direction.items()}
@@ -384,10 +388,8 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
         hi = min(lo + SAMPLES_PER_BLOCK, n)
         block = _Block(sweep, slice(lo, hi), rates, h, origin, noise, QUICK + extra, quick=True)
         ok = block.valid(QUICK + extra) & sweep.valid[lo:hi]
-        into = _Into({p: first[p][lo:hi] for p in moving}, {p: second[p][lo:hi] for p in moving},
-                     first_error[lo:hi], second_error[lo:hi],
-                     {p: first_errors[p][lo:hi] for p in moving},
-                     {p: second_errors[p][lo:hi] for p in moving},
+        into = _Into(firsts[:, :, lo:hi], seconds[:, :, lo:hi], first_error[lo:hi],
+                     second_error[lo:hi], errors1[:, lo:hi], errors2[:, lo:hi],
                      (largest[0][lo:hi], largest[1][lo:hi]))
         again = block.quick(moving, into, _at(noise, slice(lo, hi)))
         stencil[lo:hi][ok] = 0
@@ -403,9 +405,8 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
             estimate.finish(first_error, second_error, _at(noise, estimate.at), ROUNDING_CENTRAL,
                             largest, first_errors, second_errors)
             rest = np.union1d(rest, again[~central])
-        for p in moving:
-            first[p][rest] = second[p][rest] = np.nan
-            first_errors[p][rest] = second_errors[p][rest] = np.nan
+        firsts[:, :, rest] = seconds[:, :, rest] = np.nan
+        errors1[:, rest] = errors2[:, rest] = np.nan
         first_error[rest] = second_error[rest] = np.nan
         largest[0][rest] = largest[1][rest] = 0.0
         rest = rest[sweep.valid[rest]]
@@ -433,19 +434,20 @@ def _at(value, at):
 class _Into:
     """Where the stencils of some samples write: views of the results over them.
 
-    ``first`` and ``second`` hold each moving point's derivatives, (M, 2);
+    ``first`` and ``second`` hold the moving points' derivatives, (P, 2, M),
+    in the order of the points given to :meth:`_Block.quick`;
     ``first_error`` and ``second_error`` their estimated errors, the largest
     over the points, (M,); ``first_errors`` and ``second_errors`` each
-    point's; and ``largest`` the largest squared first and second
+    point's, (P, M); and ``largest`` the largest squared first and second
     derivative over the points, (M,) each.
     """
 
-    first: dict[str, np.ndarray]
-    second: dict[str, np.ndarray]
+    first: np.ndarray
+    second: np.ndarray
     first_error: np.ndarray
     second_error: np.ndarray
-    first_errors: dict[str, np.ndarray]
-    second_errors: dict[str, np.ndarray]
+    first_errors: np.ndarray
+    second_errors: np.ndarray
     largest: tuple[np.ndarray, np.ndarray]
 
 
@@ -496,15 +498,6 @@ class _Block:
         picked = [base, *(rows[self.offsets.index(k)] for k in offsets)]
         return picked if mask.all() else [p[mask] for p in picked]
 
-    def rows(self, name: str) -> tuple[tuple[np.ndarray, np.ndarray], ...]:
-        """Return a point's x and y at each offset, (K, M), and at the sample itself, (M,)."""
-        shape = (len(self.offsets), self.m)
-        evaluated = [v.reshape(shape) for v in self.evaluated.points.xy(name)]
-        if 0 in self.offsets:
-            return tuple((v, v[self.offsets.index(0)]) for v in evaluated)
-        own = self.sweep.points.xy(name)
-        return tuple((v, w[self.at]) for v, w in zip(evaluated, own, strict=True))
-
     def quick(self, moving: list[str], into: _Into, noise: float | np.ndarray) -> np.ndarray:
         r"""Differentiate every sample of the block on :data:`QUICK`; return where to refine.
 
@@ -545,48 +538,56 @@ class _Block:
         a small one near its toggle.
         """
         h = self.h
-        column = [self.offsets.index(k) for k in QUICK]
         speed2, accel2 = into.largest  # the largest over the points, squared
         worst: np.ndarray | None = None  # and the largest (h / d * third)**2
-        for name in moving:
-            differences = []
-            for axis, (rows, f0) in enumerate(self.rows(name)):
-                before, after, farther = (rows[j] for j in column)
-                forward = after - f0
-                backward = f0 - before
-                across = forward + backward  # f_1 - f_-1
-                forward -= backward  # now f_1 - 2 f_0 + f_-1, about h**2 f''
-                third = farther - after
-                third -= backward
-                third -= forward
-                third -= forward  # f_2 - 3 f_1 + 3 f_0 - f_-1
-                across *= 3
-                across -= third
-                d1 = np.multiply(across, 1 / (6 * h), out=into.first[name][:, axis])
-                d2 = np.multiply(forward, 1 / (h * h), out=into.second[name][:, axis])
-                differences.append((d1, d2, third))
-            (x1, x2, x3), (y1, y2, y3) = differences
-            rate, curvature, third2 = x1 * x1, x2 * x2, x3 * x3
-            rate += y1 * y1
-            curvature += y2 * y2
-            third2 += y3 * y3
+        if moving:
+            m, points = self.m, 2 * len(moving)
+            before, after, farther = (self.offsets.index(k) for k in QUICK)
+            # every point's x and y at each offset, (K, 2P, M), and at the sample itself
+            table = np.empty((len(self.offsets), points, m))
+            for i, name in enumerate(moving):
+                for axis, v in enumerate(self.evaluated.points.xy(name)):
+                    table[:, 2 * i + axis] = v.reshape(len(self.offsets), m)
+            if 0 in self.offsets:
+                f0 = table[self.offsets.index(0)]
+            else:
+                f0 = np.empty((points, m))
+                for i, name in enumerate(moving):
+                    for axis, w in enumerate(self.sweep.points.xy(name)):
+                        f0[2 * i + axis] = w[self.at]
+            # the differences in place, the table's rows reused as each is used up
+            third = np.subtract(table[farther], table[after], out=table[farther])
+            forward = np.subtract(table[after], f0, out=table[after])
+            backward = np.subtract(f0, table[before], out=table[before])
+            across = np.add(forward, backward, out=f0)  # f_1 - f_-1
+            forward -= backward  # now f_1 - 2 f_0 + f_-1, about h**2 f''
+            third -= backward
+            third -= forward
+            third -= forward  # f_2 - 3 f_1 + 3 f_0 - f_-1
+            across *= 3
+            across -= third
+            d1 = np.multiply(across.reshape(-1, 2, m), 1 / (6 * h), out=into.first)
+            d2 = np.multiply(forward.reshape(-1, 2, m), 1 / (h * h), out=into.second)
+            # each point's squares, (P, M), x's plus y's as for one point, into rows freed
+            squares = [np.multiply(d, d, out=spare.reshape(-1, 2, m)) for d, spare in
+                       ((d1, across), (d2, backward), (third.reshape(-1, 2, m), forward))]
+            rate, curvature, third2 = (np.add(q[:, 0], q[:, 1], out=q[:, 0]) for q in squares)
             with np.errstate(divide="ignore", invalid="ignore"):
                 # (h / d)**2, at most 1 (where the point does not move, 0 / 0 is NaN and
                 # the cap makes it 1, times a third difference of 0)
-                ratio2 = np.fmin(third2 / (h**4 * curvature), 1.0)
+                ratio2 = np.multiply(curvature, h**4, out=squares[1][:, 1])
+                np.divide(third2, ratio2, out=ratio2)
+                np.fmin(ratio2, 1.0, out=ratio2)
                 ratio2 *= third2  # (h / d * third)**2, the errors but for constants
-            # this point's own errors, for the rates of the links it ends
-            own = np.sqrt(ratio2)
-            error = np.multiply(own, QUICK_ERROR_FACTORS[0] / (6 * h), out=into.first_errors[name])
+            # each point's own errors, for the rates of the links it ends
+            own = np.sqrt(ratio2, out=squares[0][:, 1])
+            error = np.multiply(own, QUICK_ERROR_FACTORS[0] / (6 * h), out=into.first_errors)
             error += ROUNDING_QUICK[0] * noise / h
-            error = np.multiply(own, QUICK_ERROR_FACTORS[1] / (h * h), out=into.second_errors[name])
+            error = np.multiply(own, QUICK_ERROR_FACTORS[1] / (h * h), out=into.second_errors)
             error += ROUNDING_QUICK[1] * noise / (h * h)
-            if worst is None:
-                speed2[...], accel2[...], worst = rate, curvature, ratio2
-            else:
-                np.fmax(speed2, rate, out=speed2)
-                np.fmax(accel2, curvature, out=accel2)
-                np.fmax(worst, ratio2, out=worst)
+            np.fmax.reduce(rate, axis=0, out=speed2)
+            np.fmax.reduce(curvature, axis=0, out=accel2)
+            worst = np.fmax.reduce(ratio2, axis=0)
         first_error, second_error = into.first_error, into.second_error
         if worst is None:  # nothing moves: only rounding
             first_error[...] = ROUNDING_QUICK[0] * noise / h
