@@ -357,8 +357,11 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
     middle = np.zeros(2)
     if sweep.valid.any():
         first_valid = int(np.argmax(sweep.valid))
-        middle = np.mean([[np.take(c, first_valid) if np.ndim(c) else c
-                            for c in sweep.points.coords(p)] for p in names], axis=0)
+        total = [0.0, 0.0]  # summed in order, as np.mean sums rows
+        for p in names:
+            for axis, c in enumerate(sweep.points.coords(p)):
+                total[axis] += float(c[first_valid] if np.ndim(c) else c)
+        middle = np.array(total) / len(names)
     origin = (float(middle[0]), float(middle[1])) if np.hypot(*middle) > 4 * size else None
     # the rounding of positions: a few units in the last place of their size in the
     # frame they are evaluated in
@@ -546,8 +549,8 @@ class _Block:
             # every point's x and y at each offset, (K, 2P, M), and at the sample itself
             table = np.empty((len(self.offsets), points, m))
             for i, name in enumerate(moving):
-                for axis, v in enumerate(self.evaluated.points.xy(name)):
-                    table[:, 2 * i + axis] = v.reshape(len(self.offsets), m)
+                for axis, v in enumerate(self.evaluated.points.coords(name)):
+                    table[:, 2 * i + axis] = v.reshape(-1, m) if np.ndim(v) else v
             if 0 in self.offsets:
                 f0 = table[self.offsets.index(0)]
             else:
