@@ -169,9 +169,9 @@ class _PlannedStep:
     node: Node
     constants: dict
     varying: tuple  # (field, expression)
+    # a point that never moves (a one-root node of the ground, its values all
+    # constants): its candidates, found once; None for any other
     known: Candidates | None = None
-    """The candidates of a point that never moves, found once: a one-root
-    node of the ground whose values are all constants; None for any other."""
 
 
 _PLANS: dict[tuple[int, frozenset[str]], tuple[_PlannedStep, ...]] = {}
@@ -191,7 +191,7 @@ def _plan(compiled: Compiled, varied: frozenset[str] = frozenset()) -> tuple[_Pl
         return plan
     planned = []
     fixed = compiled.parameters.keys() - varied
-    known: dict[str, tuple] = {}  # the coordinates of the points found once
+    found: dict[str, tuple] = {}  # the coordinates of the points found once
     with np.errstate(all="ignore"):
         for step in compiled.steps:
             node = step.node
@@ -203,11 +203,11 @@ def _plan(compiled: Compiled, varied: frozenset[str] = frozenset()) -> tuple[_Pl
                     varying.append((field_name, expr))
             cand = None
             if (node.name in compiled.ground and not varying and node.roots == 1
-                    and not node.continued and set(node.depends_on()) <= known.keys()):
-                cand = node.candidates(known, constants)
+                    and not node.continued and set(node.depends_on()) <= found.keys()):
+                cand = node.candidates(found, constants)
                 x, y = cand.x[0], cand.y[0]
                 if type(x) in _NUMBERS and type(y) in _NUMBERS:
-                    known[node.name] = (x, y)
+                    found[node.name] = (x, y)
                 else:
                     cand = None
             planned.append(_PlannedStep(step.index, node, constants, tuple(varying), cand))
@@ -422,8 +422,7 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
     margins: dict[str, np.ndarray] = {}
     parameters: dict[str, np.ndarray] = {}
     events: list[BranchEvent] = []
-    valid = np.empty(n, dtype=bool)
-    valid.fill(True)  # what np.ones does, without its Python
+    valid = np.ones(n, dtype=bool)
     failed_step = np.zeros(n, dtype=np.int32)
     reason_code = np.zeros(n, dtype=np.int8)
     with np.errstate(all="ignore"):
@@ -524,7 +523,7 @@ def _all_finite(x, y) -> bool:
         if (x.size <= DOT_BELOW and x.flags.c_contiguous and y.flags.c_contiguous
                 and x.dtype == y.dtype == float):
             return math.isfinite(np.vdot(x, y))
-    elif type(x) in _NUMBERS and type(y) in _NUMBERS or np.ndim(x) == 0 and np.ndim(y) == 0:
+    elif (type(x) in _NUMBERS and type(y) in _NUMBERS) or (np.ndim(x) == 0 and np.ndim(y) == 0):
         return math.isfinite(x) and math.isfinite(y)
     return bool(np.isfinite(np.add.reduce(x, axis=None) + np.add.reduce(y, axis=None)))
 
@@ -1128,7 +1127,7 @@ class _Tracker:
         self.prepared = False
 
     def _prepare(self) -> None:
-        """Read the path of the inputs: made when a first node is tracked, not before."""
+        """Read the path the inputs take, once a first node is to be tracked."""
         self.prepared = True
         compiled, n, paths = self.compiled, self.n, self.paths
         self.inputs = {k: _over_samples(v, n) for k, v in self.given_inputs.items()}
@@ -1304,7 +1303,7 @@ class _Tracker:
             return start, []
         # a step looked into is cut at half the resolution: a narrow dip of the roots'
         # distance shows at one cut at least
-        assert self.angle_steps is not None  # __init__ sets it
+        assert self.angle_steps is not None  # _prepare sets it
         angle_steps = per_step(self.angle_steps)
         pieces = np.ceil(angle_steps / (ANGLE_RESOLUTION / 2) - 1e-9)
         coarse = turning | (angle_steps > ANGLE_RESOLUTION * (1 + 1e-9))

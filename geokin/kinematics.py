@@ -245,7 +245,7 @@ def _design_size(sweep: Sweep) -> float:
     if sweep.valid.any():
         for name in sweep.construction.point_names:
             for axis, values in enumerate(sweep.points.coords(name)):
-                if type(values) is np.ndarray and values.ndim:
+                if np.ndim(values):
                     least, most = np.minimum.reduce(values), np.maximum.reduce(values)
                     if least != least:  # NaN: leave it out
                         least, most = np.fmin.reduce(values), np.fmax.reduce(values)
@@ -360,7 +360,7 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
         total = [0.0, 0.0]  # summed in order, as np.mean sums rows
         for p in names:
             for axis, c in enumerate(sweep.points.coords(p)):
-                total[axis] += float(c[first_valid] if np.ndim(c) else c)
+                total[axis] += float(np.asarray(c).flat[first_valid] if np.ndim(c) else c)
         middle = np.array(total) / len(names)
     origin = (float(middle[0]), float(middle[1])) if np.hypot(*middle) > 4 * size else None
     # the rounding of positions: a few units in the last place of their size in the
@@ -542,61 +542,59 @@ class _Block:
         """
         h = self.h
         speed2, accel2 = into.largest  # the largest over the points, squared
-        worst: np.ndarray | None = None  # and the largest (h / d * third)**2
-        if moving:
-            m, points = self.m, 2 * len(moving)
-            before, after, farther = (self.offsets.index(k) for k in QUICK)
-            # every point's x and y at each offset, (K, 2P, M), and at the sample itself
-            table = np.empty((len(self.offsets), points, m))
-            for i, name in enumerate(moving):
-                for axis, v in enumerate(self.evaluated.points.coords(name)):
-                    table[:, 2 * i + axis] = v.reshape(-1, m) if np.ndim(v) else v
-            if 0 in self.offsets:
-                f0 = table[self.offsets.index(0)]
-            else:
-                f0 = np.empty((points, m))
-                for i, name in enumerate(moving):
-                    for axis, w in enumerate(self.sweep.points.xy(name)):
-                        f0[2 * i + axis] = w[self.at]
-            # the differences in place, the table's rows reused as each is used up
-            third = np.subtract(table[farther], table[after], out=table[farther])
-            forward = np.subtract(table[after], f0, out=table[after])
-            backward = np.subtract(f0, table[before], out=table[before])
-            across = np.add(forward, backward, out=f0)  # f_1 - f_-1
-            forward -= backward  # now f_1 - 2 f_0 + f_-1, about h**2 f''
-            third -= backward
-            third -= forward
-            third -= forward  # f_2 - 3 f_1 + 3 f_0 - f_-1
-            across *= 3
-            across -= third
-            d1 = np.multiply(across.reshape(-1, 2, m), 1 / (6 * h), out=into.first)
-            d2 = np.multiply(forward.reshape(-1, 2, m), 1 / (h * h), out=into.second)
-            # each point's squares, (P, M), x's plus y's as for one point, into rows freed
-            squares = [np.multiply(d, d, out=spare.reshape(-1, 2, m)) for d, spare in
-                       ((d1, across), (d2, backward), (third.reshape(-1, 2, m), forward))]
-            rate, curvature, third2 = (np.add(q[:, 0], q[:, 1], out=q[:, 0]) for q in squares)
-            with np.errstate(divide="ignore", invalid="ignore"):
-                # (h / d)**2, at most 1 (where the point does not move, 0 / 0 is NaN and
-                # the cap makes it 1, times a third difference of 0)
-                ratio2 = np.multiply(curvature, h**4, out=squares[1][:, 1])
-                np.divide(third2, ratio2, out=ratio2)
-                np.fmin(ratio2, 1.0, out=ratio2)
-                ratio2 *= third2  # (h / d * third)**2, the errors but for constants
-            # each point's own errors, for the rates of the links it ends
-            own = np.sqrt(ratio2, out=squares[0][:, 1])
-            error = np.multiply(own, QUICK_ERROR_FACTORS[0] / (6 * h), out=into.first_errors)
-            error += ROUNDING_QUICK[0] * noise / h
-            error = np.multiply(own, QUICK_ERROR_FACTORS[1] / (h * h), out=into.second_errors)
-            error += ROUNDING_QUICK[1] * noise / (h * h)
-            np.fmax.reduce(rate, axis=0, out=speed2)
-            np.fmax.reduce(curvature, axis=0, out=accel2)
-            worst = np.fmax.reduce(ratio2, axis=0)
         first_error, second_error = into.first_error, into.second_error
-        if worst is None:  # nothing moves: only rounding
+        if not moving:  # only rounding
             first_error[...] = ROUNDING_QUICK[0] * noise / h
             second_error[...] = ROUNDING_QUICK[1] * noise / (h * h)
             speed2[...] = accel2[...] = 0.0
             return np.zeros(self.m, dtype=bool)
+        m, points = self.m, 2 * len(moving)
+        before, after, farther = (self.offsets.index(k) for k in QUICK)
+        # every point's x and y at each offset, (K, 2P, M), and at the sample itself
+        table = np.empty((len(self.offsets), points, m))
+        for i, name in enumerate(moving):
+            for axis, v in enumerate(self.evaluated.points.coords(name)):
+                table[:, 2 * i + axis] = np.reshape(v, (-1, m)) if np.ndim(v) else v
+        if 0 in self.offsets:
+            f0 = table[self.offsets.index(0)]
+        else:
+            f0 = np.empty((points, m))
+            for i, name in enumerate(moving):
+                for axis, w in enumerate(self.sweep.points.xy(name)):
+                    f0[2 * i + axis] = w[self.at]
+        # the differences in place, the table's rows reused as each is used up
+        third = np.subtract(table[farther], table[after], out=table[farther])
+        forward = np.subtract(table[after], f0, out=table[after])
+        backward = np.subtract(f0, table[before], out=table[before])
+        across = np.add(forward, backward, out=f0)  # f_1 - f_-1
+        forward -= backward  # now f_1 - 2 f_0 + f_-1, about h**2 f''
+        third -= backward
+        third -= forward
+        third -= forward  # f_2 - 3 f_1 + 3 f_0 - f_-1
+        across *= 3
+        across -= third
+        d1 = np.multiply(across.reshape(-1, 2, m), 1 / (6 * h), out=into.first)
+        d2 = np.multiply(forward.reshape(-1, 2, m), 1 / (h * h), out=into.second)
+        # each point's squares, (P, M), x's plus y's as for one point, into rows freed
+        squares = [np.multiply(d, d, out=spare.reshape(-1, 2, m)) for d, spare in
+                   ((d1, across), (d2, backward), (third.reshape(-1, 2, m), forward))]
+        rate, curvature, third2 = (np.add(q[:, 0], q[:, 1], out=q[:, 0]) for q in squares)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            # (h / d)**2, at most 1 (where the point does not move, 0 / 0 is NaN and
+            # the cap makes it 1, times a third difference of 0)
+            ratio2 = np.multiply(curvature, h**4, out=squares[1][:, 1])
+            np.divide(third2, ratio2, out=ratio2)
+            np.fmin(ratio2, 1.0, out=ratio2)
+            ratio2 *= third2  # (h / d * third)**2, the errors but for constants
+        # each point's own errors, for the rates of the links it ends
+        own = np.sqrt(ratio2, out=squares[0][:, 1])
+        error = np.multiply(own, QUICK_ERROR_FACTORS[0] / (6 * h), out=into.first_errors)
+        error += ROUNDING_QUICK[0] * noise / h
+        error = np.multiply(own, QUICK_ERROR_FACTORS[1] / (h * h), out=into.second_errors)
+        error += ROUNDING_QUICK[1] * noise / (h * h)
+        np.fmax.reduce(rate, axis=0, out=speed2)
+        np.fmax.reduce(curvature, axis=0, out=accel2)
+        worst = np.fmax.reduce(ratio2, axis=0)
         worst = np.sqrt(worst, out=worst)
         truncation1 = np.multiply(worst, QUICK_ERROR_FACTORS[0] / (6 * h), out=first_error)
         truncation2 = np.multiply(worst, QUICK_ERROR_FACTORS[1] / (h * h), out=second_error)
@@ -771,7 +769,8 @@ class Motion(Frozen):
     input = renamed_attribute("input", "input_name")
     _read_only = ("time", "speed", "input_acceleration", "velocity", "acceleration", "angle",
                   "angular_velocity", "angular_acceleration", "flagged", "velocity_error",
-                  "acceleration_error")
+                  "acceleration_error", "slider_position", "slider_velocity",
+                  "slider_acceleration")
 
     def __repr__(self) -> str:
         count = self.sweep.variants

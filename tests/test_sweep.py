@@ -478,3 +478,13 @@ def test_a_frame_whose_two_points_meet_is_degenerate_at_those_samples():
     assert s.failure_reason[2] == REASONS[DEGENERATE]
     assert s.failure_reason[2].startswith("degenerate input")
     assert "node 'P' cannot be assembled" in s.explain(2)
+
+
+def test_fixed_points_move_with_the_frame_of_an_origin():
+    """A fixed point found once in the plan is found again, shifted, in another frame."""
+    c = coupler_fourbar().compile()
+    theta = np.linspace(0, 2 * np.pi, 50)
+    plain = evaluate(c, {"theta": theta}, 50)
+    shifted = evaluate(c, {"theta": theta}, 50, origin=(5.0, -3.0))
+    assert shifted.points.coords("O4") == (35.0, 3.0)
+    np.testing.assert_allclose(shifted["P"] + (5.0, -3.0), plain["P"], rtol=0, atol=1e-12)

@@ -14,7 +14,7 @@ from hypothesis import strategies as st
 import geokin
 from geokin import Construction, ConstructionError
 from geokin.circuits import limits
-from geokin.kinematics import motion
+from geokin.kinematics import _variant_sizes, motion
 
 NAMES = ("a", "b", "c", "d")
 
@@ -336,3 +336,18 @@ def test_paths_given_once_are_the_paths_repeated():
     for name in repeated.points:
         np.testing.assert_array_equal(once[name], repeated[name])
     np.testing.assert_array_equal(once.branches["B"], repeated.branches["B"])
+
+
+@given(st.lists(st.tuples(*[st.floats(1, 60)] * 3, st.floats(1, 90)), min_size=1, max_size=6))
+def test_a_design_has_the_size_its_row_of_variants_gives_it(lengths):
+    """One design's size, found on numbers, equals its row of the variants' sizes.
+
+    The variants include designs that fold (NaN at some samples) and designs that
+    assemble nowhere (the largest coordinate stands in).
+    """
+    values = {name: [row[k] for row in lengths] for k, name in enumerate(NAMES)}
+    swept = geokin.sweep(parametric_fourbar(), np.linspace(0, 2 * np.pi, 37),
+                         parameters=values)
+    rows = _variant_sizes(swept)
+    for i in range(len(lengths)):
+        assert _variant_sizes(swept.variant(i)).tolist() == [rows[i]]
