@@ -1081,10 +1081,11 @@ def test_cos_sin_of_one_number_never_raises(angle):
     np.testing.assert_allclose(found, expected, rtol=0, atol=2 * np.finfo(float).eps)
 
 
-radius = st.one_of(st.floats(-5, 60), st.just(0.0), st.just(float("nan")), st.just(float("inf")))
+any_radius = st.one_of(st.floats(-5, 60), st.just(0.0), st.just(float("nan")),
+                       st.just(float("inf")))
 
 
-@given(centres=hnp.arrays(float, 7, elements=st.floats(-50, 50)), r1=radius, r2=radius)
+@given(centres=hnp.arrays(float, 7, elements=st.floats(-50, 50)), r1=any_radius, r2=any_radius)
 def test_circle_circle_gives_the_same_for_radii_as_floats_or_numpy_numbers(centres, r1, r2):
     """Radii given as Python floats (checked on numbers) give what numpy scalars give."""
     x1, y1, x2 = centres[:3], centres[3:6], centres[6]
