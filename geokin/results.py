@@ -657,8 +657,13 @@ class PointTable(Mapping):
         return read_only(np.broadcast_to(np.asarray(value, dtype=float), shape))
 
     def coords(self, name: str) -> tuple[np.ndarray | float, np.ndarray | float]:
-        """Return a point's x and y as evaluated: numbers for a point that does not move."""
-        return self._coords[self._name(name)]
+        """Return a point's x and y as evaluated: numbers for a point that does not move.
+
+        Arrays are read-only views: the table stacks its points from them.
+        """
+        x, y = self._coords[self._name(name)]
+        return (read_only(x) if isinstance(x, np.ndarray) else x,
+                read_only(y) if isinstance(y, np.ndarray) else y)
 
     def _name(self, name: str) -> str:
         if isinstance(name, str) and not name.isascii():

@@ -488,3 +488,12 @@ def test_fixed_points_move_with_the_frame_of_an_origin():
     shifted = evaluate(c, {"theta": theta}, 50, origin=(5.0, -3.0))
     assert shifted.points.coords("O4") == (35.0, 3.0)
     np.testing.assert_allclose(shifted["P"] + (5.0, -3.0), plain["P"], rtol=0, atol=1e-12)
+
+
+def test_a_points_coordinates_cannot_be_written_through():
+    """The coordinates a sweep gives are read-only: its points are stacked from them."""
+    swept = sweep(coupler_fourbar(), np.linspace(0, 6, 10))
+    x, y = swept.points.coords("B")
+    with pytest.raises(ValueError, match="read-only"):
+        x[0] = 99.0
+    assert np.hypot(*(swept["B"][0] - swept["O4"][0])) == pytest.approx(30)
