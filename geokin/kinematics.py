@@ -353,18 +353,8 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
     names = compiled.point_names
     # the results and one block's evaluations: refused up front if they would not fit
     check_sweep_memory(2 * len(names), n, what="motion")
-    # evaluated about the mechanism's own middle where it lies far from (0, 0): the
-    # differences of positions would lose the digits the derivatives need
     size = _size(sweep) if sizes is None else float(np.max(sizes))
-    middle = np.zeros(2)
-    if sweep.valid.any():
-        first_valid = int(np.argmax(sweep.valid))
-        total = [0.0, 0.0]  # summed in order, as np.mean sums rows
-        for p in names:
-            for axis, c in enumerate(sweep.points.coords(p)):
-                total[axis] += float(np.asarray(c).flat[first_valid] if np.ndim(c) else c)
-        middle = np.array(total) / len(names)
-    origin = (float(middle[0]), float(middle[1])) if np.hypot(*middle) > 4 * size else None
+    middle, origin = _frame(sweep, size)
     # the rounding of positions: a few units in the last place of their size in the
     # frame they are evaluated in
     noise = POSITION_ROUNDING * _EPS * ((size if sizes is None else sizes) + (
@@ -428,6 +418,35 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
             stencil[rest[forward]], stencil[rest[backward]] = 1, -1
     return Derivatives(label, h, first, second, stencil, first_error, second_error,
                        first_errors, second_errors)
+
+
+def _frame(sweep: Sweep, size: float) -> tuple[np.ndarray, tuple[float, float] | None]:
+    """Return a sweep's middle, and the origin of the frame it is differentiated in.
+
+    The middle is the mean of its points at the first sample assembled. Where
+    the mechanism lies more than four sizes from (0, 0), the frame's origin
+    is its middle: differences of positions far from (0, 0) would lose the
+    digits the rates need. Else there is no other frame (None).
+    """
+    middle = np.zeros(2)
+    if sweep.valid.any():
+        first_valid = int(np.argmax(sweep.valid))
+        total = [0.0, 0.0]  # summed in order, as np.mean sums rows
+        names = sweep.construction.point_names
+        for p in names:
+            for axis, c in enumerate(sweep.points.coords(p)):
+                total[axis] += float(np.asarray(c).flat[first_valid] if np.ndim(c) else c)
+        middle = np.array(total) / len(names)
+    origin = (float(middle[0]), float(middle[1])) if np.hypot(*middle) > 4 * size else None
+    return middle, origin
+
+
+def _in_frame(sweep: Sweep, origin: tuple[float, float]) -> Sweep:
+    """Return a sweep evaluated again in the frame of ``origin``, on its own branches."""
+    held = {name: (int(b[0]) if b.strides == (0,) else b) for name, b in sweep.branches.items()}
+    held.update(assembly_guesses(sweep))
+    return evaluate(sweep.construction, dict(sweep.inputs), len(sweep.valid), held, track=False,
+                    origin=origin, parameters=dict(sweep.parameters))
 
 
 def _at(value, at):
@@ -999,6 +1018,10 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
         acceleration_error = acceleration_error + extra.first_error
         acceleration_errors = {p: acceleration_errors[p] + extra.first_errors[p] for p in accel}
     angle = link_angles(whole)
+    # a mechanism far from (0, 0): its links' directions are taken in the frame its
+    # rates were found in, where the differences of positions keep their digits
+    origin = _frame(sweep, float(np.max(sizes)))[1]
+    near = sweep if origin is None else _in_frame(sweep, origin)
     angular_velocity, angular_acceleration = {}, {}
     flagged = sweep.valid & (d.stencil == 2)
     with np.errstate(divide="ignore", invalid="ignore"):
@@ -1014,7 +1037,7 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
         link_errors = []
         for link in sweep.construction.links:
             start, end = link.points[0], link.points[1]
-            (x0, y0), (x1, y1) = sweep.points.xy(start), sweep.points.xy(end)
+            (x0, y0), (x1, y1) = near.points.xy(start), near.points.xy(end)
             x, y = x1 - x0, y1 - y0
             vx, vy = velocity[end][:, 0] - velocity[start][:, 0], \
                 velocity[end][:, 1] - velocity[start][:, 1]
@@ -1034,7 +1057,7 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
         for error_w, error_al in link_errors:
             flagged |= error_w > VELOCITY_RTOL * turn_scale
             flagged |= error_al > ACCELERATION_RTOL * turn_accel_scale
-        slides = _slider_rates(sweep, velocity, accel, velocity_error, acceleration_error)
+        slides = _slider_rates(near, velocity, accel, velocity_error, acceleration_error)
         for _, _, _, error_v, error_a in slides.values():
             flagged |= error_v > VELOCITY_RTOL * speed_scale
             flagged |= error_a > ACCELERATION_RTOL * accel_scale

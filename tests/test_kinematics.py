@@ -172,6 +172,42 @@ def test_a_slider_on_a_fixed_guide_against_the_slider_crank_closed_form(guide):
     assert (np.abs(m.slider_acceleration["block"] - sense * a) <= 1e-5 * largest)[ok].all()
 
 
+@pytest.mark.parametrize("far", [1e9, 1e12])
+def test_link_and_slider_rates_far_from_the_origin_against_the_closed_form(far):
+    """An offset slider-crank standing far from (0, 0): its rod's and block's rates.
+
+    The rod's angle is asin((e - r sin t) / rod), the block's position the
+    closed form's x; however far the mechanism stands, both rates are as
+    accurate as stated wherever they are not flagged.
+    """
+    r, rod, e, w = 3.0, 10.0, 1.0, 5.0
+    c = Construction()
+    c.input("t")
+    c.fixed("O", far, far)
+    c.fixed("H", far, far + e)
+    c.fixed("G", far + 1, far + e)
+    c.polar("A", "O", r, "t")
+    c.ray_circle("P", ("H", "G"), "A", rod, branch="second")
+    c.link("rod", "A", "P")
+    c.slider("block", "P", ("H", "G"))
+    t = np.linspace(0, 2 * np.pi, 361)
+    m = motion(sweep(c, t), speed=w)
+    x, v, a = slider_crank_closed_form(t, r, rod, e, w)
+    sine = (e - r * np.sin(t)) / rod  # of the rod's angle beta from A to P
+    cosine = np.sqrt(1 - sine**2)
+    rate = -r * w * np.cos(t) / (rod * cosine)  # beta'
+    rate2 = (r * w * w * np.sin(t) + rod * rate**2 * sine) / (rod * cosine)  # beta''
+    ok = ~m.flagged
+    assert ok.all()
+    turn = np.max(np.abs(rate))
+    assert np.max(np.abs(m.angular_velocity["rod"] - rate)) <= 1e-7 * turn
+    assert np.max(np.abs(m.angular_acceleration["rod"] - rate2)) <= 1e-5 * max(
+        np.max(np.abs(rate2)), turn**2)
+    fastest, largest = np.fmax(r * w, np.abs(v)), np.fmax(r * w * w, np.abs(a))
+    assert (np.abs(m.slider_velocity["block"] - v) <= 1e-7 * fastest).all()
+    assert (np.abs(m.slider_acceleration["block"] - a) <= 1e-5 * largest).all()
+
+
 def test_a_slider_on_a_turning_guide_against_the_closed_form():
     """An inverted slider-crank: the crank pin A slides in a lever turning about O1.
 
