@@ -335,7 +335,8 @@ def input_derivatives(sweep: Sweep, input_name: str | None = None, *,
 
 def _along(sweep: Sweep, direction: dict, h: float, label: str,
            sizes: np.ndarray | None = None,
-           largest: tuple[np.ndarray, np.ndarray] | None = None) -> Derivatives:
+           largest: tuple[np.ndarray, np.ndarray] | None = None,
+           frame: list | None = None) -> Derivatives:
     """Differentiate every point along a direction in the inputs' space.
 
     The construction is evaluated again at ``inputs + k * h * direction`` on
@@ -344,7 +345,9 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
     (inputs left out are held). ``sizes`` gives the mechanism's size at each
     sample where it differs from sample to sample (design variants).
     ``largest``, two arrays of N, receives each sample's largest squared
-    first and second derivative over the points (0 where there are none).
+    first and second derivative over the points (0 where there are none);
+    ``frame``, a list, receives the origin of the frame the sweep was
+    evaluated in (None for its own, see :func:`_frame`).
     """
     compiled = sweep.construction
     n = len(sweep)
@@ -355,6 +358,8 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
     check_sweep_memory(2 * len(names), n, what="motion")
     size = _size(sweep) if sizes is None else float(np.max(sizes))
     middle, origin = _frame(sweep, size)
+    if frame is not None:
+        frame.append(origin)
     # the rounding of positions: a few units in the last place of their size in the
     # frame they are evaluated in
     noise = POSITION_ROUNDING * _EPS * ((size if sizes is None else sizes) + (
@@ -441,10 +446,31 @@ def _frame(sweep: Sweep, size: float) -> tuple[np.ndarray, tuple[float, float] |
     return middle, origin
 
 
+def _held(sweep: Sweep, at: slice | np.ndarray, times: int) -> dict:
+    """Return a sweep's branches at some samples, repeated, to hold in an evaluation.
+
+    A branch that never changes (a broadcast view) stays one number; a
+    closure group, untracked there, starts at each sample from its own
+    solution.
+    """
+    held: dict = {name: (int(b[0]) if b.strides == (0,) else np.tile(b[at], times))
+                  for name, b in sweep.branches.items()}
+    held.update(assembly_guesses(sweep, at, times))
+    return held
+
+
 def _in_frame(sweep: Sweep, origin: tuple[float, float]) -> Sweep:
-    """Return a sweep evaluated again in the frame of ``origin``, on its own branches."""
-    held = {name: (int(b[0]) if b.strides == (0,) else b) for name, b in sweep.branches.items()}
-    held.update(assembly_guesses(sweep))
+    """Return a sweep evaluated again in the frame of ``origin``, on its own branches.
+
+    Its positions are relative to ``origin``. Where the sweep is on the edge
+    of assembling, rounding in the other frame may not assemble it: such a
+    sample's rates are not found in either frame (see :func:`_along`).
+    """
+    # the motion's results and this sweep of them all
+    compiled = sweep.construction
+    check_sweep_memory(2 * len(compiled.point_names) + len(compiled.steps), len(sweep.valid),
+                       what="motion")
+    held = _held(sweep, slice(None), 1)
     return evaluate(sweep.construction, dict(sweep.inputs), len(sweep.valid), held, track=False,
                     origin=origin, parameters=dict(sweep.parameters))
 
@@ -494,11 +520,7 @@ class _Block:
         for name, values in sweep.inputs.items():
             inputs[name] = ((values[at] + steps * rates[name][at]).reshape(-1) if name in rates
                             else np.tile(values[at], k))
-        # a branch that never changes (a broadcast view) stays one number
-        held = {name: (int(b[0]) if b.strides == (0,) else np.tile(b[at], k))
-                for name, b in sweep.branches.items()}
-        # a closure group, untracked here, starts at each sample from its own solution
-        held.update(assembly_guesses(sweep, at, k))
+        held = _held(sweep, at, k)
         varied = {name: np.tile(values[at], k) for name, values in sweep.parameters.items()}
         # the quick stencil's perturbations are rows of nearby inputs, evaluated in one
         # piece (SAMPLES_PER_BLOCK): their angles' cosines follow from the first row's
@@ -998,7 +1020,8 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
     # one step in time that moves no input by more than its own finite-difference step
     sizes = _sizes(whole)  # once: each sample's scale, for its step, noise and flags
     largest = (np.empty(n), np.empty(n))
-    d = _along(sweep, rates, _time_step(sweep, rates, step), driver, sizes, largest)
+    frame: list = []
+    d = _along(sweep, rates, _time_step(sweep, rates, step), driver, sizes, largest, frame)
     velocity = d.first
     accel = d.second
     velocity_error, acceleration_error = d.first_error, d.second_error
@@ -1018,9 +1041,9 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
         acceleration_error = acceleration_error + extra.first_error
         acceleration_errors = {p: acceleration_errors[p] + extra.first_errors[p] for p in accel}
     angle = link_angles(whole)
-    # a mechanism far from (0, 0): its links' directions are taken in the frame its
-    # rates were found in, where the differences of positions keep their digits
-    origin = _frame(sweep, float(np.max(sizes)))[1]
+    # a mechanism far from (0, 0): its links' and guides' directions are taken in the
+    # frame its rates were found in, where the differences of positions keep their digits
+    origin = frame[0]
     near = sweep if origin is None else _in_frame(sweep, origin)
     angular_velocity, angular_acceleration = {}, {}
     flagged = sweep.valid & (d.stencil == 2)
@@ -1057,7 +1080,8 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
         for error_w, error_al in link_errors:
             flagged |= error_w > VELOCITY_RTOL * turn_scale
             flagged |= error_al > ACCELERATION_RTOL * turn_accel_scale
-        slides = _slider_rates(near, velocity, accel, velocity_error, acceleration_error)
+        slides = _slider_rates(sweep, near, velocity, accel, velocity_error,
+                               acceleration_error)
         for _, _, _, error_v, error_a in slides.values():
             flagged |= error_v > VELOCITY_RTOL * speed_scale
             flagged |= error_a > ACCELERATION_RTOL * accel_scale
@@ -1093,7 +1117,8 @@ def _dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
     return u[..., 0] * v[..., 0] + u[..., 1] * v[..., 1]
 
 
-def _slider_rates(sweep: Sweep, velocity: dict, accel: dict, velocity_error: np.ndarray,
+def _slider_rates(sweep: Sweep, near: Sweep, velocity: dict, accel: dict,
+                  velocity_error: np.ndarray,
                   acceleration_error: np.ndarray) -> dict[str, tuple[np.ndarray, ...]]:
     """Return each slider's position along its guide, its two rates and their errors.
 
@@ -1102,16 +1127,19 @@ def _slider_rates(sweep: Sweep, velocity: dict, accel: dict, velocity_error: np.
     counter-clockwise, the guide turning at ``w`` with ``al``: the position
     is ``s = q.u``, so ``s' = q'.u + w q.n`` and ``s'' = q''.u + 2 w q'.n +
     al q.n - w**2 q.u``. The errors follow from the points' (none for a
-    ground point) through the guide's rates, as for a link's.
+    ground point) through the guide's rates, as for a link's. The positions
+    along the guides are the sweep's; the directions are taken from ``near``,
+    the sweep in the frame its rates were found in.
     """
     ground = sweep.construction.ground
     rates: dict[str, tuple[np.ndarray, ...]] = {}
     positions = slider_positions(sweep)
+    points = near.points
     for block in sweep.construction.sliders:
         first, second = block.along
-        d = sweep.points[second] - sweep.points[first]
+        d = points[second] - points[first]
         vd, ad = velocity[second] - velocity[first], accel[second] - accel[first]
-        q = sweep.points[block.point] - sweep.points[first]
+        q = points[block.point] - points[first]
         vq, aq = velocity[block.point] - velocity[first], accel[block.point] - accel[first]
         r2 = _dot(d, d)
         r = np.sqrt(r2)
