@@ -52,7 +52,12 @@ MAX_SUBSTEPS = 4096
 """The most pieces one step between samples is cut into by the continuation."""
 
 RESIDUAL_RTOL = 1e-13
-"""Converged: every equation's residual within this times the group's size."""
+"""Converged: every equation's residual within this times the group's size
+(plus the rounding of the coordinates, :data:`RESIDUAL_ROUNDING`)."""
+
+RESIDUAL_ROUNDING = 8 * np.finfo(float).eps
+"""Converged also within this times the largest coordinate of the row: far from
+(0, 0) a difference of coordinates is rounded to their size, not the group's."""
 
 POLISH_RTOL = 1e-6
 """The longest last step taken after convergence, times the group's size."""
@@ -203,10 +208,13 @@ def _iterate(system, unknowns, known, lengths, z, scale, iterations):
     z = z.copy()
     done = np.zeros(z.shape[0], dtype=bool)
     first = None
-    tolerance = RESIDUAL_RTOL * scale
+    # each row's: the group's size, and the rounding of its coordinates where they are
+    # far larger
+    tolerance = RESIDUAL_RTOL * scale + RESIDUAL_ROUNDING * np.max(
+        np.abs(np.where(np.isfinite(z), z, 0.0)), axis=1, initial=0.0)
     for _ in range(iterations):
         f, jac = _residual_jacobian(system, unknowns, known, lengths, z)
-        small = np.all(np.abs(f) <= tolerance, axis=1)
+        small = np.all(np.abs(f) <= tolerance[:, None], axis=1)
         done = small
         step = _solve(jac, f)
         if first is None:
@@ -219,7 +227,7 @@ def _iterate(system, unknowns, known, lengths, z, scale, iterations):
         z = np.where(done[:, None], z, z + cut[:, None] * step)
     else:
         f, jac = _residual_jacobian(system, unknowns, known, lengths, z)
-        done = np.all(np.abs(f) <= tolerance, axis=1)
+        done = np.all(np.abs(f) <= tolerance[:, None], axis=1)
         step = _solve(jac, f)
     # one more step where converged: Newton's last step takes the solution to rounding,
     # which finite differences of the positions need. Where the Jacobian is (nearly)

@@ -161,6 +161,32 @@ def test_one_point_group_equals_circle_circle():
         assert np.max(np.abs(by_newton[p] - by_circles[p])) < 1e-12
 
 
+@pytest.mark.parametrize("far", [1e4, 1e9])
+def test_a_group_far_from_the_origin_equals_circle_circle_there(far):
+    """A group 1e4 or 1e9 from (0, 0) is assembled as its circles are, to their rounding.
+
+    Its equations are solved to the rounding of its coordinates, which there
+    is far above that of the group's size.
+    """
+    def shifted(closure):
+        c = geokin.Construction("four-bar")
+        c.input("theta")
+        c.fixed("O2", far, far)
+        c.fixed("O4", far + 40, far)
+        c.polar("A", "O2", 10, "theta")
+        if closure:
+            c.closure("dyad", ["B"], [("A", "B", 35), ("B", "O4", 30)],
+                      near={"B": (far + 35, far + 25)})
+        else:
+            c.circle_circle("B", ("A", "O4"), (35, 30), branch="left")
+        return c
+
+    theta = np.linspace(0, 2 * np.pi, 721)
+    by_circles, by_newton = (geokin.sweep(shifted(group), theta) for group in (False, True))
+    assert by_newton.valid.all()
+    assert np.max(np.abs(by_newton["B"] - by_circles["B"])) <= 64 * np.finfo(float).eps * far
+
+
 def triple_rocker(group: bool):
     """Seed 000's triple rocker (ground 7, crank 5, coupler 6, follower 5)."""
     c = geokin.Construction("triple rocker")
