@@ -287,11 +287,14 @@ def _circle_circle(x1, y1, dx, dy, r1, r2):
     all, exactly as elementwise; so do the scale's, which is then found
     within its window here and given as None.
     """
-    d2 = dx * dx + dy * dy
-    d = np.sqrt(d2)
+    d2 = dx * dx
+    d2 += dy * dy
     # the foot of the chord is c1 + k * (c2 - c1); coincident centres give inf or NaN
     k = 0.5 * (r1 - r2) * (r1 + r2) / d2
     k += 0.5
+    # in the memory of the squares: a fresh array of many samples costs more to fault
+    # in than to compute
+    d = np.sqrt(d2, out=d2) if type(d2) is np.ndarray else np.sqrt(d2)
     m = k * d
     half_chord_sq = r1 - m
     m += r1
@@ -346,15 +349,29 @@ def _meet(low, high, r1, r2, least, most):
 
 
 def _roots(x1, y1, dx, dy, k, h_over_d):
-    """Return the left and right roots from the foot of the chord and its half length."""
-    fx = k * dx
-    fx += x1
+    """Return the left and right roots from the foot of the chord and its half length.
+
+    ``k`` and ``h_over_d`` are the caller's own temporaries: where they are
+    arrays of the roots' shape, the roots are computed in their memory.
+    """
     fy = k * dy
     fy += y1
     # the left normal of (dx, dy) is (-dy, dx)
     ex = h_over_d * dy
-    ey = h_over_d * dx
-    return fx - ex, fy + ey, fx + ex, fy - ey
+    if not (type(k) is np.ndarray and type(h_over_d) is np.ndarray
+            and k.shape == h_over_d.shape == fy.shape):
+        fx = k * dx
+        fx += x1
+        ey = h_over_d * dx
+        return fx - ex, fy + ey, fx + ex, fy - ey
+    fx = np.multiply(k, dx, out=k)
+    fx += x1
+    ey = np.multiply(h_over_d, dx, out=h_over_d)
+    left_x = fx - ex
+    fx += ex  # the right root's x
+    left_y = np.add(fy, ey, out=ex)
+    fy -= ey  # the right root's y
+    return left_x, left_y, fx, fy
 
 
 def _circle_circle_rescaled(x1, y1, dx, dy, r1, r2):
