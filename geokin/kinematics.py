@@ -362,9 +362,8 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
         frame.append(origin)
     # the rounding of positions: a few units in the last place of their size in the
     # frame they are evaluated in
-    noise = POSITION_ROUNDING * _EPS * ((size if sizes is None else sizes) + (
-        0.0 if origin is not None
-                                                else float(np.hypot(*middle))))
+    distance = 0.0 if origin is not None else float(np.hypot(*middle))
+    noise = POSITION_ROUNDING * _EPS * ((size if sizes is None else sizes) + distance)
     # a ground point does not move: its derivatives are zero wherever it is assembled
     moving = [p for p in names if p not in compiled.ground]
     still = read_only(np.where(sweep.valid, 0.0, np.nan)[:, None] * np.ones(2))
