@@ -172,6 +172,9 @@ class _PlannedStep:
     # a point that never moves (a one-root node of the ground, its values all
     # constants): its candidates, found once; None for any other
     known: Candidates | None = None
+    # whether a later node that can be missing on its own is built on this one:
+    # its branch can then decide where that node is found
+    decides_later: bool = True
 
 
 _PLANS: dict[tuple[int, frozenset[str]], tuple[_PlannedStep, ...]] = {}
@@ -211,6 +214,14 @@ def _plan(compiled: Compiled, varied: frozenset[str] = frozenset()) -> tuple[_Pl
                 else:
                     cand = None
             planned.append(_PlannedStep(step.index, node, constants, tuple(varying), cand))
+    # the points some later node that can be missing on its own is built on, at any remove
+    decisive: set[str] = set()
+    for i in reversed(range(len(planned))):
+        node = planned[i].node
+        deciding = not decisive.isdisjoint(node.defines)
+        planned[i] = replace(planned[i], decides_later=deciding)
+        if deciding or node.fails_on_its_own:
+            decisive.update(node.depends_on())
     plan = tuple(planned)
     # the plan lives as long as the construction: a later one may reuse the id
     weakref.finalize(compiled, _PLANS.pop, key, None)
@@ -288,7 +299,8 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
              start: Mapping[str, int] | None = None,
              origin: tuple[float, float] | None = None,
              sketches: Mapping[str, np.ndarray] | None = None,
-             parameters: Mapping[str, np.ndarray] | None = None, paths: int = 1) -> Sweep:
+             parameters: Mapping[str, np.ndarray] | None = None, paths: int = 1,
+             track_incomplete: bool = True) -> Sweep:
     """Evaluate every step for all samples.
 
     Parameters
@@ -334,6 +346,16 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         path's, repeated); a closure group is followed along each path on
         its own only when the paths are swept one by one (as
         :func:`sweep` does).
+    track_incomplete : bool
+        Over several paths, whether a node's branches are tracked along a
+        path at some sample of which it is missing. Without, a node that no
+        later node able to be missing on its own is built on keeps its
+        initial branch along such a path: what is found where (``valid``,
+        ``failed_step``, ``reason_code``) and everything of the other paths
+        are as with tracking; only that path's positions and branches may
+        differ, and its branch events are not given. A study that keeps
+        only the paths found everywhere needs no more, and is spared
+        looking for the edges of each path's gaps.
 
     Returns
     -------
@@ -359,7 +381,7 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
                                     origin)
     else:
         parts = _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track, sketches,
-                                varied, paths, per_path)
+                                varied, paths, per_path, track_incomplete)
 
     def per_sample(array, dtype=float):
         return _over_samples(np.asarray(array, dtype=dtype), n)
@@ -398,7 +420,8 @@ def _over_paths(inputs, n, paths):
 
 
 def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
-                    sketches=None, varied=None, paths=1, per_path=False) -> _Evaluated:
+                    sketches=None, varied=None, paths=1, per_path=False,
+                    track_incomplete=True) -> _Evaluated:
     """Evaluate every step for all N samples at once, tracking branches if asked.
 
     Over several paths with the same inputs and parameters constant along
@@ -426,7 +449,8 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
     failed_step = np.zeros(n, dtype=np.int32)
     reason_code = np.zeros(n, dtype=np.int8)
     with np.errstate(all="ignore"):
-        tracker = (_Tracker(compiled, plan, inputs, n, origin, varied, paths, per_path)
+        tracker = (_Tracker(compiled, plan, inputs, n, origin, varied, paths, per_path,
+                            track_incomplete)
                    if track and n // paths >= 2 else None)
         for position, step in enumerate(plan):
             node = step.node
@@ -718,7 +742,8 @@ def assembly_guesses(sweep: Sweep, at: slice | np.ndarray | None = None,
 def sweep(construction: Construction | Compiled,
           values: ArrayLike | Mapping[str, ArrayLike] | None = None, *, samples: int | None = None,
           start_branches: Mapping[str, object] | None = None,
-          parameters: Mapping[str, ArrayLike] | None = None) -> Sweep:
+          parameters: Mapping[str, ArrayLike] | None = None,
+          track_incomplete: bool = True) -> Sweep:
     """Evaluate a construction over a sweep of its inputs.
 
     Parameters
@@ -743,6 +768,14 @@ def sweep(construction: Construction | Compiled,
         starting on its own initial branch; the sweep then has a leading
         variant axis (see :class:`~geokin.results.Sweep`). Without it, the
         construction's own values.
+    track_incomplete : bool
+        With variants, whether branches are tracked along a variant that
+        cannot be assembled at every sample. Without, such a variant's
+        ``valid``, ``failed_step`` and ``reason_code`` are as with tracking,
+        and so is everything of the variants assembled everywhere; its
+        positions, branches and events may not be (see
+        :func:`~geokin.engine.evaluate`). A study of the variants that
+        assemble is spared finding the edges of the others' gaps.
 
     Returns
     -------
@@ -793,7 +826,8 @@ def sweep(construction: Construction | Compiled,
         return _joined([evaluate(compiled, inputs, n, start=start,
                                  parameters={k: np.full(n, v[i]) for k, v in varied.items()})
                         for i in range(count)]).as_variants(count)
-    flat = evaluate(compiled, inputs, count * n, start=start, parameters=varied, paths=count)
+    flat = evaluate(compiled, inputs, count * n, start=start, parameters=varied, paths=count,
+                    track_incomplete=track_incomplete)
     # each variant's values at its samples: a view, not a copy
     return replace(flat.as_variants(count), parameters={
         k: np.broadcast_to(v[:, None], (count, n)) for k, v in varied.items()})
@@ -1109,8 +1143,9 @@ class _Tracker:
     """
 
     def __init__(self, compiled: Compiled, plan, inputs, n: int, origin, varied=None,
-                 paths: int = 1, per_path: bool = False):
+                 paths: int = 1, per_path: bool = False, track_incomplete: bool = True):
         self.compiled = compiled
+        self.track_incomplete = track_incomplete
         self.plan = plan
         self.given_inputs = inputs
         self.varied = varied or {}
@@ -1228,12 +1263,18 @@ class _Tracker:
         margin = _over_samples(cand.margin, n)
         # the samples looked at closely below: all, or those of the paths (variants) that
         # the quick test, each path on its own, does not settle
-        keep = None
+        keep = whole = None
+        if self.cut is not None and not (self.track_incomplete
+                                         or self.plan[position].decides_later):
+            # its branch along a path it misses somewhere decides nothing that is kept
+            whole = self._whole_paths(cand)
         if not self.any_coarse and self.cut is not None:
-            keep = self._unsettled(margin)
-            if keep.size == 0:
-                self.labels[node.name] = start
-                return start, []
+            keep = self._unsettled(margin, whole)
+        elif whole is not None:
+            keep = self._samples_of(np.flatnonzero(whole))
+        if keep is not None and keep.size == 0:
+            self.labels[node.name] = start
+            return start, []
         elif not self.any_coarse:
             # rule 3's test over the whole sweep at once, which settles most sweeps: the
             # half-distance between the roots over the node's scale, u (the square
@@ -1538,12 +1579,22 @@ class _Tracker:
         found = g_step[keep] if sweep_step is None else sweep_step(g_step[keep])
         return np.sort(found + 0.5 * (g_low[keep] + g_high[keep]))
 
-    def _unsettled(self, margin):
+    def _whole_paths(self, cand) -> np.ndarray:
+        """Return whether a node is found at every sample of each path."""
+        present = np.isfinite(_over_samples(cand.x[0], self.n))
+        return np.logical_and.reduce(present.reshape(-1, self.length), axis=1)
+
+    def _samples_of(self, paths: np.ndarray) -> np.ndarray:
+        """Return the samples of some paths, in order."""
+        return (paths[:, None] * self.length + np.arange(self.length)).reshape(-1)
+
+    def _unsettled(self, margin, among=None):
         """Return the samples of the paths that rule 3's quick test does not settle.
 
         The test of :meth:`track` over a whole sweep, made on each path (each
         variant) on its own: a path is settled by its own margins and rates,
-        as it is swept alone. A NaN margin leaves its path open.
+        as it is swept alone. A NaN margin leaves its path open. With
+        ``among`` (whether to look at each path), the others count as settled.
         """
         paths, length = self.n // self.length, self.length
         # each path's steps in a row, the step to the next path last, where it is zero
@@ -1561,6 +1612,8 @@ class _Tracker:
         rows = margin.reshape(paths, length)
         with np.errstate(invalid="ignore"):
             settled = np.min(rows, axis=1) > (SAFETY * SAFETY) * np.max(moved, axis=1)
+            if among is not None:
+                settled |= ~among
             if not settled.all():
                 open_ = np.flatnonzero(~settled)
                 apart = np.sqrt(rows[open_])
@@ -1568,8 +1621,7 @@ class _Tracker:
                 moved[:, :-1] = np.abs(np.diff(apart, axis=1))
                 moved *= per_travel
                 settled[open_] = np.min(apart, axis=1) > SAFETY * np.max(moved, axis=1)
-        unsettled = np.flatnonzero(~settled)
-        return (unsettled[:, None] * length + np.arange(length)).reshape(-1)
+        return self._samples_of(np.flatnonzero(~settled))
 
     def _apart(self, position, step, fraction):
         """Return how far apart a node's roots are at fractions of steps.

@@ -260,6 +260,17 @@ class Node:
         """Return the number of roots: 1, or 2 for a node with branches."""
         return len(self.branch_names) or 1
 
+    @property
+    def fails_on_its_own(self) -> bool:
+        """Whether the point can be missing where every point and value it is built on is found.
+
+        So an intersection, which can miss, and a point in the frame of two
+        points, which has none where they coincide. Not a fixed point, nor one
+        at a distance and absolute angle from another: where such a point
+        is missing, so is something it is built on.
+        """
+        return True
+
     def point_fields(self) -> dict[str, tuple[str, ...]]:
         """Return the points this node is built on, by field."""
         fields = {}
@@ -374,6 +385,10 @@ class Fixed(Node):
     keys: ClassVar[tuple[Key, ...]] = (Key("at", "value pair", ("x", "y")),)
     ground_kind: ClassVar[bool] = True
 
+    @property
+    def fails_on_its_own(self) -> bool:
+        return False
+
     def describe(self) -> str:
         return f"fixed({self.x}, {self.y})"
 
@@ -412,6 +427,10 @@ class Polar(Node):
     keys: ClassVar[tuple[Key, ...]] = (
         Key("origin", "point"), Key("distance", "value"), Key("angle", "value", angle=True),
         Key("reference", "point pair", required=False))
+
+    @property
+    def fails_on_its_own(self) -> bool:
+        return self.reference is not None  # no direction where the reference's points meet
 
     def describe(self) -> str:
         ref = "" if self.reference is None else f" from {self.reference[0]}->{self.reference[1]}"

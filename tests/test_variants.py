@@ -90,6 +90,82 @@ def test_300_variants_equal_their_own_sweeps(path):
     assert_same_as_alone(batch, built_alone(lengths), values)
 
 
+def assert_untracked_only_where_incomplete(batch, tracked):
+    """``batch`` (swept with ``track_incomplete=False``) is ``tracked`` but for the
+    positions, branches and events of variants that cannot be assembled everywhere."""
+    np.testing.assert_array_equal(batch.valid, tracked.valid)
+    np.testing.assert_array_equal(batch.failed_step, tracked.failed_step)
+    np.testing.assert_array_equal(batch.reason_code, tracked.reason_code)
+    for i in np.flatnonzero(tracked.valid.all(axis=1)):
+        for node in tracked.branches:
+            np.testing.assert_array_equal(batch.branches[node][i], tracked.branches[node][i])
+        for point in tracked.points:
+            np.testing.assert_array_equal(batch[point][i], tracked[point][i])
+        assert batch.variant(i).events == tracked.variant(i).events
+
+
+@pytest.mark.parametrize("path", ["turns", "random walk", "coarse"])
+def test_variants_untracked_where_incomplete_keep_what_decides_validity(path):
+    # B's branch decides where C (a line through A and B cut by a circle) is found:
+    # it is tracked along every variant; C's, which decides nothing, only along the
+    # variants found everywhere
+    rng = np.random.default_rng({"turns": 1, "random walk": 2, "coarse": 3}[path])
+    values = {"turns": np.linspace(0, 4 * np.pi, 181),
+              "random walk": np.cumsum(rng.normal(0.3, 0.5, 60)),
+              "coarse": np.linspace(0, 2 * np.pi, 9)}[path]
+    c = parametric_fourbar()
+    lengths = random_lengths(rng, 300)
+    tracked = geokin.sweep(c, values, parameters=lengths)
+    batch = geokin.sweep(c, values, parameters=lengths, track_incomplete=False)
+    assert_untracked_only_where_incomplete(batch, tracked)
+    # C's branches along the incomplete variants are its first ones held, which is what
+    # spares the work: not tracked, they differ from tracking somewhere
+    incomplete = ~tracked.valid.all(axis=1)
+    held = batch.branches["C"][incomplete]
+    assert (held == held[:, :1]).all()
+    if path != "coarse":
+        assert (held != tracked.branches["C"][incomplete]).any()
+
+
+def test_a_branch_that_decides_where_a_later_point_is_found_is_tracked_along_every_variant():
+    # crank 10, ground 30, coupler 32, rocker 8: B cannot be assembled within 45 degrees
+    # of theta = 0, and its roots meet at theta = pi (a + d = b + c), where its branch
+    # changes. D, built on B, is found where |B - O2| <= 2 e, which differs from one
+    # root of B to the other after pi
+    c = Construction("graze and gap")
+    c.parameter("e", 13.0)
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 30, 0)
+    c.polar("A", "O2", 10, "theta")
+    c.circle_circle("B", ("A", "O4"), (32, 8), branch="left")
+    c.circle_circle("D", ("B", "O2"), ("e", "e"), branch="left")
+    values = np.linspace(0, 2 * np.pi, 145)
+    sizes = {"e": [11.5, 12.0, 13.0, 14.0, 30.0]}
+    tracked = geokin.sweep(c, values, parameters=sizes)
+    assert not tracked.valid.all(axis=1).any()
+    assert [e.node for e in tracked.variant(0).events] == ["B"]
+    batch = geokin.sweep(c, values, parameters=sizes, track_incomplete=False)
+    assert_untracked_only_where_incomplete(batch, tracked)
+    np.testing.assert_array_equal(batch.branches["B"], tracked.branches["B"])
+    # what makes this worth checking: B held on its first branch, D would be found
+    # at other samples
+    held = geokin.engine.evaluate(c, {"theta": values}, len(values), held={"B": 0})
+    alone = geokin.sweep(c.compile().with_parameters({"e": 13.0}), values)
+    assert (held.valid != alone.valid).any()
+
+
+@given(st.lists(st.floats(-3, 3), min_size=2, max_size=25),
+       st.integers(0, 2**32 - 1))
+def test_variants_untracked_where_incomplete_along_random_paths(steps, seed):
+    values = np.cumsum(steps)
+    lengths = random_lengths(np.random.default_rng(seed), 5)
+    c = parametric_fourbar()
+    tracked = geokin.sweep(c, values, parameters=lengths)
+    assert_untracked_only_where_incomplete(
+        geokin.sweep(c, values, parameters=lengths, track_incomplete=False), tracked)
+
+
 def test_each_variant_chooses_its_own_starting_root():
     c = parametric_fourbar(near=True)
     rng = np.random.default_rng(5)
