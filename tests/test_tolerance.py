@@ -136,6 +136,19 @@ def test_path_statistics_and_strokes_are_those_of_the_variants_swept_one_by_one(
     assert t.valid_fraction.max() <= 1 and t.valid_fraction.min() >= t.assemblable_fraction
 
 
+def test_the_paths_drawn_are_those_of_the_variants_swept_one_by_one():
+    # the study tracks branches only along the variants that assemble everywhere: the
+    # variants it draws are swept again whole, those that cannot be assembled too
+    c = fourbar()
+    t = tolerance(c, PLUS_MINUS_3, n=300, seed=2)
+    draws = t.draws()
+    drawn = t.sample_paths["B"]
+    assert not t.assembled[:len(drawn)].all()
+    for i in range(len(drawn)):
+        s = geokin.sweep(c.compile().with_parameters({k: v[i] for k, v in draws.items()}))
+        np.testing.assert_allclose(drawn[i], s["B"], rtol=0, atol=1e-12)
+
+
 def test_the_figures_do_not_depend_on_how_the_variants_are_cut():
     c = fourbar()
     n = 2 * BLOCK_VARIANTS + 300

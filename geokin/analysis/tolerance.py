@@ -385,7 +385,9 @@ class _Block:
 def _evaluate_block(study: _Study, start: int, stop: int) -> _Block:
     values = draw_variants(study.construction.parameters, study.tolerances, study.seed,
                            start, stop, study.distribution)
-    s = sweep(study.construction, study.inputs, parameters=values)
+    # only the variants that assemble everywhere are measured: the others' branches
+    # are tracked only where a sample of their paths is drawn
+    s = sweep(study.construction, study.inputs, parameters=values, track_incomplete=False)
     valid = np.asarray(s.valid)
     assembled: np.ndarray = np.asarray(valid.all(axis=1), dtype=bool)
     broken = np.flatnonzero(~assembled)
@@ -396,10 +398,16 @@ def _evaluate_block(study: _Study, start: int, stop: int) -> _Block:
     mean, m2, worst, worst_variant, kept, paths = {}, {}, {}, {}, {}, {}
     keep = min(max(study.percentile_variants - start, 0), stop - start)
     draw = min(max(study.sample_paths - start, 0), stop - start)
+    drawn = s
+    if draw and not assembled[:draw].all():
+        drawn = sweep(study.construction, study.inputs,
+                      parameters={k: v[:draw] for k, v in values.items()})
     for name in study.points:
         x, y = (np.broadcast_to(c, valid.shape) for c in s.points.coords(name))
         if draw:
-            paths[name] = np.stack([x[:draw], y[:draw]], axis=-1)
+            shape = np.shape(drawn.valid)
+            paths[name] = np.stack([np.broadcast_to(c, shape)[:draw]
+                                    for c in drawn.points.coords(name)], axis=-1)
         nominal = study.nominal_paths[name]
         # not np.hypot, several times slower: deviations are far from overflow
         along = x - nominal[:, 0]
