@@ -172,9 +172,8 @@ class _PlannedStep:
     # a point that never moves (a one-root node of the ground, its values all
     # constants): its candidates, found once; None for any other
     known: Candidates | None = None
-    # whether a later node that can be missing on its own is built on this one:
-    # its branch can then decide where that node is found
-    decides_later: bool = True
+    # whether the node's branch can decide where it or a later node is found
+    branch_decides: bool = True
 
 
 _PLANS: dict[tuple[int, frozenset[str]], tuple[_PlannedStep, ...]] = {}
@@ -214,19 +213,42 @@ def _plan(compiled: Compiled, varied: frozenset[str] = frozenset()) -> tuple[_Pl
                 else:
                     cand = None
             planned.append(_PlannedStep(step.index, node, constants, tuple(varying), cand))
-    # the points some later node that can be missing on its own is built on, at any remove
-    decisive: set[str] = set()
-    for i in reversed(range(len(planned))):
-        node = planned[i].node
-        deciding = not decisive.isdisjoint(node.defines)
-        planned[i] = replace(planned[i], decides_later=deciding)
-        if deciding or node.fails_on_its_own:
-            decisive.update(node.depends_on())
-    plan = tuple(planned)
+    plan = tuple(_deciding_branches(planned))
     # the plan lives as long as the construction: a later one may reuse the id
     weakref.finalize(compiled, _PLANS.pop, key, None)
     _PLANS[key] = plan
     return plan
+
+
+def _deciding_branches(planned: list[_PlannedStep]) -> list[_PlannedStep]:
+    """Mark the steps whose branch can decide where they or a later node are found.
+
+    A node's branch decides where it is found if one root can be missing
+    where the other is not; it decides where a later node is found if that
+    node can be missing on its own and is built on it, at any remove, unless
+    that node is missing only where two points coincide and every root of
+    the node is as far from the other one.
+    """
+    by_point = {p: step.node for step in planned for p in step.node.defines}
+
+    def blind_to(node, point):  # whether ``point``'s branch cannot make ``node`` missing
+        pair = node.missing_where_coincide
+        if pair is None or point not in pair:
+            return False
+        other = pair[1] if point == pair[0] else pair[0]
+        return other in by_point[point].equidistant_from
+
+    decisive: set[str] = set()  # the points whose branch decides something
+    marked = []
+    for step in reversed(planned):
+        node = step.node
+        deciding = node.missing_by_branch or not decisive.isdisjoint(node.defines)
+        marked.append(replace(step, branch_decides=deciding))
+        if deciding:
+            decisive.update(node.depends_on())
+        elif node.fails_on_its_own:
+            decisive.update(p for p in node.depends_on() if not blind_to(node, p))
+    return marked[::-1]
 
 
 def _environment(compiled: Compiled, inputs):
@@ -348,9 +370,13 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         :func:`sweep` does).
     track_incomplete : bool
         Over several paths, whether a node's branches are tracked along a
-        path at some sample of which it is missing. Without, a node that no
-        later node able to be missing on its own is built on keeps its
-        initial branch along such a path: what is found where (``valid``,
+        path at some sample of which it is missing. Without, the node keeps
+        its initial branch along such a path wherever its branch cannot
+        decide where anything is found: its two roots are found together,
+        and no later node that can be missing on its own is built on it,
+        at any remove (a point in the frame of two points counts only if
+        the node's roots are not equally far from the other point, as they
+        are from a circle's centre). What is found where (``valid``,
         ``failed_step``, ``reason_code``) and everything of the other paths
         are as with tracking; only that path's positions and branches may
         differ, and its branch events are not given. A study that keeps
@@ -773,9 +799,10 @@ def sweep(construction: Construction | Compiled,
         cannot be assembled at every sample. Without, such a variant's
         ``valid``, ``failed_step`` and ``reason_code`` are as with tracking,
         and so is everything of the variants assembled everywhere; its
-        positions, branches and events may not be (see
-        :func:`~geokin.engine.evaluate`). A study of the variants that
-        assemble is spared finding the edges of the others' gaps.
+        positions and branches may not be, and its events are not given
+        (which nodes are left untracked: :func:`~geokin.engine.evaluate`).
+        A study of the variants that assemble is spared finding the edges
+        of the others' gaps.
 
     Returns
     -------
@@ -1265,7 +1292,7 @@ class _Tracker:
         # the quick test, each path on its own, does not settle
         keep = whole = None
         if self.cut is not None and not (self.track_incomplete
-                                         or self.plan[position].decides_later):
+                                         or self.plan[position].branch_decides):
             # its branch along a path it misses somewhere decides nothing that is kept
             whole = self._whole_paths(cand)
         if not self.any_coarse and self.cut is not None:

@@ -271,6 +271,25 @@ class Node:
         """
         return True
 
+    @property
+    def missing_where_coincide(self) -> tuple[str, str] | None:
+        """Return the two points this point is missing only where they coincide, if any.
+
+        The points of a frame or direction it is built in; None for a kind
+        that can be missing otherwise, or not at all.
+        """
+        return None
+
+    @property
+    def equidistant_from(self) -> tuple[str, ...]:
+        """Return the points every root of this node is equally far from: a circle's centre."""
+        return ()
+
+    @property
+    def missing_by_branch(self) -> bool:
+        """Whether one root can be missing where the other is found (off a ray or segment)."""
+        return False
+
     def point_fields(self) -> dict[str, tuple[str, ...]]:
         """Return the points this node is built on, by field."""
         fields = {}
@@ -432,6 +451,10 @@ class Polar(Node):
     def fails_on_its_own(self) -> bool:
         return self.reference is not None  # no direction where the reference's points meet
 
+    @property
+    def missing_where_coincide(self) -> tuple[str, str] | None:
+        return self.reference
+
     def describe(self) -> str:
         ref = "" if self.reference is None else f" from {self.reference[0]}->{self.reference[1]}"
         return f"polar({self.origin}, {self.distance}, {self.angle}{ref})"
@@ -477,6 +500,10 @@ class Local(Node):
     keys: ClassVar[tuple[Key, ...]] = (Key("origin", "point"), Key("toward", "point"),
                                        Key("at", "value pair", ("u", "v")))
 
+    @property
+    def missing_where_coincide(self) -> tuple[str, str] | None:
+        return (self.origin, self.toward)
+
     def describe(self) -> str:
         return f"local({self.origin}->{self.toward}, {self.u}, {self.v})"
 
@@ -494,6 +521,10 @@ class Along(Node):
     distance: Expr
     kind: ClassVar[str] = "along"
     keys: ClassVar[tuple[Key, ...]] = (Key("line", "point pair"), Key("distance", "value"))
+
+    @property
+    def missing_where_coincide(self) -> tuple[str, str] | None:
+        return self.line
 
     def describe(self) -> str:
         return f"along({self.line[0]}->{self.line[1]}, {self.distance})"
@@ -588,6 +619,10 @@ class CircleCircle(_TwoRoot):
                                        Key("radii", "value pair", nonnegative=True), *_CHOICE)
     branch_names: ClassVar[tuple[str, ...]] = ("left", "right")
 
+    @property
+    def equidistant_from(self) -> tuple[str, ...]:
+        return self.centers
+
     def describe(self) -> str:
         (a, b), (ra, rb) = self.centers, self.radii
         return f"circle_circle({a}, {ra}; {b}, {rb})  [{self.choice()}]"
@@ -615,6 +650,14 @@ class _LineCircle(_TwoRoot):
     branch_names: ClassVar[tuple[str, ...]] = ("first", "second")
     joint: ClassVar[str] = "-"
     """How a step list joins the line's two points."""
+
+    @property
+    def equidistant_from(self) -> tuple[str, ...]:
+        return (self.center,)
+
+    @property
+    def missing_by_branch(self) -> bool:
+        return self.low != -np.inf or self.high != np.inf
 
     def describe(self) -> str:
         return (f"{self.kind}({self.line[0]}{self.joint}{self.line[1]}; {self.center}, "

@@ -155,12 +155,58 @@ def test_a_branch_that_decides_where_a_later_point_is_found_is_tracked_along_eve
     assert (held.valid != alone.valid).any()
 
 
-@given(st.lists(st.floats(-3, 3), min_size=2, max_size=25),
-       st.integers(0, 2**32 - 1))
-def test_variants_untracked_where_incomplete_along_random_paths(steps, seed):
+def test_a_coupler_point_leaves_the_dyad_untracked_where_it_folds():
+    # a point in the frame of A and B is missing only where they coincide, which B's
+    # branch cannot decide (both roots are b from A): B itself is then left untracked
+    c = Construction("coupler point")
+    for name, value in zip(NAMES, (10.0, 35.0, 30.0, 40.0), strict=True):
+        c.parameter(name, value)
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", "d", 0)
+    c.polar("A", "O2", "a", "theta")
+    c.circle_circle("B", ("A", "O4"), ("b", "c"), branch="left")
+    c.local("P", "A", "B", (20, 8))
+    rng = np.random.default_rng(11)
+    lengths = random_lengths(rng, 200)
+    values = np.linspace(0, 4 * np.pi, 181)
+    tracked = geokin.sweep(c, values, parameters=lengths)
+    batch = geokin.sweep(c, values, parameters=lengths, track_incomplete=False)
+    assert_untracked_only_where_incomplete(batch, tracked)
+    incomplete = ~tracked.valid.all(axis=1)
+    held = batch.branches["B"][incomplete]
+    assert (held == held[:, :1]).all()
+    assert (held != tracked.branches["B"][incomplete]).any()
+
+
+DEPENDENTS = {
+    # a point in the frame of A and B: blind to B's branch
+    "coupler point": lambda c: c.local("P", "A", "B", (12, 5)),
+    # in the frame of O2 and B, which B's roots are not equally far from
+    "point on O2-B": lambda c: c.local("Q", "O2", "B", (5, 2)),
+    "along B-O4": lambda c: c.along("R", ("B", "O4"), 3),
+    "polar off A-B": lambda c: c.polar("T", "O4", 6, 0.5, reference=("A", "B")),
+    # a second dyad on B, found on one root of B where not on the other
+    "dyad on B": lambda c: c.circle_circle("D", ("B", "O2"), ("e", "e"), branch="left"),
+    # roots off the segment A..B are missing: its own branch decides where it is found
+    "segment cut": lambda c: c.segment_circle("S", ("A", "B"), "O4", "c", branch="first"),
+}
+
+
+@given(st.lists(st.floats(-3, 3), min_size=2, max_size=25), st.integers(0, 2**32 - 1),
+       st.lists(st.sampled_from(sorted(DEPENDENTS)), unique=True, max_size=4),
+       st.booleans())
+def test_variants_untracked_where_incomplete_along_random_paths(steps, seed, dependents,
+                                                                 dyad_on_point):
     values = np.cumsum(steps)
-    lengths = random_lengths(np.random.default_rng(seed), 5)
+    rng = np.random.default_rng(seed)
+    lengths = {**random_lengths(rng, 6), "e": rng.uniform(5, 30, 6)}
     c = parametric_fourbar()
+    c.parameter("e", 10.0)
+    for name in dependents:
+        DEPENDENTS[name](c)
+    if dyad_on_point and "coupler point" in dependents:
+        c.circle_circle("F", ("P", "O4"), ("e", 25), branch="right")
     tracked = geokin.sweep(c, values, parameters=lengths)
     assert_untracked_only_where_incomplete(
         geokin.sweep(c, values, parameters=lengths, track_incomplete=False), tracked)
