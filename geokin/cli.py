@@ -74,7 +74,7 @@ import sys
 import threading
 import unicodedata
 import warnings
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TypeAlias
 
@@ -1114,8 +1114,12 @@ def _sensitivity_noise(result: Tolerance, output: str) -> float:
     return 8 * np.finfo(float).eps * size / (2 * SENSITIVITY_STEP)
 
 
-def _tolerance_text(result: Tolerance, construction: Construction) -> str:
-    """Return the study as the text ``geokin tolerance`` prints, angles in degrees."""
+def _tolerance_text(result: Tolerance, construction: Construction,
+                    changed: Mapping[str, float] | None = None) -> str:
+    """Return the study as the text ``geokin tolerance`` prints, angles in degrees.
+
+    ``changed`` holds the values ``--set`` gave, in the script's units.
+    """
     units = one_line(construction.units, 100) if construction.units else ""
     spread = ("sigma = T/3" if result.distribution == "normal" else "anywhere in +-T")
     assembled = int(result.assembled.sum())
@@ -1127,10 +1131,13 @@ def _tolerance_text(result: Tolerance, construction: Construction) -> str:
                  f"{k} = {result.construction.parameters[k]:g} +- {v:g}"
                  + (" deg" if k in angles else "")
                  for k, v in result.tolerances.items())
-             + (f" ({units})" if units and set(result.tolerances) - angles else ""),
-             f"assemble at every sample: {assembled:,} of {result.variants:,} "
-             f"({100 * result.assemblable_fraction:.2f}% +- "
-             f"{100 * result.assemblable_error:.2f}%)"]
+             + (f" ({units})" if units and set(result.tolerances) - angles else "")]
+    if changed:
+        lines.append("set: " + ", ".join(f"{k} = {v:g}" + (" deg" if k in angles else "")
+                                         for k, v in changed.items()))
+    lines.append(f"assemble at every sample: {assembled:,} of {result.variants:,} "
+                 f"({100 * result.assemblable_fraction:.2f}% +- "
+                 f"{100 * result.assemblable_error:.2f}%)")
     for node, count in result.failures.items():
         lines.append(f"  {count:,} fail first at node {node!r}")
     for point, p in result.paths.items():
@@ -1236,7 +1243,7 @@ def run_tolerance(args: argparse.Namespace) -> int:
         json.dump(data, sys.stdout, indent=2, allow_nan=False)
         sys.stdout.write("\n")
     else:
-        _print_lines(_tolerance_text(result, construction))
+        _print_lines(_tolerance_text(result, construction, _assignments(args.set, "--set")))
     if not result.assembled.any():
         raise AssemblyError("no variant assembles at every sample"
                             + ("; no picture is drawn" if plotting is not None else ""))

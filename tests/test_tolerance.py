@@ -388,6 +388,10 @@ def test_set_overrides_a_parameter_in_every_command(capsys, tmp_path):
     assert data["set"] == {"d": 26.0} and data["nominal"] == {"a": 10.55}
     assert data["strokes"]["rocker.angle"]["nominal"] == pytest.approx(
         math.degrees(rocker_stroke(10.55, 25, 14, 26)), abs=0.05)
+    # a saved report says which design it studied
+    status, out, _ = run(capsys, "tolerance", FOURBAR, "--set", "d=26", "--tol", "a=0.1",
+                         "-n", "20")
+    assert status == 0 and "\nset: d = 26\n" in out
     status, _, err = run(capsys, "plot", FOURBAR, "--set", "b=100", "-o", tmp_path / "x.png")
     # the fixed pivots are still drawn, with why nothing assembles
     assert status == 1 and "no sample can be assembled" in err
