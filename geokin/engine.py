@@ -225,7 +225,8 @@ def _deciding_branches(planned: list[_PlannedStep]) -> list[_PlannedStep]:
 
     A node's branch decides where it is found if one root can be missing
     where the other is not; it decides where a later node is found if that
-    node can be missing on its own and is built on it, at any remove, unless
+    node can be missing by where its points are (:attr:`Node.missing_by_position`)
+    and is built on it, at any remove, unless
     that node is missing only where two points coincide and every root of
     the node is as far from the other one.
     """
@@ -246,7 +247,7 @@ def _deciding_branches(planned: list[_PlannedStep]) -> list[_PlannedStep]:
         marked.append(replace(step, branch_decides=deciding))
         if deciding:
             decisive.update(node.depends_on())
-        elif node.fails_on_its_own:
+        elif node.missing_by_position:
             decisive.update(p for p in node.depends_on() if not blind_to(node, p))
     return marked[::-1]
 
@@ -373,10 +374,10 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         path at some sample of which it is missing. Without, the node keeps
         its initial branch along such a path wherever its branch cannot
         decide where anything is found: its two roots are found together,
-        and no later node that can be missing on its own is built on it,
-        at any remove (a point in the frame of two points counts only if
-        the node's roots are not equally far from the other point, as they
-        are from a circle's centre). What is found where (``valid``,
+        and no later node that where its points are can make missing (an
+        intersection) is built on it, at any remove (a point in the frame
+        of two points counts only if the node's roots are not equally far
+        from the other point, as they are from a circle's centre). What is found where (``valid``,
         ``failed_step``, ``reason_code``) and everything of the other paths
         are as with tracking; only that path's positions and branches may
         differ, and its branch events are not given. A study that keeps

@@ -261,13 +261,13 @@ class Node:
         return len(self.branch_names) or 1
 
     @property
-    def fails_on_its_own(self) -> bool:
-        """Whether the point can be missing where every point and value it is built on is found.
+    def missing_by_position(self) -> bool:
+        """Whether where the points it is built on are can make this point missing.
 
         So an intersection, which can miss, and a point in the frame of two
-        points, which has none where they coincide. Not a fixed point, nor one
-        at a distance and absolute angle from another: where such a point
-        is missing, so is something it is built on.
+        points, which has none where they coincide. Not a fixed point, built
+        on none, nor one at a distance and absolute angle from another: such
+        a point is missing only where one of its values, or its origin, is.
         """
         return True
 
@@ -405,7 +405,7 @@ class Fixed(Node):
     ground_kind: ClassVar[bool] = True
 
     @property
-    def fails_on_its_own(self) -> bool:
+    def missing_by_position(self) -> bool:
         return False
 
     def describe(self) -> str:
@@ -448,7 +448,7 @@ class Polar(Node):
         Key("reference", "point pair", required=False))
 
     @property
-    def fails_on_its_own(self) -> bool:
+    def missing_by_position(self) -> bool:
         return self.reference is not None  # no direction where the reference's points meet
 
     @property

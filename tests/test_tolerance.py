@@ -136,17 +136,59 @@ def test_path_statistics_and_strokes_are_those_of_the_variants_swept_one_by_one(
     assert t.valid_fraction.max() <= 1 and t.valid_fraction.min() >= t.assemblable_fraction
 
 
+def graze_and_gap():
+    """A four-bar that cannot be assembled near theta = 0 and whose roots meet at pi.
+
+    Crank a, ground 30, coupler b, rocker a + 30 - b: every variant of a and b
+    is stretched straight at theta = pi, where B changes branch, and with b
+    near 32 none reaches theta = 0.
+    """
+    c = geokin.Construction("graze and gap")
+    c.parameter("a", 10.0)
+    c.parameter("b", 32.0)
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 30, 0)
+    c.polar("A", "O2", "a", "theta")
+    c.circle_circle("B", ("A", "O4"), ("b", "a + 30 - b"), branch="left")
+    return c
+
+
 def test_the_paths_drawn_are_those_of_the_variants_swept_one_by_one():
     # the study tracks branches only along the variants that assemble everywhere: the
     # variants it draws are swept again whole, those that cannot be assembled too
-    c = fourbar()
-    t = tolerance(c, PLUS_MINUS_3, n=300, seed=2)
+    c = graze_and_gap()
+    values = np.linspace(0, 2 * np.pi, 145)
+    t = tolerance(c, {"a": 0.3, "b": 0.3}, n=50, seed=2, values=values)
     draws = t.draws()
     drawn = t.sample_paths["B"]
-    assert not t.assembled[:len(drawn)].all()
+    assert not t.assembled.any()
     for i in range(len(drawn)):
-        s = geokin.sweep(c.compile().with_parameters({k: v[i] for k, v in draws.items()}))
-        np.testing.assert_allclose(drawn[i], s["B"], rtol=0, atol=1e-12)
+        alone = geokin.sweep(c.compile().with_parameters({k: v[i] for k, v in draws.items()}),
+                             values)
+        assert alone.events  # B changes branch at pi: its first branch held would differ
+        np.testing.assert_allclose(drawn[i], alone["B"], rtol=0, atol=1e-12)
+
+
+def test_where_variants_fail_is_where_each_fails_alone():
+    # an intersection with a segment is missing where its root is off the segment:
+    # its branch decides that, so it is tracked along every variant
+    c = fourbar()
+    c.segment_circle("C", ("A", "B"), "O4", "c", branch="second")
+    values = np.linspace(0, 4 * np.pi, 181)
+    t = tolerance(c, PLUS_MINUS_3, n=300, seed=1, values=values)
+    draws = t.draws()
+    failures: dict[str, int] = {}
+    valid = np.zeros(len(values))
+    for i in range(t.variants):
+        s = geokin.sweep(c.compile().with_parameters({k: v[i] for k, v in draws.items()}),
+                         values)
+        valid += s.valid
+        if not s.valid.all():
+            node = c.compile().steps[s.failed_step[np.argmin(s.valid)] - 1].node.name
+            failures[node] = failures.get(node, 0) + 1
+    assert failures and t.failures == failures
+    np.testing.assert_array_equal(t.valid_fraction, valid / t.variants)
 
 
 def test_the_figures_do_not_depend_on_how_the_variants_are_cut():

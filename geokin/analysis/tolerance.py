@@ -402,11 +402,11 @@ def _evaluate_block(study: _Study, start: int, stop: int) -> _Block:
     if draw and not assembled[:draw].all():
         drawn = sweep(study.construction, study.inputs,
                       parameters={k: v[:draw] for k, v in values.items()})
+    drawn_shape = np.shape(drawn.valid)
     for name in study.points:
         x, y = (np.broadcast_to(c, valid.shape) for c in s.points.coords(name))
         if draw:
-            shape = np.shape(drawn.valid)
-            paths[name] = np.stack([np.broadcast_to(c, shape)[:draw]
+            paths[name] = np.stack([np.broadcast_to(c, drawn_shape)[:draw]
                                     for c in drawn.points.coords(name)], axis=-1)
         nominal = study.nominal_paths[name]
         # not np.hypot, several times slower: deviations are far from overflow
