@@ -275,8 +275,8 @@ def _stroke_from(reference, dx, dy) -> np.ndarray:
         largest = float(np.max(turn[members]))
         high_columns, low_columns = _near_extremes(base, largest)
         if largest < FROM_REFERENCE:
-            high = _extreme_angles(reference, dx, dy, members, high_columns, np.argmax)
-            low = _extreme_angles(reference, dx, dy, members, low_columns, np.argmin)
+            high = _extreme_angles(reference, dx, dy, tangent, members, high_columns, np.argmax)
+            low = _extreme_angles(reference, dx, dy, tangent, members, low_columns, np.argmin)
         else:
             high = _exact(base, cross, dot, members, high_columns).max(axis=1)
             low = _exact(base, cross, dot, members, low_columns).min(axis=1)
@@ -297,25 +297,30 @@ def _near_extremes(base, turn: float) -> tuple[np.ndarray, np.ndarray]:
             np.flatnonzero(base <= np.min(base) + reach))
 
 
-def _extreme_angles(reference, dx, dy, rows, columns, pick) -> np.ndarray:
+def _extreme_angles(reference, dx, dy, tangent, rows, columns, pick) -> np.ndarray:
     """Return the largest (``pick`` np.argmax) or least (np.argmin) angle of some rows.
 
     Sought over ``columns``, all within twice atan(turn) of the nominal's
     extreme, for rows that turn less than :data:`FROM_REFERENCE` from the
     nominal: every angle there is within three times atan(0.5) < 90 degrees of
-    the nominal link at that extreme, so it is the nominal angle there plus
-    the arctangent of the tangent from that link, which orders the columns
-    as the angles do. One arctangent a row, at the column picked.
+    the nominal link at that extreme, so its tangent from that link orders
+    the columns as the angles do. That tangent is found from the link's own
+    from the nominal at each column (``tangent``, cross over dot) and the
+    nominal's turn from the extreme, tan(a + b) = (tan a + tan b) / (1 - tan a
+    tan b). One arctangent a row, at the column picked.
     """
     ux, uy, base = reference
     at = columns[pick(base[columns])]  # the nominal's extreme
-    where = _cells(rows, columns)
-    x, y = dx[where], dy[where]
-    cross = ux[at] * y - uy[at] * x
-    dot = ux[at] * x + uy[at] * y
-    chosen = pick(cross / dot, axis=1)
-    every = np.arange(len(rows))
-    return base[at] + np.arctan2(cross[every, chosen], dot[every, chosen])
+    shift = np.tan(base[columns] - base[at])
+    turned = tangent[_cells(rows, columns)]
+    # (shift + t) / (1 - shift t), in the memory of the gathered tangents
+    denominator = shift * turned
+    np.subtract(1.0, denominator, out=denominator)
+    turned += shift
+    turned /= denominator
+    picked = columns[pick(turned, axis=1)]
+    x, y = dx[rows, picked], dy[rows, picked]
+    return base[at] + np.arctan2(ux[at] * y - uy[at] * x, ux[at] * x + uy[at] * y)
 
 
 def _cells(rows: np.ndarray, columns: np.ndarray) -> tuple:
