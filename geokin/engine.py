@@ -380,7 +380,7 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         from the other point, as they are from a circle's centre). What is found where (``valid``,
         ``failed_step``, ``reason_code``) and everything of the other paths
         are as with tracking; only that path's positions and branches may
-        differ, and its branch events are not given. A study that keeps
+        differ, and the node gives no branch events there. A study that keeps
         only the paths found everywhere needs no more, and is spared
         looking for the edges of each path's gaps.
 
@@ -800,8 +800,9 @@ def sweep(construction: Construction | Compiled,
         cannot be assembled at every sample. Without, such a variant's
         ``valid``, ``failed_step`` and ``reason_code`` are as with tracking,
         and so is everything of the variants assembled everywhere; its
-        positions and branches may not be, and its events are not given
-        (which nodes are left untracked: :func:`~geokin.engine.evaluate`).
+        positions and branches may not be, and the nodes left untracked
+        along it give no events there (which nodes:
+        :func:`~geokin.engine.evaluate`).
         A study of the variants that assemble is spared finding the edges
         of the others' gaps.
 
@@ -1410,7 +1411,8 @@ class _Tracker:
             pairs &= ~cut
         pairs = np.flatnonzero(pairs)
         if pairs.size:
-            inner_apart = self._apart(position, per_step(np.concatenate([pairs, pairs])),
+            twice = np.concatenate([pairs, pairs])  # steps of the samples looked at
+            inner_apart = self._apart(position, twice if kept is None else kept[twice],
                                       np.repeat([0.382, 0.618], pairs.size))
             together[pairs] = ~(inner_apart > MEET_RTOL).reshape(2, -1).any(axis=0)
         flip_after = _flips_at_samples(at_sample, present, together, inputs, self.length)

@@ -179,13 +179,60 @@ def test_a_coupler_point_leaves_the_dyad_untracked_where_it_folds():
     assert (held != tracked.branches["B"][incomplete]).any()
 
 
+def test_a_frame_on_a_point_one_root_can_reach_keeps_the_root_tracked():
+    # O4 and A = (s, -3) are B's centres, F = (4, -3) is not: at s = -4 one root of B
+    # is exactly F, where the frame F -> B has no direction. B's roots meet at s = 0
+    # (|A - O4| = 8 - 5), where its branch changes, and it cannot be assembled beyond
+    # s = -12.4: which root is F at s = -4 is the tracked branch's business
+    for branch in ("left", "right"):
+        c = Construction("frame on a point a root passes through")
+        c.parameter("k", 1.0)
+        c.input("s", kind="length", range=(-14, 3))
+        c.fixed("O4", 0, 0)
+        c.fixed("A", "s", -3)
+        c.fixed("F", 4, -3)
+        c.circle_circle("B", ("A", "O4"), (8, 5), branch=branch)
+        c.local("P", "F", "B", ("k", 0))
+        values = np.arange(3.0, -14.5, -0.5)
+        sizes = {"k": [1.0, 2.0]}
+        tracked = geokin.sweep(c, values, parameters=sizes)
+        assert not tracked.valid.all(axis=1).any()
+        # held on its first branch, B would be found elsewhere than F at s = -4
+        at = int(np.flatnonzero(values == -4)[0])
+        held = geokin.engine.evaluate(c, {"s": values}, len(values),
+                                      held={"B": ("left", "right").index(branch)})
+        assert held.valid[at] != tracked.valid[0, at]
+        assert_untracked_only_where_incomplete(
+            geokin.sweep(c, values, parameters=sizes, track_incomplete=False), tracked)
+
+
+def test_a_pause_at_a_change_point_among_variants_that_fold():
+    # the crank stops at pi, where a + 30 = b + c for the first variant: its roots
+    # meet at two samples in a row, looked into among the samples of the variants the
+    # quick test leaves open (the second folds)
+    c = Construction("change point")
+    for name, value in {"a": 10.0, "b": 32.0, "c": 8.0}.items():
+        c.parameter(name, value)
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 30, 0)
+    c.polar("A", "O2", "a", "theta")
+    c.circle_circle("B", ("A", "O4"), ("b", "c"), branch="left")
+    values = np.concatenate([np.linspace(np.pi / 2, np.pi, 46),
+                             np.linspace(np.pi, 3 * np.pi / 2, 46)])
+    sizes = {"b": [32.0, 25.0], "c": [8.0, 20.0]}
+    batch = geokin.sweep(c, values, parameters=sizes)
+    assert_same_as_alone(batch, lambda i: c.compile().with_parameters(
+        {k: v[i] for k, v in sizes.items()}), values)
+
+
 DEPENDENTS = {
-    # a point in the frame of A and B: blind to B's branch
+    # points in frames of B and one of its centres, A or O4: blind to B's branch
     "coupler point": lambda c: c.local("P", "A", "B", (12, 5)),
-    # in the frame of O2 and B, which B's roots are not equally far from
-    "point on O2-B": lambda c: c.local("Q", "O2", "B", (5, 2)),
     "along B-O4": lambda c: c.along("R", ("B", "O4"), 3),
     "polar off A-B": lambda c: c.polar("T", "O4", 6, 0.5, reference=("A", "B")),
+    # in the frame of O2 and B, which B's roots are not equally far from
+    "point on O2-B": lambda c: c.local("Q", "O2", "B", (5, 2)),
     # a second dyad on B, found on one root of B where not on the other
     "dyad on B": lambda c: c.circle_circle("D", ("B", "O2"), ("e", "e"), branch="left"),
     # roots off the segment A..B are missing: its own branch decides where it is found
