@@ -1133,7 +1133,8 @@ def _tolerance_text(result: Tolerance, construction: Construction,
                  for k, v in result.tolerances.items())
              + (f" ({units})" if units and set(result.tolerances) - angles else "")]
     if changed:
-        lines.append("set: " + ", ".join(f"{k} = {v:g}" + (" deg" if k in angles else "")
+        lines.append("set: " + ", ".join(f"{k} = {shortest_text(v)}"
+                                         + (" deg" if k in angles else "")
                                          for k, v in changed.items()))
     lines.append(f"assemble at every sample: {assembled:,} of {result.variants:,} "
                  f"({100 * result.assemblable_fraction:.2f}% +- "
