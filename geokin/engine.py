@@ -225,10 +225,10 @@ def _deciding_branches(planned: list[_PlannedStep]) -> list[_PlannedStep]:
 
     A node's branch decides where it is found if one root can be missing
     where the other is not; it decides where a later node is found if that
-    node can be missing by where its points are (:attr:`Node.missing_by_position`)
-    and is built on it, at any remove, unless
-    that node is missing only where two points coincide and every root of
-    the node is as far from the other one.
+    node can be missing by where its points are
+    (:attr:`Node.missing_by_position`) and is built on it, at any remove,
+    unless that node is missing only where two points coincide and every
+    root of the node is as far from the other one.
     """
     by_point = {p: step.node for step in planned for p in step.node.defines}
 
@@ -377,12 +377,13 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         and no later node that where its points are can make missing (an
         intersection) is built on it, at any remove (a point in the frame
         of two points counts only if the node's roots are not equally far
-        from the other point, as they are from a circle's centre). What is found where (``valid``,
-        ``failed_step``, ``reason_code``) and everything of the other paths
-        are as with tracking; only that path's positions and branches may
-        differ, and the node gives no branch events there. A study that keeps
-        only the paths found everywhere needs no more, and is spared
-        looking for the edges of each path's gaps.
+        from the other point, as they are from a circle's centre). What is
+        found where (``valid``, ``failed_step``, ``reason_code``) and
+        everything of the other paths are as with tracking; only that
+        path's positions and branches may differ, and the node gives no
+        branch events there. A study that keeps only the paths found
+        everywhere needs no more, and is spared looking for the edges of
+        each path's gaps.
 
     Returns
     -------
@@ -1292,18 +1293,19 @@ class _Tracker:
         margin = _over_samples(cand.margin, n)
         # the samples looked at closely below: all, or those of the paths (variants) that
         # the quick test, each path on its own, does not settle
-        keep = whole = None
-        if self.cut is not None and not (self.track_incomplete
-                                         or self.plan[position].branch_decides):
-            # its branch along a path it misses somewhere decides nothing that is kept
-            whole = self._whole_paths(cand)
-        if not self.any_coarse and self.cut is not None:
-            keep = self._unsettled(margin, whole)
-        elif whole is not None:
-            keep = self._samples_of(np.flatnonzero(whole))
-        if keep is not None and keep.size == 0:
-            self.labels[node.name] = start
-            return start, []
+        keep = None
+        if self.cut is not None:
+            whole = None
+            if not (self.track_incomplete or self.plan[position].branch_decides):
+                # its branch along a path it misses somewhere decides nothing that is kept
+                whole = self._whole_paths(cand)
+            if not self.any_coarse:
+                keep = self._unsettled(margin, whole)
+            elif whole is not None:
+                keep = self._samples_of(np.flatnonzero(whole))
+            if keep is not None and keep.size == 0:
+                self.labels[node.name] = start
+                return start, []
         elif not self.any_coarse:
             # rule 3's test over the whole sweep at once, which settles most sweeps: the
             # half-distance between the roots over the node's scale, u (the square
