@@ -19,11 +19,11 @@ from geokin.kinematics import _variant_sizes, motion
 NAMES = ("a", "b", "c", "d")
 
 
-def parametric_fourbar(near=False, lengths=(10.0, 35.0, 30.0, 40.0)):
-    """A four-bar with named lengths, a second dyad that folds, and a slider."""
-    c = Construction("four-bar variants")
-    for name, value in zip(NAMES, lengths, strict=True):
-        c.parameter(name, float(value))
+def named_fourbar(name, near=False, lengths=(10.0, 35.0, 30.0, 40.0)):
+    """A four-bar whose lengths a, b, c, d are parameters: crank O2-A, dyad A-B-O4."""
+    c = Construction(name)
+    for key, value in zip(NAMES, lengths, strict=True):
+        c.parameter(key, float(value))
     c.input("theta")
     c.fixed("O2", 0, 0)
     c.fixed("O4", "d", 0)
@@ -32,6 +32,12 @@ def parametric_fourbar(near=False, lengths=(10.0, 35.0, 30.0, 40.0)):
         c.circle_circle("B", ("A", "O4"), ("b", "c"), near=(10, 30))
     else:
         c.circle_circle("B", ("A", "O4"), ("b", "c"), branch="left")
+    return c
+
+
+def parametric_fourbar(near=False, lengths=(10.0, 35.0, 30.0, 40.0)):
+    """A four-bar with named lengths, a second dyad that folds, and a slider."""
+    c = named_fourbar("four-bar variants", near, lengths)
     # roots that meet and part as the crank turns: a line through A and B cut by
     # a circle about O4
     c.line_circle("C", ("A", "B"), "O4", "c", branch="first")
@@ -40,6 +46,13 @@ def parametric_fourbar(near=False, lengths=(10.0, 35.0, 30.0, 40.0)):
     c.link("rocker", "O4", "B")
     c.slider("block", "C", ("A", "B"))
     return c
+
+
+def sample_path(kind, rng):
+    """Input values along a path of one kind: two turns, a random walk, or coarse steps."""
+    return {"turns": np.linspace(0, 4 * np.pi, 181),
+            "random walk": np.cumsum(rng.normal(0.3, 0.5, 60)),
+            "coarse": np.linspace(0, 2 * np.pi, 9)}[kind]
 
 
 def random_lengths(rng, count):
@@ -77,9 +90,7 @@ def assert_same_as_alone(batch, construction_of, values):
 @pytest.mark.parametrize("path", ["turns", "random walk", "coarse"])
 def test_300_variants_equal_their_own_sweeps(path):
     rng = np.random.default_rng({"turns": 1, "random walk": 2, "coarse": 3}[path])
-    values = {"turns": np.linspace(0, 4 * np.pi, 181),
-              "random walk": np.cumsum(rng.normal(0.3, 0.5, 60)),
-              "coarse": np.linspace(0, 2 * np.pi, 9)}[path]
+    values = sample_path(path, rng)
     c = parametric_fourbar()
     lengths = random_lengths(rng, 300)
     batch = geokin.sweep(c, values, parameters=lengths)
@@ -110,9 +121,7 @@ def test_variants_untracked_where_incomplete_keep_what_decides_validity(path):
     # it is tracked along every variant; C's, which decides nothing, only along the
     # variants found everywhere
     rng = np.random.default_rng({"turns": 1, "random walk": 2, "coarse": 3}[path])
-    values = {"turns": np.linspace(0, 4 * np.pi, 181),
-              "random walk": np.cumsum(rng.normal(0.3, 0.5, 60)),
-              "coarse": np.linspace(0, 2 * np.pi, 9)}[path]
+    values = sample_path(path, rng)
     c = parametric_fourbar()
     lengths = random_lengths(rng, 300)
     tracked = geokin.sweep(c, values, parameters=lengths)
@@ -158,14 +167,7 @@ def test_a_branch_that_decides_where_a_later_point_is_found_is_tracked_along_eve
 def test_a_coupler_point_leaves_the_dyad_untracked_where_it_folds():
     # a point in the frame of A and B is missing only where they coincide, which B's
     # branch cannot decide (both roots are b from A): B itself is then left untracked
-    c = Construction("coupler point")
-    for name, value in zip(NAMES, (10.0, 35.0, 30.0, 40.0), strict=True):
-        c.parameter(name, value)
-    c.input("theta")
-    c.fixed("O2", 0, 0)
-    c.fixed("O4", "d", 0)
-    c.polar("A", "O2", "a", "theta")
-    c.circle_circle("B", ("A", "O4"), ("b", "c"), branch="left")
+    c = named_fourbar("coupler point")
     c.local("P", "A", "B", (20, 8))
     rng = np.random.default_rng(11)
     lengths = random_lengths(rng, 200)
