@@ -66,6 +66,7 @@ Time derivatives follow by the chain rule from the input's rate
 from __future__ import annotations
 
 import math
+import threading
 from collections.abc import Mapping
 from contextlib import nullcontext
 from dataclasses import dataclass
@@ -366,7 +367,8 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
     noise = POSITION_ROUNDING * _EPS * ((size if sizes is None else sizes) + distance)
     # a ground point does not move: its derivatives are zero wherever it is assembled
     moving = [p for p in names if p not in compiled.ground]
-    still = read_only(np.where(sweep.valid, 0.0, np.nan)[:, None] * np.ones(2))
+    still = (np.broadcast_to(np.zeros(2), (n, 2)) if sweep.valid.all()  # no memory
+             else read_only(np.where(sweep.valid, 0.0, np.nan)[:, None] * np.ones(2)))
     # the moving points' derivatives and errors as rows of one array each, every
     # coordinate contiguous: the stencils work on all points at once
     firsts, seconds = np.empty((len(moving), 2, n)), np.empty((len(moving), 2, n))
@@ -383,14 +385,17 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
     # in another frame the sample itself is evaluated again: the sweep's own
     # positions carry the rounding of the far frame
     extra = () if origin is None else (0,)
+    work = None
     for lo in range(0, n, SAMPLES_PER_BLOCK):
         hi = min(lo + SAMPLES_PER_BLOCK, n)
         block = _Block(sweep, slice(lo, hi), rates, h, origin, noise, QUICK + extra, quick=True)
+        if work is None:
+            work = _stencil_memory((4, len(moving), 2, min(n, SAMPLES_PER_BLOCK)))
         ok = block.valid(QUICK + extra) & sweep.valid[lo:hi]
         into = _Into(firsts[:, :, lo:hi], seconds[:, :, lo:hi], first_error[lo:hi],
                      second_error[lo:hi], errors1[:, lo:hi], errors2[:, lo:hi],
                      (largest[0][lo:hi], largest[1][lo:hi]))
-        again = block.quick(moving, into, _at(noise, slice(lo, hi)))
+        again = block.quick(moving, into, _at(noise, slice(lo, hi)), work)
         stencil[lo:hi][ok] = 0
         # one-sided stencils where no central one can be assembled: few samples
         rest = lo + np.flatnonzero(~ok)
@@ -422,6 +427,24 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
             stencil[rest[forward]], stencil[rest[backward]] = 1, -1
     return Derivatives(label, h, first, second, stencil, first_error, second_error,
                        first_errors, second_errors)
+
+
+_STENCIL_MEMORY = threading.local()
+
+
+def _stencil_memory(shape: tuple[int, ...]) -> np.ndarray:
+    """Return this thread's memory for the quick stencil's differences, kept between motions.
+
+    A fresh array of this size each time would cost page faults that take a
+    third of a motion of a few thousand samples. Up to 2**22 floats are kept.
+    """
+    size = math.prod(shape)
+    buffer = getattr(_STENCIL_MEMORY, "buffer", None)
+    if buffer is None or buffer.size < size:
+        buffer = np.empty(size)
+        if size <= 2**22:
+            _STENCIL_MEMORY.buffer = buffer
+    return buffer[:size].reshape(shape)
 
 
 def _frame(sweep: Sweep, size: float) -> tuple[np.ndarray, tuple[float, float] | None]:
@@ -543,7 +566,8 @@ class _Block:
         picked = [base, *(rows[self.offsets.index(k)] for k in offsets)]
         return picked if mask.all() else [p[mask] for p in picked]
 
-    def quick(self, moving: list[str], into: _Into, noise: float | np.ndarray) -> np.ndarray:
+    def quick(self, moving: list[str], into: _Into, noise: float | np.ndarray,
+              work: np.ndarray) -> np.ndarray:
         r"""Differentiate every sample of the block on :data:`QUICK`; return where to refine.
 
         Parameters
@@ -556,6 +580,9 @@ class _Block:
             assembled: the caller overwrites those samples).
         noise : float or ndarray
             The rounding of positions, for all samples or each.
+        work : ndarray, shape (4, P, 2, at least M)
+            Memory for the differences, reused from block to block: a fresh
+            array each block would cost page faults on every one.
 
         Returns
         -------
@@ -590,36 +617,34 @@ class _Block:
             second_error[...] = ROUNDING_QUICK[1] * noise / (h * h)
             speed2[...] = accel2[...] = 0.0
             return np.zeros(self.m, dtype=bool)
-        m, points = self.m, 2 * len(moving)
+        m = self.m
         before, after, farther = (self.offsets.index(k) for k in QUICK)
-        # every point's x and y at each offset, (K, 2P, M), and at the sample itself
-        table = np.empty((len(self.offsets), points, m))
+        # forward = f_1 - f_0, backward = f_0 - f_-1 and third = f_2 - f_1 (made the
+        # third difference below), every point's x and y, (P, 2, M): taken straight
+        # from the evaluations, into memory reused from block to block
+        forward, backward, third, across = (part[..., :m] for part in work)
         for i, name in enumerate(moving):
+            # the sample itself: evaluated again in another frame, else the sweep's
+            at_sample = None if 0 in self.offsets else self.sweep.points.xy(name)
             for axis, v in enumerate(self.evaluated.points.coords(name)):
-                table[:, 2 * i + axis] = np.reshape(v, (-1, m)) if np.ndim(v) else v
-        if 0 in self.offsets:
-            f0 = table[self.offsets.index(0)]
-        else:
-            f0 = np.empty((points, m))
-            for i, name in enumerate(moving):
-                for axis, w in enumerate(self.sweep.points.xy(name)):
-                    f0[2 * i + axis] = w[self.at]
-        # the differences in place, the table's rows reused as each is used up
-        third = np.subtract(table[farther], table[after], out=table[farther])
-        forward = np.subtract(table[after], f0, out=table[after])
-        backward = np.subtract(f0, table[before], out=table[before])
-        across = np.add(forward, backward, out=f0)  # f_1 - f_-1
+                rows = np.reshape(v, (-1, m)) if np.ndim(v) else np.full((len(self.offsets), m), v)
+                f0 = (rows[self.offsets.index(0)] if at_sample is None
+                      else at_sample[axis][self.at])
+                np.subtract(rows[after], f0, out=forward[i, axis])
+                np.subtract(f0, rows[before], out=backward[i, axis])
+                np.subtract(rows[farther], rows[after], out=third[i, axis])
+        np.add(forward, backward, out=across)  # f_1 - f_-1
         forward -= backward  # now f_1 - 2 f_0 + f_-1, about h**2 f''
         third -= backward
         third -= forward
         third -= forward  # f_2 - 3 f_1 + 3 f_0 - f_-1
         across *= 3
         across -= third
-        d1 = np.multiply(across.reshape(-1, 2, m), 1 / (6 * h), out=into.first)
-        d2 = np.multiply(forward.reshape(-1, 2, m), 1 / (h * h), out=into.second)
+        d1 = np.multiply(across, 1 / (6 * h), out=into.first)
+        d2 = np.multiply(forward, 1 / (h * h), out=into.second)
         # each point's squares, (P, M), x's plus y's as for one point, into rows freed
-        squares = [np.multiply(d, d, out=spare.reshape(-1, 2, m)) for d, spare in
-                   ((d1, across), (d2, backward), (third.reshape(-1, 2, m), forward))]
+        squares = [np.multiply(d, d, out=spare) for d, spare in
+                   ((d1, across), (d2, backward), (third, forward))]
         rate, curvature, third2 = (np.add(q[:, 0], q[:, 1], out=q[:, 0]) for q in squares)
         with np.errstate(divide="ignore", invalid="ignore"):
             # (h / d)**2, at most 1 (where the point does not move, 0 / 0 is NaN and

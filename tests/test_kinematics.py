@@ -1,6 +1,6 @@
 import numpy as np
 import pytest
-from mechanisms import R1, R2, R3, R4, slider_crank_closed_form, triple_rocker
+from mechanisms import R1, R2, R3, R4, coupler_fourbar, slider_crank_closed_form, triple_rocker
 
 from geokin import Construction, sweep
 from geokin.kinematics import RELATIVE_STEP, input_derivatives, motion, slider_positions
@@ -536,6 +536,25 @@ def test_blocks_of_samples_give_the_same_derivatives_as_one_pass(monkeypatch):
         np.testing.assert_array_equal(blocked.acceleration[name], whole.acceleration[name])
     np.testing.assert_array_equal(blocked.flagged, whole.flagged)
     np.testing.assert_array_equal(blocked.derivatives.stencil, whole.derivatives.stencil)
+
+
+def test_motions_one_after_another_and_in_threads_each_keep_their_own_results():
+    """The stencil's memory is kept from motion to motion: no result may depend on it."""
+    from concurrent.futures import ThreadPoolExecutor
+
+    sweeps = [sweep(triple_rocker("crank"), np.linspace(0, 2 * np.pi, 3001)),  # 2 moving
+              sweep(coupler_fourbar(), np.linspace(0.3, 5.0, 2000))]         # 3 moving
+    alone = [motion(s) for s in sweeps]
+    after_the_other = [motion(s) for s in sweeps[::-1]][::-1]
+    with ThreadPoolExecutor(8) as pool:
+        threaded = list(pool.map(motion, sweeps * 12))
+    for got in (after_the_other, *zip(threaded[::2], threaded[1::2], strict=True)):
+        for m, expected in zip(got, alone, strict=True):
+            for name in expected.velocity:
+                np.testing.assert_array_equal(m.velocity[name], expected.velocity[name])
+                np.testing.assert_array_equal(m.acceleration[name], expected.acceleration[name])
+            np.testing.assert_array_equal(m.velocity_error, expected.velocity_error)
+            np.testing.assert_array_equal(m.flagged, expected.flagged)
 
 
 @pytest.mark.parametrize("speed", [0.0, -1.0, np.nan, np.inf])
