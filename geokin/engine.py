@@ -23,7 +23,8 @@ Branch rules
    :data:`LENGTH_RESOLUTION`) and the construction is evaluated at
    intermediate inputs, all doubtful pieces at once, cutting pieces finer
    (:data:`CUTS`) until the roots provably stay apart or come within
-   :data:`MEET_RTOL` of the node's scale of each other: they meet there.
+   :data:`MEET_RTOL` of the node's scale of each other (more for a node
+   far from the origin: :func:`_meet_tolerance`): they meet there.
 4. Roots that meet at a sample (within :data:`MEET_RTOL`) meet there: the
    node changes branch after that sample if it can be assembled at the
    samples on both sides and the path goes on through the sample; where the
@@ -47,6 +48,7 @@ import threading
 import weakref
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, replace
+from functools import partial
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -67,7 +69,14 @@ MEET_RTOL = 1e-7
 Near a meeting the distance between the roots comes from the square root of
 a difference of squares, so it is known only to about the square root of
 the machine epsilon (1.5e-8) of the scale: this is as close as roots can be
-told apart."""
+told apart. A node whose coordinates are R times its scale (far from the
+origin of the frame it is evaluated in) has them rounded R times coarser, and
+its roots meet within ``MEET_RTOL * sqrt(R)`` (:func:`_meet_tolerance`)."""
+
+FAR_RATIO = 1e8
+"""The largest ratio of a node's coordinates to its scale that widens
+:data:`MEET_RTOL`: beyond it the node's coordinates keep too few of its digits
+for its roots to be told apart at all."""
 
 SAFETY = 2.0
 """A step is settled without looking inside when the roots stay further apart,
@@ -95,6 +104,15 @@ PIECES_PER_BLOCK = 2**15
 """How many pieces of doubtful steps are evaluated together, at most (about;
 one step's pieces stay together): memory stays bounded however coarse and
 long the sweep."""
+
+MAX_OPEN_PIECES = 4 * PIECES_PER_BLOCK
+"""The most pieces of the steps looked into together that may be open (neither
+settled nor met) after a round. More cannot come from a meeting or the edge of
+a gap, which leave a few pieces open each, but from roots whose distance, or
+whose existence, is rounding noise over a whole stretch (a node far from the
+origin of its frame, its circles touching all along): what is still open then
+lies within rounding, as after :data:`MAX_HALVINGS` rounds, and memory stays
+bounded."""
 
 MAX_HALVINGS = 60
 """How many rounds a doubtful piece of a step may be cut in (each cuts it in
@@ -513,7 +531,9 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
                     if tracker is None:
                         label = first
                     else:
-                        label, found = tracker.track(position, cand, first)
+                        label, found = tracker.track(
+                            position, cand, first,
+                            partial(_scale_at_samples, node, coords, values, rows))
                         events.extend(found)
                 x, y = _choose(cand, label)
                 labels[node.name] = label
@@ -1284,8 +1304,13 @@ class _Tracker:
         # memory for the per-step work of the whole-sweep test, reused from node to node
         self.scratch = np.empty(n - 1) if scratch is None else scratch
 
-    def track(self, position: int, cand, start: int | np.ndarray):
-        """Return the branch of node ``plan[position]`` at every sample, and its events."""
+    def track(self, position: int, cand, start: int | np.ndarray,
+              scale_of: Callable[[], np.ndarray | None] | None = None):
+        """Return the branch of node ``plan[position]`` at every sample, and its events.
+
+        ``scale_of`` gives the node's scale at every sample, when its roots are
+        looked at closely (see :func:`_meet_tolerance`).
+        """
         if not self.prepared:
             self._prepare()
         node = self.plan[position].node
@@ -1393,14 +1418,21 @@ class _Tracker:
         if cut is not None:
             doubtful &= ~cut
         doubtful = np.flatnonzero(doubtful)
-        at_sample = present & (apart <= MEET_RTOL)
+        tolerance = _meet_tolerance(cand, None if scale_of is None else scale_of(), n)
+        step_tolerance = tolerance  # a step's: the larger of its ends'
+        if isinstance(tolerance, np.ndarray):
+            if keep is not None:
+                tolerance = tolerance[keep]
+            step_tolerance = np.fmax(tolerance[:-1], tolerance[1:])
+        at_sample = present & (apart <= tolerance)
         # each doubtful step is looked into at two pieces at least, so many steps at a
         # time that their pieces stay within a block of memory
         pieces = np.maximum(pieces[doubtful], 2).astype(np.int64)
         block = np.cumsum(pieces) // PIECES_PER_BLOCK
         cuts = np.flatnonzero(np.diff(block)) + 1
         inner = np.concatenate([np.empty(0)] + [
-            self._meetings_inside(position, steps, counts, reach[steps], apart, at_sample, kept)
+            self._meetings_inside(position, steps, counts, reach[steps], apart, at_sample,
+                                  _at(step_tolerance, steps), kept)
             for steps, counts in zip(np.split(doubtful, cuts), np.split(pieces, cuts),
                                      strict=True) if steps.size])
         inner.sort()
@@ -1416,7 +1448,8 @@ class _Tracker:
             twice = np.concatenate([pairs, pairs])  # steps of the samples looked at
             inner_apart = self._apart(position, twice if kept is None else kept[twice],
                                       np.repeat([0.382, 0.618], pairs.size))
-            together[pairs] = ~(inner_apart > MEET_RTOL).reshape(2, -1).any(axis=0)
+            together[pairs] = ~(inner_apart > _at(step_tolerance, twice)).reshape(2, -1).any(
+                axis=0)
         flip_after = _flips_at_samples(at_sample, present, together, inputs, self.length)
         if keep is not None:
             flip_after, looked = np.zeros(n, dtype=bool), flip_after
@@ -1448,7 +1481,7 @@ class _Tracker:
         return label, events
 
     def _meetings_inside(self, position, steps, pieces, step_reach, apart, at_sample,
-                         kept=None):
+                         step_tolerance, kept=None):
         """Return where the roots meet inside the given steps, as step + fraction, sorted.
 
         Each step is cut into its pieces; pieces whose roots neither stay
@@ -1462,7 +1495,8 @@ class _Tracker:
         (rule 4) and are left out here. Where only some samples are looked
         at, ``steps``, ``apart`` and ``at_sample`` are of those, and
         ``kept`` gives the sweep's step of each; the meetings are returned
-        on the sweep's steps.
+        on the sweep's steps. ``step_tolerance`` is each step's
+        :func:`_meet_tolerance` (a number for all).
         """
         def sweep_step(step):
             return step if kept is None else kept[step]
@@ -1484,7 +1518,8 @@ class _Tracker:
         rate = np.fmax(rate, np.where(last, rate, np.roll(rate, -1)))
         rate = np.fmax(rate, np.where(k == 0, rate, np.roll(rate, 1)))
         rate = np.fmax(rate, np.repeat(step_reach, pieces))
-        tolerance = MEET_RTOL
+        tolerance = (step_tolerance if np.ndim(step_tolerance) == 0
+                     else np.repeat(step_tolerance, pieces))
         found_step, found_low, found_high = [], [], []
         edge_step, edge_low, edge_high = [], [], []
         for _ in range(MAX_HALVINGS):
@@ -1510,10 +1545,23 @@ class _Tracker:
             found_high.append(high[meet])
             if not open_.any():
                 break
+            if np.count_nonzero(open_) > MAX_OPEN_PIECES:
+                # rounding noise over a stretch: its gaps' edges and its meetings lie
+                # where it is still open
+                edge, meeting = open_ & straddling, open_ & ~straddling
+                edge_step.append(step[edge])
+                edge_low.append(low[edge])
+                edge_high.append(high[edge])
+                found_step.append(step[meeting])
+                found_low.append(low[meeting])
+                found_high.append(high[meeting])
+                break
             # each open piece is cut as finely as its test asks, in 2 to CUTS pieces
             # (a power of two); one holding a gap's edge in CUTS, to find it in few
             # rounds
             closest, reach = closest[open_], reach[open_]
+            if np.ndim(tolerance):
+                tolerance = tolerance[open_]
             with np.errstate(divide="ignore", invalid="ignore"):
                 asks = np.where(closest <= tolerance, reach / tolerance, SAFETY * reach / closest)
                 asks = 2.0 ** np.ceil(np.log2(asks))
@@ -1551,6 +1599,8 @@ class _Tracker:
             new = np.flatnonzero(new)
             owner = owner[new]
             step, rate = step[owner], rate[owner]
+            if np.ndim(tolerance):
+                tolerance = tolerance[owner]
             low, high, at_low, at_high = ends[new], ends[new + 1], at[new], at[new + 1]
         else:
             # still open after every cut: the roots meet within rounding of the inputs
@@ -1560,10 +1610,10 @@ class _Tracker:
         edges = tuple(map(np.concatenate, (edge_step, edge_low, edge_high)))
         return self._merge_meetings(position, steps, np.concatenate(found_step),
                                     np.concatenate(found_low), np.concatenate(found_high),
-                                    at_sample, edges, sweep_step)
+                                    at_sample, edges, step_tolerance, sweep_step)
 
     def _merge_meetings(self, position, steps, step, low, high, at_sample, edges,
-                        sweep_step=None):
+                        step_tolerance=MEET_RTOL, sweep_step=None):
         """Return one meeting per place the roots meet, as step + fraction, sorted.
 
         Touching meeting pieces are one meeting; so are pieces apart by a gap
@@ -1572,7 +1622,8 @@ class _Tracker:
         several islands). Meetings joined to a sample where the roots meet
         belong to that sample (rule 4), and those joined to the edge of a
         stretch that cannot be assembled belong to that stretch (rule 5):
-        both are left out.
+        both are left out. ``step_tolerance`` is the :func:`_meet_tolerance`
+        of each of ``steps`` (sorted), or a number for all.
         """
         # the meeting samples at the ends of the steps looked into, as pieces of no
         # width, and the edges of gaps: a group holding one of them is left out
@@ -1596,7 +1647,7 @@ class _Tracker:
                                  0.5 * (high[at] + low[at + 1]))
             # roots that cannot be assembled between two pieces: the edge of a gap,
             # which flickers within rounding of the primitives' tangency test
-            joined[at] = ~(middle > 4 * MEET_RTOL)
+            joined[at] = ~(middle > 4 * _at(step_tolerance, np.searchsorted(steps, step[at])))
             owned[at[np.isnan(middle)] + 1] = True
         group = np.concatenate([[0], np.cumsum(~joined)])
         count = group[-1] + 1
@@ -1733,6 +1784,47 @@ def _node_scale(cand, n) -> float:
         if np.isfinite(scale) and scale > 0:
             return scale
     return 1.0
+
+
+def _at(value, at):
+    """Return a number, or an array's values at some indices."""
+    return value if np.ndim(value) == 0 else value[at]
+
+
+def _meet_tolerance(cand, scale, n: int) -> float | np.ndarray:
+    """Return how close a node's roots meet at every sample, relative to its scale.
+
+    That is :data:`MEET_RTOL`, widened where the roots' coordinates are R
+    times the node's ``scale`` (each sample's, or None) by ``sqrt(R)``: they
+    are rounded R times coarser than the scale, and the distance between the
+    roots, a square root of a difference of squares, the square root of that.
+    Roots found far from the origin of their frame would otherwise seem apart
+    by rounding alone wherever they touch, and be looked into without end.
+
+    Examples
+    --------
+    >>> cand = Candidates((np.array([1000.0]),) * 2, (np.array([0.0]),) * 2, np.zeros(1))
+    >>> float(_meet_tolerance(cand, np.array([1.0]), 1)[0] / MEET_RTOL)
+    31.622776601683793
+    """
+    if scale is None:
+        return MEET_RTOL
+    with np.errstate(all="ignore"):
+        largest = np.fmax.reduce([np.abs(np.broadcast_to(c, (n,)))
+                                  for c in (*cand.x, *cand.y)])
+        ratio = np.where(scale > 0, largest / scale, 1.0)
+        # NaN (no root, no scale) leaves the tolerance as it is
+        return MEET_RTOL * np.sqrt(np.clip(np.fmax(ratio, 1.0), 1.0, FAR_RATIO))
+
+
+def _scale_at_samples(node, coords, values, rows):
+    """Return a two-root node's scale at every sample, None if it has none.
+
+    Over design variants evaluated on rows, ``values`` are on the rows.
+    """
+    if rows is not None:
+        values = {k: _as_samples(v, rows) for k, v in values.items()}
+    return node.scale(coords, values)
 
 
 def _apart_at(present, margin):

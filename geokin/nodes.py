@@ -602,6 +602,15 @@ class _TwoRoot(Node):
         """Whether the initial root depends on where the roots are (``near``)."""
         return self.near is not None
 
+    def scale(self, coords: Coords, values: Values) -> np.ndarray | None:
+        """Return the scale the node's margin is measured against, at every sample.
+
+        The distance between its roots is known to the rounding of the
+        coordinates it is found from, relative to this scale (None: to the
+        rounding of the scale itself).
+        """
+        return None
+
 
 @dataclass(frozen=True)
 class CircleCircle(_TwoRoot):
@@ -632,6 +641,10 @@ class CircleCircle(_TwoRoot):
         r1, r2 = values["radii[0]"], values["radii[1]"]
         xl, yl, xr, yr, margin = prim.circle_circle_xy(x1, y1, r1, x2, y2, r2)
         return Candidates((xl, xr), (yl, yr), margin)
+
+    def scale(self, coords: Coords, values: Values) -> np.ndarray:
+        (x1, y1), (x2, y2) = coords[self.centers[0]], coords[self.centers[1]]
+        return prim.circle_circle_scale(x1, y1, values["radii[0]"], x2, y2, values["radii[1]"])
 
 
 @dataclass(frozen=True)
@@ -675,6 +688,11 @@ class _LineCircle(_TwoRoot):
             on_line = ((ta >= low) & (ta <= high), (tb >= low) & (tb <= high))
             return Candidates((xa, xb), (ya, yb), margin, on_line, (ta, tb))
         return Candidates((xa, xb), (ya, yb), margin)
+
+    def scale(self, coords: Coords, values: Values) -> np.ndarray:
+        (x1, y1), (x2, y2) = coords[self.line[0]], coords[self.line[1]]
+        cx, cy = coords[self.center]
+        return prim.line_circle_scale(x1, y1, x2, y2, cx, cy, values["radius"])
 
 
 @dataclass(frozen=True)

@@ -424,6 +424,19 @@ def circle_circle_xy(x1, y1, r1, x2, y2, r2):
                     x1, y1, dx, dy, r1, r2)
 
 
+def circle_circle_scale(x1, y1, r1, x2, y2, r2):
+    """Return the scale :func:`circle_circle_xy` measures its margin against.
+
+    That is the larger of the centres' distance and the radii.
+
+    Examples
+    --------
+    >>> float(circle_circle_scale(0.0, 0.0, 5.0, 8.0, 0.0, 3.0))
+    8.0
+    """
+    return np.maximum(np.hypot(x2 - x1, y2 - y1), np.maximum(np.abs(r1), np.abs(r2)))
+
+
 def _nonnegative(r) -> bool:
     """Whether every element of ``r`` is a number >= 0 (fast for Python floats)."""
     if isinstance(r, float | int):
@@ -490,6 +503,23 @@ def line_circle_xy(x1, y1, x2, y2, cx, cy, r):
     # length that overflows or vanishes can make the scale NaN, so it is checked first
     return _guarded(_line_circle, _line_circle_rescaled, (_LC_WINDOW, (None, _LC_WINDOW[1])),
                     x1, y1, dx, dy, wx, wy, r)
+
+
+def line_circle_scale(x1, y1, x2, y2, cx, cy, r):
+    """Return the scale :func:`line_circle_xy` measures its margin against.
+
+    That is the largest of the radius, the centre's offset from the line,
+    the line's length and the distance along it from its first point to the
+    foot of the centre.
+
+    Examples
+    --------
+    >>> float(line_circle_scale(-10.0, 0.0, 10.0, 0.0, 0.0, 0.0, 5.0))
+    20.0
+    """
+    dx = np.float64(x2 - x1) if type(x2 - x1) in _PLAIN else x2 - x1  # 0 / 0 is NaN
+    scale_sq = _line_circle(x1, y1, dx, y2 - y1, cx - x1, cy - y1, r)[2]
+    return np.sqrt(scale_sq)
 
 
 def _line_line(x1, y1, ax, ay, bx, by, wx, wy):

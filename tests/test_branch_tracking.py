@@ -8,6 +8,8 @@ crosses a change point, a dense sweep of the same path (200 sub-samples a
 step) is.
 """
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 from hypothesis import assume, given
@@ -489,3 +491,104 @@ def test_steps_of_any_size_never_change_a_branch_whose_roots_never_meet(values):
     assert s.valid.all()
     # a crank-rocker's roots never meet: the closed form, to the inputs' own rounding
     np.testing.assert_allclose(s["B"], exact, atol=1e-6)
+
+
+def touching_far_away(offset, crank, kind="circles"):
+    """A crank about O = (offset, 0), and B where two curves touch all along.
+
+    Circles about A and O (B 0.4 of the way from A to O), or the line through
+    A square to the crank and the circle about O through A (B at A).
+    """
+    c = Construction("touching far from the origin")
+    c.input("theta")
+    c.fixed("O", offset, 0)
+    c.polar("A", "O", crank, "theta")
+    if kind == "circles":
+        c.circle_circle("B", ("A", "O"), (0.4 * crank, 0.6 * crank), branch="left")
+    else:
+        c.local("T", "A", "O", (0, crank))
+        c.line_circle("B", ("A", "T"), "O", crank, branch="first")
+    return c
+
+
+TOUCHING_PATHS = {"one step": [0.0, 0.01], "a turn": list(np.linspace(0, 2 * np.pi, 13)),
+                  "turning back": [0.0, 1.0, 0.5, 2.0, -1.0], "repeated": [0.3, 0.3, 0.3]}
+
+
+def touching_report(cases):
+    """Sweep each (offset, crank, path, kind) of :func:`touching_far_away`; return what
+    the test checks.
+
+    For each: whether every sample assembles, the number of branch events,
+    B's largest distance from where the curves touch over the crank, and the
+    sweep's peak memory (tracemalloc).
+    """
+    import tracemalloc
+
+    report = []
+    for offset, crank, path, kind in cases:
+        tracemalloc.start()
+        s = sweep(touching_far_away(offset, crank, kind), np.asarray(TOUCHING_PATHS[path]))
+        peak = tracemalloc.get_traced_memory()[1]
+        tracemalloc.stop()
+        a = s["A"]
+        touching = a + 0.4 * (np.array([offset, 0.0]) - a) if kind == "circles" else a
+        off = np.hypot(*(s["B"] - touching).T).max() / crank
+        report.append((bool(s.valid.all()), len(s.events), float(off), peak))
+    return report
+
+
+def test_roots_touching_all_along_far_from_the_origin_meet_without_being_looked_into():
+    """Their distance is rounding noise above MEET_RTOL: they meet within the rounding.
+
+    Coordinates 1,000 to 10,000 times the node's size; and 100,000 times, past
+    any resolution, where the sweep must still end in bounded memory. Run in a
+    process of its own held to 3 GB: unbounded, looking into the noise would
+    take them all.
+    """
+    import json
+    import resource
+    import subprocess
+    import sys
+
+    cases = [(offset, crank, path, kind)
+             for offset, crank in [(1.0, 0.001), (1e4, 1.0), (1e3, 10.0)]
+             for path in TOUCHING_PATHS for kind in ("circles", "line")]
+    hopeless = [(1e6, 10.0, "a turn", "circles")]
+    code = ("import json, sys; sys.path.insert(0, 'tests');"
+            "from test_branch_tracking import touching_report;"
+            f"print(json.dumps(touching_report({cases + hopeless!r})))")
+
+    def limit():
+        resource.setrlimit(resource.RLIMIT_AS, (3 * 2**30, 3 * 2**30))
+
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
+                         timeout=600, preexec_fn=limit, cwd=str(Path(__file__).parents[1]))
+    assert run.returncode == 0, run.stderr[-2000:]
+    report = json.loads(run.stdout)
+    for case, (valid, events, off, peak) in zip(cases, report, strict=False):
+        assert valid and events == 0, case
+        assert off < 1e-4, case
+        assert peak < 2**24, case
+    assert report[-1][3] < 2**29  # bounded, whatever it finds
+
+
+@pytest.mark.parametrize("offset", [(0.0, 0.0), (1e3, -2e3), (1e5, 1e5)])
+def test_change_points_far_from_the_origin_are_found_as_near_it(offset):
+    """Widening the meeting tolerance for far coordinates keeps every true meeting."""
+    c = Construction("parallelogram")
+    c.input("theta")
+    c.fixed("O2", offset[0], offset[1])
+    c.fixed("O4", offset[0] + 10, offset[1])
+    c.polar("A", "O2", 4, "theta")
+    c.circle_circle("B", ("A", "O4"), (10, 4), branch="left")
+    theta = np.linspace(0.5, 0.5 + 4 * np.pi, 1441)
+    s = sweep(c, theta)
+    # the change points: where the crank lies along the ground, at 0 and 180 degrees
+    where = np.array([e.index - 1 + e.fraction for e in s.events])
+    crossings = np.array([np.pi, 2 * np.pi, 3 * np.pi, 4 * np.pi])
+    expected = (crossings - 0.5) / (theta[1] - theta[0])
+    np.testing.assert_allclose(where, expected, rtol=0, atol=1e-3)
+    # on its branch, B keeps the link lengths everywhere
+    np.testing.assert_allclose(np.hypot(*(s["B"] - s["A"]).T), 10, rtol=1e-7)
+    np.testing.assert_allclose(np.hypot(*(s["B"] - s[("O4")]).T), 4, rtol=1e-7)

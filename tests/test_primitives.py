@@ -32,9 +32,11 @@ from geokin.primitives import (
     SCALE_RANGE,
     TANGENCY_RTOL,
     circle_circle,
+    circle_circle_scale,
     circle_circle_xy,
     cos_sin,
     line_circle,
+    line_circle_scale,
     line_circle_xy,
     line_line,
     line_line_xy,
@@ -306,6 +308,36 @@ def line_and_circle(draw):
             end = draw(st.sampled_from([start, through]))
             center = end + (r + gap) * _direction(draw(angle))
     return start, through, center, r
+
+
+@given(st.one_of(crossing_circles(), circle_pairs()))
+def test_circle_circle_margin_is_the_half_chord_over_circle_circle_scale(pair):
+    """The margin times the squared scale is the squared half-chord (Heron's)."""
+    c1, r1, c2, r2 = pair
+    d = _norm(c2 - c1)
+    size = max(d, r1, r2)
+    half_sq = _heron_half_chord_sq(d, r1, r2) if d > 0 else -1.0
+    assume(half_sq > 1e-6 * size**2)
+    scale = circle_circle_scale(*c1, r1, *c2, r2)
+    margin = _circle_margin(c1, r1, c2, r2)
+    assert abs(margin * scale**2 - half_sq) <= 1e-9 * size**2
+
+
+@given(config=st.one_of(crossing_line(), line_and_circle()))
+def test_line_circle_margin_is_the_half_chord_over_line_circle_scale(config):
+    """The margin times the squared scale is r**2 less the centre's squared offset."""
+    start, through, center, r = config
+    length = _norm(through - start)
+    assume(length > 1e-6)
+    offset = abs(_cross(through - start, center - start)) / length
+    half_sq = r * r - offset * offset
+    size = max(r, length, _norm(center - start))
+    assume(half_sq > 1e-6 * size**2)
+    with np.errstate(all="ignore"):
+        scale = line_circle_scale(*start, *through, *center, r)
+    margin = _line_kernel(start, through, center, r)[-1]
+    assert scale >= max(r, length) * (1 - 1e-12)
+    assert abs(margin * scale**2 - half_sq) <= 1e-9 * max(size, float(scale))**2
 
 
 @pytest.mark.parametrize("kind", sorted(LINE_BASED))
