@@ -74,7 +74,8 @@ def main(argv=None):
 
     alpha = SEED["ground"] / SEED["input_link"]
     mu_min, mu_max = fourbar_transmission_extremes(**SEED)
-    r3_seed, r2_seed = SEED["output_link"] / SEED["input_link"], SEED["coupler"] / SEED["input_link"]
+    r3_seed = SEED["output_link"] / SEED["input_link"]
+    r2_seed = SEED["coupler"] / SEED["input_link"]
     top = 4.0
 
     fig, ax = plt.subplots(figsize=(9, 8.4), constrained_layout=True)
