@@ -1068,18 +1068,25 @@ def _meeting_until(sweep: Sweep, offset: int, at: int, names) -> int | None:
     """Return the last sample of the meeting of roots at sample ``at``, if any node has one.
 
     ``sweep`` holds samples from ``offset`` on; a meeting is as the branch
-    rules have it (:data:`MEET_RTOL`), and it lasts over consecutive
+    rules have it (:func:`_meet_tolerance`), and it lasts over consecutive
     samples where the roots stay met, up to the last the sweep holds.
     """
     if at < offset:
         return None
     n = len(sweep)
     last = None
+    compiled = sweep.construction
+    steps = {step.node.name: step for step in _plan(compiled)}
+    env = _environment(compiled, dict(sweep.inputs))
     for name in names:
-        x = np.broadcast_to(sweep.points.xy(name)[0], (n,))
+        x, y = sweep.points.xy(name)
         margin = np.broadcast_to(sweep.margins[name], (n,))
-        with np.errstate(invalid="ignore"):
-            met = _apart_at(np.isfinite(x), margin) <= MEET_RTOL
+        node = steps[name].node
+        coords = {p: sweep.points.xy(p) for p in node.depends_on()}
+        with np.errstate(all="ignore"):
+            scale = node.scale(coords, _step_values(steps[name], env))
+            tolerance = _meet_tolerance((x, y), scale, n)
+            met = _apart_at(np.isfinite(np.broadcast_to(x, (n,))), margin) <= tolerance
         i = at - offset
         if not met[i]:
             continue
@@ -1418,7 +1425,8 @@ class _Tracker:
         if cut is not None:
             doubtful &= ~cut
         doubtful = np.flatnonzero(doubtful)
-        tolerance = _meet_tolerance(cand, None if scale_of is None else scale_of(), n)
+        tolerance = _meet_tolerance((*cand.x, *cand.y), None if scale_of is None else scale_of(),
+                                    n)
         step_tolerance = tolerance  # a step's: the larger of its ends'
         if isinstance(tolerance, np.ndarray):
             if keep is not None:
@@ -1791,11 +1799,12 @@ def _at(value, at):
     return value if np.ndim(value) == 0 else value[at]
 
 
-def _meet_tolerance(cand, scale, n: int) -> float | np.ndarray:
+def _meet_tolerance(coordinates, scale, n: int) -> float | np.ndarray:
     """Return how close a node's roots meet at every sample, relative to its scale.
 
-    That is :data:`MEET_RTOL`, widened where the roots' coordinates are R
-    times the node's ``scale`` (each sample's, or None) by ``sqrt(R)``: they
+    That is :data:`MEET_RTOL`, widened where the roots' ``coordinates`` (x
+    and y of either root or both) are R times the node's ``scale`` (each
+    sample's, or None) by ``sqrt(R)``: they
     are rounded R times coarser than the scale, and the distance between the
     roots, a square root of a difference of squares, the square root of that.
     Roots found far from the origin of their frame would otherwise seem apart
@@ -1803,15 +1812,14 @@ def _meet_tolerance(cand, scale, n: int) -> float | np.ndarray:
 
     Examples
     --------
-    >>> cand = Candidates((np.array([1000.0]),) * 2, (np.array([0.0]),) * 2, np.zeros(1))
-    >>> float(_meet_tolerance(cand, np.array([1.0]), 1)[0] / MEET_RTOL)
+    >>> x, y = np.array([1000.0]), np.array([0.0])
+    >>> float(_meet_tolerance((x, y), np.array([1.0]), 1)[0] / MEET_RTOL)
     31.622776601683793
     """
     if scale is None:
         return MEET_RTOL
     with np.errstate(all="ignore"):
-        largest = np.fmax.reduce([np.abs(np.broadcast_to(c, (n,)))
-                                  for c in (*cand.x, *cand.y)])
+        largest = np.fmax.reduce([np.abs(np.broadcast_to(c, (n,))) for c in coordinates])
         ratio = np.where(scale > 0, largest / scale, 1.0)
         # NaN (no root, no scale) leaves the tolerance as it is
         return MEET_RTOL * np.sqrt(np.clip(np.fmax(ratio, 1.0), 1.0, FAR_RATIO))

@@ -328,6 +328,15 @@ class Node:
         """Whether the initial root depends on where the roots are, over all samples."""
         return False
 
+    def scale(self, coords: Coords, values: Values) -> np.ndarray | None:
+        """Return the scale a two-root node's margin is measured against, at every sample.
+
+        The distance between its roots is known to the rounding of the
+        coordinates it is found from, relative to this scale (None, as for a
+        node with one root: to the rounding of the scale itself).
+        """
+        return None
+
     def depends_on(self) -> tuple[str, ...]:
         """Return every point this node is built on, in order, without repeats."""
         seen: dict[str, None] = {}
@@ -601,15 +610,6 @@ class _TwoRoot(Node):
     def chosen_by_position(self) -> bool:
         """Whether the initial root depends on where the roots are (``near``)."""
         return self.near is not None
-
-    def scale(self, coords: Coords, values: Values) -> np.ndarray | None:
-        """Return the scale the node's margin is measured against, at every sample.
-
-        The distance between its roots is known to the rounding of the
-        coordinates it is found from, relative to this scale (None: to the
-        rounding of the scale itself).
-        """
-        return None
 
 
 @dataclass(frozen=True)

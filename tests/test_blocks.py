@@ -124,3 +124,24 @@ def test_blocks_along_paths_that_stop_turn_and_land_on_change_points(steps, leng
     # points, repeated samples, and turns back at them
     values = np.radians(np.r_[0.0, np.cumsum(steps)])
     assert_blocks_equal_whole(fourbar(*lengths), values, block)
+
+
+@pytest.mark.parametrize("block", range(1, 9))
+def test_change_points_within_the_rounding_of_a_mechanism_far_from_the_origin(block):
+    # 1e5 from the origin, the parallelogram's roots meet within 1e-5 of their scale
+    # (their coordinates' rounding): samples 1e-5 rad past the change points, where
+    # they are 2e-6 apart, are meeting samples, in every block as in the whole sweep
+    c = geokin.Construction("parallelogram far from the origin")
+    c.input("theta")
+    c.fixed("O2", 1e5, 1e5)
+    c.fixed("O4", 1e5 + 10, 1e5)
+    c.polar("A", "O2", 4, "theta")
+    c.circle_circle("B", ("A", "O4"), (10, 4), branch="left")
+    # each change point held over three samples: one meeting, the branch changing after it
+    degrees = np.repeat(np.arange(0.0, 1081.0, 30.0), np.where(
+        np.arange(0.0, 1081.0, 30.0) % 180 == 0, 3, 1))
+    values = np.radians(degrees) + np.where(degrees % 180 == 0, 1e-5, 0.0)
+    whole = geokin.sweep(c, values)
+    last = np.flatnonzero((degrees % 180 == 0) & (np.roll(degrees, -1) != degrees))
+    assert [(e.index, e.fraction) for e in whole.events] == [(i + 1, 0.0) for i in last[1:-1]]
+    assert_blocks_equal_whole(c, values, block)
