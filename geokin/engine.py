@@ -25,7 +25,7 @@ Branch rules
    (:data:`CUTS`) until the roots provably stay apart or come within
    :data:`MEET_RTOL` of the node's scale of each other (more for a node
    far from the origin: :func:`_meet_tolerance`): they meet there.
-4. Roots that meet at a sample (within :data:`MEET_RTOL`) meet there: the
+4. Roots that meet at a sample (within that tolerance) meet there: the
    node changes branch after that sample if it can be assembled at the
    samples on both sides and the path goes on through the sample; where the
    path turns back there, it keeps its branch, as it does turning back just
@@ -105,14 +105,20 @@ PIECES_PER_BLOCK = 2**15
 one step's pieces stay together): memory stays bounded however coarse and
 long the sweep."""
 
+OPEN_PER_PIECE, MIN_OPEN = 4, 1024
+"""A step looked into may leave this many pieces open (neither settled nor met)
+after a round for each piece it was first cut in, and MIN_OPEN at least. More
+do not come from a meeting or the edge of a gap, which leave a few pieces open
+each, but from roots whose distance, or whose existence, is rounding noise over
+a whole stretch (a node past the resolution of its coordinates): what is still
+open in such a step then lies within rounding, as after :data:`MAX_HALVINGS`
+rounds. The bound is the step's own, so that no step decides for another (a
+design variant for the others swept with it)."""
+
 MAX_OPEN_PIECES = 4 * PIECES_PER_BLOCK
-"""The most pieces of the steps looked into together that may be open (neither
-settled nor met) after a round. More cannot come from a meeting or the edge of
-a gap, which leave a few pieces open each, but from roots whose distance, or
-whose existence, is rounding noise over a whole stretch (a node far from the
-origin of its frame, its circles touching all along): what is still open then
-lies within rounding, as after :data:`MAX_HALVINGS` rounds, and memory stays
-bounded."""
+"""The most pieces the steps looked into together may leave open after a round,
+each within its own bound: past it (more than a hundred steps of rounding noise
+at once), every piece still open counts as met, and memory stays bounded."""
 
 MAX_HALVINGS = 60
 """How many rounds a doubtful piece of a step may be cut in (each cuts it in
@@ -533,7 +539,8 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
                     else:
                         label, found = tracker.track(
                             position, cand, first,
-                            partial(_scale_at_samples, node, coords, values, rows))
+                            partial(_tolerance_at, node, coords, values, rows,
+                                    compiled.ground))
                         events.extend(found)
                 x, y = _choose(cand, label)
                 labels[node.name] = label
@@ -1079,13 +1086,15 @@ def _meeting_until(sweep: Sweep, offset: int, at: int, names) -> int | None:
     steps = {step.node.name: step for step in _plan(compiled)}
     env = _environment(compiled, dict(sweep.inputs))
     for name in names:
-        x, y = sweep.points.xy(name)
+        x = sweep.points.xy(name)[0]
         margin = np.broadcast_to(sweep.margins[name], (n,))
         node = steps[name].node
         coords = {p: sweep.points.xy(p) for p in node.depends_on()}
         with np.errstate(all="ignore"):
             scale = node.scale(coords, _step_values(steps[name], env))
-            tolerance = _meet_tolerance((x, y), scale, n)
+            moving = [c for p in node.depends_on() if p not in compiled.ground
+                      for c in coords[p]]
+            tolerance = _meet_tolerance(moving, scale, n)
             met = _apart_at(np.isfinite(np.broadcast_to(x, (n,))), margin) <= tolerance
         i = at - offset
         if not met[i]:
@@ -1312,11 +1321,11 @@ class _Tracker:
         self.scratch = np.empty(n - 1) if scratch is None else scratch
 
     def track(self, position: int, cand, start: int | np.ndarray,
-              scale_of: Callable[[], np.ndarray | None] | None = None):
+              tolerance_at: Callable[[np.ndarray], float | np.ndarray] | None = None):
         """Return the branch of node ``plan[position]`` at every sample, and its events.
 
-        ``scale_of`` gives the node's scale at every sample, when its roots are
-        looked at closely (see :func:`_meet_tolerance`).
+        ``tolerance_at(samples)`` gives how close its roots meet at some
+        samples (:func:`_meet_tolerance`; :data:`MEET_RTOL` without it).
         """
         if not self.prepared:
             self._prepare()
@@ -1425,13 +1434,26 @@ class _Tracker:
         if cut is not None:
             doubtful &= ~cut
         doubtful = np.flatnonzero(doubtful)
-        tolerance = _meet_tolerance((*cand.x, *cand.y), None if scale_of is None else scale_of(),
-                                    n)
-        step_tolerance = tolerance  # a step's: the larger of its ends'
-        if isinstance(tolerance, np.ndarray):
-            if keep is not None:
-                tolerance = tolerance[keep]
-            step_tolerance = np.fmax(tolerance[:-1], tolerance[1:])
+        # the tolerance of the roots' meeting, where it can matter: at samples close
+        # enough to meet, and at the ends of the steps looked into
+        tolerance: float | np.ndarray = MEET_RTOL
+        if tolerance_at is not None:
+            with np.errstate(invalid="ignore"):
+                close = apart <= MEET_RTOL * math.sqrt(FAR_RATIO)
+            close[doubtful] = close[doubtful + 1] = True
+            close = np.flatnonzero(close)
+            if close.size:
+                found = tolerance_at(close if keep is None else keep[close])
+                if np.ndim(found):
+                    tolerance = np.full(m, MEET_RTOL)
+                    tolerance[close] = found
+
+        def step_tolerance(steps):
+            """Return the tolerance of some steps: the larger of their ends'."""
+            if isinstance(tolerance, np.ndarray):
+                return np.fmax(tolerance[steps], tolerance[steps + 1])
+            return tolerance
+
         at_sample = present & (apart <= tolerance)
         # each doubtful step is looked into at two pieces at least, so many steps at a
         # time that their pieces stay within a block of memory
@@ -1440,7 +1462,7 @@ class _Tracker:
         cuts = np.flatnonzero(np.diff(block)) + 1
         inner = np.concatenate([np.empty(0)] + [
             self._meetings_inside(position, steps, counts, reach[steps], apart, at_sample,
-                                  _at(step_tolerance, steps), kept)
+                                  step_tolerance(steps), kept)
             for steps, counts in zip(np.split(doubtful, cuts), np.split(pieces, cuts),
                                      strict=True) if steps.size])
         inner.sort()
@@ -1456,8 +1478,7 @@ class _Tracker:
             twice = np.concatenate([pairs, pairs])  # steps of the samples looked at
             inner_apart = self._apart(position, twice if kept is None else kept[twice],
                                       np.repeat([0.382, 0.618], pairs.size))
-            together[pairs] = ~(inner_apart > _at(step_tolerance, twice)).reshape(2, -1).any(
-                axis=0)
+            together[pairs] = ~(inner_apart > step_tolerance(twice)).reshape(2, -1).any(axis=0)
         flip_after = _flips_at_samples(at_sample, present, together, inputs, self.length)
         if keep is not None:
             flip_after, looked = np.zeros(n, dtype=bool), flip_after
@@ -1528,6 +1549,7 @@ class _Tracker:
         rate = np.fmax(rate, np.repeat(step_reach, pieces))
         tolerance = (step_tolerance if np.ndim(step_tolerance) == 0
                      else np.repeat(step_tolerance, pieces))
+        most_open = np.maximum(OPEN_PER_PIECE * pieces, MIN_OPEN)
         found_step, found_low, found_high = [], [], []
         edge_step, edge_low, edge_high = [], [], []
         for _ in range(MAX_HALVINGS):
@@ -1553,16 +1575,23 @@ class _Tracker:
             found_high.append(high[meet])
             if not open_.any():
                 break
-            if np.count_nonzero(open_) > MAX_OPEN_PIECES:
+            where = np.searchsorted(steps, step)  # each piece's step, among the steps
+            crowded = (np.bincount(where[open_], minlength=steps.size) > most_open)[where]
+            crowded &= open_
+            if np.count_nonzero(open_ & ~crowded) > MAX_OPEN_PIECES:
+                crowded = open_  # past every step's own bound together: memory first
+            if crowded.any():
                 # rounding noise over a stretch: its gaps' edges and its meetings lie
                 # where it is still open
-                edge, meeting = open_ & straddling, open_ & ~straddling
+                edge, meeting = crowded & straddling, crowded & ~straddling
                 edge_step.append(step[edge])
                 edge_low.append(low[edge])
                 edge_high.append(high[edge])
                 found_step.append(step[meeting])
                 found_low.append(low[meeting])
                 found_high.append(high[meeting])
+                open_ &= ~crowded
+            if not open_.any():
                 break
             # each open piece is cut as finely as its test asks, in 2 to CUTS pieces
             # (a power of two); one holding a gap's edge in CUTS, to find it in few
@@ -1655,7 +1684,9 @@ class _Tracker:
                                  0.5 * (high[at] + low[at + 1]))
             # roots that cannot be assembled between two pieces: the edge of a gap,
             # which flickers within rounding of the primitives' tangency test
-            joined[at] = ~(middle > 4 * _at(step_tolerance, np.searchsorted(steps, step[at])))
+            tolerance = (step_tolerance if np.ndim(step_tolerance) == 0
+                         else step_tolerance[np.searchsorted(steps, step[at])])
+            joined[at] = ~(middle > 4 * tolerance)
             owned[at[np.isnan(middle)] + 1] = True
         group = np.concatenate([[0], np.cumsum(~joined)])
         count = group[-1] + 1
@@ -1794,21 +1825,19 @@ def _node_scale(cand, n) -> float:
     return 1.0
 
 
-def _at(value, at):
-    """Return a number, or an array's values at some indices."""
-    return value if np.ndim(value) == 0 else value[at]
-
-
 def _meet_tolerance(coordinates, scale, n: int) -> float | np.ndarray:
-    """Return how close a node's roots meet at every sample, relative to its scale.
+    """Return how close a node's roots meet at each of N samples, relative to its scale.
 
-    That is :data:`MEET_RTOL`, widened where the roots' ``coordinates`` (x
-    and y of either root or both) are R times the node's ``scale`` (each
-    sample's, or None) by ``sqrt(R)``: they
-    are rounded R times coarser than the scale, and the distance between the
-    roots, a square root of a difference of squares, the square root of that.
-    Roots found far from the origin of their frame would otherwise seem apart
-    by rounding alone wherever they touch, and be looked into without end.
+    That is :data:`MEET_RTOL`, widened by ``sqrt(R)`` where the
+    ``coordinates`` of the moving points the node is found from (x and y
+    arrays) are R times its ``scale`` (each sample's, or None): they are
+    rounded R times coarser than the scale, and the distance between the
+    roots, a square root of a difference of squares, the square root of
+    that. Roots found far from the origin of their frame would otherwise seem
+    apart by rounding alone wherever they touch, and be looked into without
+    end. Points that do not move are left out: their rounding is the same at
+    every sample, a mechanism a rounding apart, not noise from sample to
+    sample.
 
     Examples
     --------
@@ -1816,7 +1845,7 @@ def _meet_tolerance(coordinates, scale, n: int) -> float | np.ndarray:
     >>> float(_meet_tolerance((x, y), np.array([1.0]), 1)[0] / MEET_RTOL)
     31.622776601683793
     """
-    if scale is None:
+    if scale is None or not coordinates:
         return MEET_RTOL
     with np.errstate(all="ignore"):
         largest = np.fmax.reduce([np.abs(np.broadcast_to(c, (n,))) for c in coordinates])
@@ -1825,14 +1854,23 @@ def _meet_tolerance(coordinates, scale, n: int) -> float | np.ndarray:
         return MEET_RTOL * np.sqrt(np.clip(np.fmax(ratio, 1.0), 1.0, FAR_RATIO))
 
 
-def _scale_at_samples(node, coords, values, rows):
-    """Return a two-root node's scale at every sample, None if it has none.
+def _tolerance_at(node, coords, values, rows, ground, samples):
+    """Return a node's :func:`_meet_tolerance` at some samples of an evaluation.
 
-    Over design variants evaluated on rows, ``values`` are on the rows.
+    ``coords`` and ``values`` are the evaluation's, at every sample (over
+    design variants evaluated on rows, ``values`` are on the rows);
+    ``ground`` names the points that do not move.
     """
     if rows is not None:
         values = {k: _as_samples(v, rows) for k, v in values.items()}
-    return node.scale(coords, values)
+
+    def part(value):
+        return value[samples] if np.ndim(value) else value
+
+    picked = {p: (part(coords[p][0]), part(coords[p][1])) for p in node.depends_on()}
+    scale = node.scale(picked, {k: part(v) for k, v in values.items()})
+    moving = [c for p in node.depends_on() if p not in ground for c in picked[p]]
+    return _meet_tolerance(moving, scale, samples.size)
 
 
 def _apart_at(present, margin):

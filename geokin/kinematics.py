@@ -435,8 +435,10 @@ _STENCIL_MEMORY = threading.local()
 def _stencil_memory(shape: tuple[int, ...]) -> np.ndarray:
     """Return this thread's memory for the quick stencil's differences, kept between motions.
 
-    A fresh array of this size each time would cost page faults that take a
-    third of a motion of a few thousand samples. Up to 2**22 floats are kept.
+    Where glibc keeps freed memory, the differences taken straight into it
+    spare a copy of every block (a motion takes 0.89 to 0.95 of the time);
+    kept from motion to motion, it spares the page faults of a fresh array
+    each time. Up to 2**22 floats (32 MiB) are kept per thread.
     """
     size = math.prod(shape)
     buffer = getattr(_STENCIL_MEMORY, "buffer", None)

@@ -429,6 +429,16 @@ def circle_circle_scale(x1, y1, r1, x2, y2, r2):
 
     That is the larger of the centres' distance and the radii.
 
+    Parameters
+    ----------
+    x1, y1, r1, x2, y2, r2 : float or ndarray
+        As for :func:`circle_circle_xy`.
+
+    Returns
+    -------
+    ndarray
+        The scale, broadcast over the inputs.
+
     Examples
     --------
     >>> float(circle_circle_scale(0.0, 0.0, 5.0, 8.0, 0.0, 3.0))
@@ -511,6 +521,16 @@ def line_circle_scale(x1, y1, x2, y2, cx, cy, r):
     That is the largest of the radius, the centre's offset from the line,
     the line's length and the distance along it from its first point to the
     foot of the centre.
+
+    Parameters
+    ----------
+    x1, y1, x2, y2, cx, cy, r : float or ndarray
+        As for :func:`line_circle_xy`.
+
+    Returns
+    -------
+    ndarray
+        The scale, broadcast over the inputs (NaN for a line of no length).
 
     Examples
     --------

@@ -27,6 +27,7 @@ Run with ``python tests/benchmark_pylinkage.py`` (``... quick`` to stop at
 on; without them it says so and exits.
 """
 
+import importlib.util
 import sys
 import time
 from pathlib import Path
@@ -41,7 +42,8 @@ from geokin import motion, sweep  # noqa: E402
 
 try:
     from pylinkage import Crank, FixedDyad, Ground, Linkage, RRRDyad
-    from pylinkage._numba_compat import HAS_NUMBA
+
+    HAS_NUMBA = importlib.util.find_spec("numba") is not None  # compiled, not plain Python
 except ImportError:
     Linkage, HAS_NUMBA = None, False
 

@@ -538,26 +538,20 @@ def touching_report(cases):
     return report
 
 
-def test_roots_touching_all_along_far_from_the_origin_meet_without_being_looked_into():
-    """Their distance is rounding noise above MEET_RTOL: they meet within the rounding.
+def in_a_limited_process(call):
+    """Return what ``call`` (Python text, from this module) gives, as JSON, run alone.
 
-    Coordinates 1,000 to 10,000 times the node's size; and 100,000 times, past
-    any resolution, where the sweep must still end in bounded memory. Run in a
-    process of its own held to 3 GB: unbounded, looking into the noise would
-    take them all.
+    In a process of its own, held to 3 GB: a sweep looking into rounding
+    noise without end would otherwise take all the memory there is.
     """
     import json
     import resource
     import subprocess
     import sys
 
-    cases = [(offset, crank, path, kind)
-             for offset, crank in [(1.0, 0.001), (1e4, 1.0), (1e3, 10.0)]
-             for path in TOUCHING_PATHS for kind in ("circles", "line")]
-    hopeless = [(1e6, 10.0, "a turn", "circles")]
     code = ("import json, sys; sys.path.insert(0, 'tests');"
-            "from test_branch_tracking import touching_report;"
-            f"print(json.dumps(touching_report({cases + hopeless!r})))")
+            "import test_branch_tracking as t;"
+            f"print(json.dumps(t.{call}))")
 
     def limit():
         resource.setrlimit(resource.RLIMIT_AS, (3 * 2**30, 3 * 2**30))
@@ -565,12 +559,79 @@ def test_roots_touching_all_along_far_from_the_origin_meet_without_being_looked_
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
                          timeout=600, preexec_fn=limit, cwd=str(Path(__file__).parents[1]))
     assert run.returncode == 0, run.stderr[-2000:]
-    report = json.loads(run.stdout)
-    for case, (valid, events, off, peak) in zip(cases, report, strict=False):
+    return json.loads(run.stdout)
+
+
+def test_roots_touching_all_along_far_from_the_origin_meet_without_being_looked_into():
+    """Their distance is rounding noise above MEET_RTOL: they meet within the rounding.
+
+    Coordinates 100 to 10,000 times the node's size; and 100,000 times, past
+    any resolution, where the sweep must still end, in bounded memory.
+    """
+    cases = [(offset, crank, path, kind)
+             for offset, crank in [(1.0, 0.001), (1e4, 1.0), (1e3, 10.0)]
+             for path in TOUCHING_PATHS for kind in ("circles", "line")]
+    hopeless = (1e6, 10.0, "a turn", "circles")
+    report = in_a_limited_process(f"touching_report({[*cases, hopeless]!r})")
+    for case, (valid, events, off, peak) in zip(cases, report[:-1], strict=True):
         assert valid and events == 0, case
         assert off < 1e-4, case
         assert peak < 2**24, case
-    assert report[-1][3] < 2**29  # bounded, whatever it finds
+    assert report[-1][3] < 2**26  # bounded, whatever it finds
+
+
+def variants_beside_noise():
+    """A four-bar just short of folding at pi, alone and swept with noisy variants.
+
+    The others are circles touching all along, 1e5 times their size from the
+    origin. Returns the first variant's events and last position of B, alone
+    and among them.
+    """
+    c = Construction("a near toggle beside noise")
+    for name in ("X", "d", "a", "b", "c"):
+        c.parameter(name, 1.0)
+    c.input("theta")
+    c.fixed("O", "X", 0)
+    c.fixed("O4", "X + d", 0)
+    c.polar("A", "O", "a", "theta")
+    c.circle_circle("B", ("A", "O4"), ("b", "c"), branch="left")
+    theta = np.linspace(0.1, 2 * np.pi + 0.1, 13)
+    genuine = {"X": 0.0, "d": 40.0, "a": 10.0, "b": 25.0, "c": 25.0 + 1.2e-12}
+    noise = {"X": 1e6, "d": 0.0, "a": 10.0, "b": 4.0, "c": 6.0}
+    alone = sweep(c, theta, parameters={k: [v] for k, v in genuine.items()})
+    among = sweep(c, theta, parameters={k: [genuine[k]] + [noise[k]] * 4 for k in genuine})
+    return [([(e.index, e.fraction) for e in s.events if e.variant == 0], s["B"][0, -1].tolist())
+            for s in (alone, among)]
+
+
+def test_a_variant_is_tracked_as_alone_beside_variants_of_rounding_noise():
+    """How long the tracker looks into a step is the step's own affair."""
+    alone, among = in_a_limited_process("variants_beside_noise()")
+    assert alone == among
+    assert alone[0] == []  # it never folds: 1.2e-12 short of it
+
+
+def test_a_near_miss_between_fixed_circles_far_from_the_origin_is_not_a_meeting():
+    """Fixed points are rounded once: they widen nothing, and translating decides nothing.
+
+    Two circles about fixed centres, their radii changing with a length input,
+    come within 1e-6 of their scale of each other (ten times MEET_RTOL) but
+    never meet, at the origin as 1e6 from it.
+    """
+    def build(x):
+        c = Construction("a near miss")
+        c.input("s", kind="length", range=(5, 15))
+        c.fixed("P", x, 0)
+        c.fixed("Q", x + 20, 0)
+        c.circle_circle("B", ("P", "Q"), ("s", "20 + 4e-11 + 0.01 * (s - 10) * (s - 10) - s"),
+                        branch="left")
+        return c
+
+    values = np.linspace(5, 15, 1001) + 0.00357
+    near, far = sweep(build(0.0), values), sweep(build(1e6), values)
+    assert not near.events and not far.events
+    np.testing.assert_array_equal(far.branches["B"], near.branches["B"])
+    np.testing.assert_allclose(far["B"] - [1e6, 0], near["B"], rtol=0, atol=1e-8)
 
 
 @pytest.mark.parametrize("offset", [(0.0, 0.0), (1e3, -2e3), (1e5, 1e5)])
