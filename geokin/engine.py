@@ -69,9 +69,10 @@ MEET_RTOL = 1e-7
 Near a meeting the distance between the roots comes from the square root of
 a difference of squares, so it is known only to about the square root of
 the machine epsilon (1.5e-8) of the scale: this is as close as roots can be
-told apart. A node whose coordinates are R times its scale (far from the
-origin of the frame it is evaluated in) has them rounded R times coarser, and
-its roots meet within ``MEET_RTOL * sqrt(R)`` (:func:`_meet_tolerance`)."""
+told apart. A node found from moving points whose coordinates are R times its
+scale (far from the origin of the frame it is evaluated in) has them rounded R
+times coarser, and its roots meet within ``MEET_RTOL * sqrt(R)``
+(:func:`_meet_tolerance`)."""
 
 FAR_RATIO = 1e8
 """The largest ratio of a node's coordinates to its scale that widens
@@ -105,20 +106,21 @@ PIECES_PER_BLOCK = 2**15
 one step's pieces stay together): memory stays bounded however coarse and
 long the sweep."""
 
-OPEN_PER_PIECE, MIN_OPEN = 4, 1024
-"""A step looked into may leave this many pieces open (neither settled nor met)
-after a round for each piece it was first cut in, and MIN_OPEN at least. More
-do not come from a meeting or the edge of a gap, which leave a few pieces open
-each, but from roots whose distance, or whose existence, is rounding noise over
-a whole stretch (a node past the resolution of its coordinates): what is still
-open in such a step then lies within rounding, as after :data:`MAX_HALVINGS`
-rounds. The bound is the step's own, so that no step decides for another (a
-design variant for the others swept with it)."""
+MAX_OPEN_PIECES = PIECES_PER_BLOCK
+"""The most pieces the steps looked into together may leave open (neither
+settled nor met) after a round. A meeting or the edge of a gap leaves a few
+pieces open each, a flat near-miss a thousand or so; roots whose distance, or
+whose existence, is rounding noise over a whole stretch (a node past the
+resolution of its coordinates) leave more each round. Past this bound the
+steps holding more than :data:`OPEN_PER_PIECE` open pieces for each they were
+first cut in, and :data:`MIN_CROWD` at least, are closed, the most crowded
+first, until the rest are within it: what is still open in them counts as
+met, as after :data:`MAX_HALVINGS` rounds, and memory stays bounded. A quiet
+step is never closed, so no step decides for another (a design variant for
+the others swept with it)."""
 
-MAX_OPEN_PIECES = 4 * PIECES_PER_BLOCK
-"""The most pieces the steps looked into together may leave open after a round,
-each within its own bound: past it (more than a hundred steps of rounding noise
-at once), every piece still open counts as met, and memory stays bounded."""
+OPEN_PER_PIECE, MIN_CROWD = 4, 4096
+"""See :data:`MAX_OPEN_PIECES`."""
 
 MAX_HALVINGS = 60
 """How many rounds a doubtful piece of a step may be cut in (each cuts it in
@@ -1094,7 +1096,7 @@ def _meeting_until(sweep: Sweep, offset: int, at: int, names) -> int | None:
             scale = node.scale(coords, _step_values(steps[name], env))
             moving = [c for p in node.depends_on() if p not in compiled.ground
                       for c in coords[p]]
-            tolerance = _meet_tolerance(moving, scale, n)
+            tolerance = _filled_tolerance(_meet_tolerance(moving, scale, n), np.zeros(n, int))
             met = _apart_at(np.isfinite(np.broadcast_to(x, (n,))), margin) <= tolerance
         i = at - offset
         if not met[i]:
@@ -1443,7 +1445,8 @@ class _Tracker:
             close[doubtful] = close[doubtful + 1] = True
             close = np.flatnonzero(close)
             if close.size:
-                found = tolerance_at(close if keep is None else keep[close])
+                samples = close if keep is None else keep[close]
+                found = _filled_tolerance(tolerance_at(samples), samples // self.length)
                 if np.ndim(found):
                     tolerance = np.full(m, MEET_RTOL)
                     tolerance[close] = found
@@ -1547,9 +1550,12 @@ class _Tracker:
         rate = np.fmax(rate, np.where(last, rate, np.roll(rate, -1)))
         rate = np.fmax(rate, np.where(k == 0, rate, np.roll(rate, 1)))
         rate = np.fmax(rate, np.repeat(step_reach, pieces))
+
+        def closable_above(some):
+            """Return how many open pieces a step may hold before it can be closed."""
+            return np.maximum(OPEN_PER_PIECE * pieces[np.searchsorted(steps, some)], MIN_CROWD)
         tolerance = (step_tolerance if np.ndim(step_tolerance) == 0
                      else np.repeat(step_tolerance, pieces))
-        most_open = np.maximum(OPEN_PER_PIECE * pieces, MIN_OPEN)
         found_step, found_low, found_high = [], [], []
         edge_step, edge_low, edge_high = [], [], []
         for _ in range(MAX_HALVINGS):
@@ -1575,12 +1581,9 @@ class _Tracker:
             found_high.append(high[meet])
             if not open_.any():
                 break
-            where = np.searchsorted(steps, step)  # each piece's step, among the steps
-            crowded = (np.bincount(where[open_], minlength=steps.size) > most_open)[where]
-            crowded &= open_
-            if np.count_nonzero(open_ & ~crowded) > MAX_OPEN_PIECES:
-                crowded = open_  # past every step's own bound together: memory first
-            if crowded.any():
+            crowded = _most_crowded(step[open_], MAX_OPEN_PIECES, closable_above)
+            if crowded is not None:
+                crowded = open_ & np.isin(step, crowded)
                 # rounding noise over a stretch: its gaps' edges and its meetings lie
                 # where it is still open
                 edge, meeting = crowded & straddling, crowded & ~straddling
@@ -1825,6 +1828,56 @@ def _node_scale(cand, n) -> float:
     return 1.0
 
 
+def _most_crowded(step: np.ndarray, most: int, least: Callable[[np.ndarray], np.ndarray]
+                  ) -> np.ndarray | None:
+    """Return the steps to close so that at most ``most`` open pieces are left.
+
+    ``step`` holds the step of each open piece. Only a step with more open
+    pieces than ``least(steps)`` gives for it is closed, the steps with the
+    most first: a step of rounding noise leaves the others be, and a quiet
+    one is never closed. None when there is none to close.
+
+    Examples
+    --------
+    >>> def least(steps):
+    ...     return np.full(steps.shape, 1)
+    >>> _most_crowded(np.array([4, 4, 4, 7, 9, 9]), 3, least).tolist()
+    [4]
+    """
+    if step.size <= most:
+        return None
+    steps, counts = np.unique(step, return_counts=True)
+    closable = counts > least(steps)
+    if not closable.any():
+        return None
+    steps, counts = steps[closable], counts[closable]
+    order = np.argsort(-counts, kind="stable")
+    left = step.size - np.cumsum(counts[order])
+    enough = left <= most
+    return steps[order[:int(np.argmax(enough)) + 1 if enough.any() else order.size]]
+
+
+def _filled_tolerance(tolerance, path):
+    """Return tolerances with those not known (NaN) the largest known on their path.
+
+    An island of assembly inside a step whose ends fail is as far from the
+    origin as the samples of its path where the node is found; a path with
+    none takes :data:`MEET_RTOL`. ``path`` numbers each sample's path.
+
+    Examples
+    --------
+    >>> _filled_tolerance(np.array([2e-7, np.nan, np.nan]), np.array([0, 0, 1])).tolist()
+    [2e-07, 2e-07, 1e-07]
+    """
+    if np.ndim(tolerance) == 0 or not np.isnan(tolerance).any():
+        return tolerance
+    best = np.full(int(path.max()) + 1, -np.inf)
+    np.fmax.at(best, path, tolerance)
+    fill = best[path]
+    fill[~np.isfinite(fill)] = MEET_RTOL
+    return np.where(np.isnan(tolerance), fill, tolerance)
+
+
 def _meet_tolerance(coordinates, scale, n: int) -> float | np.ndarray:
     """Return how close a node's roots meet at each of N samples, relative to its scale.
 
@@ -1837,7 +1890,8 @@ def _meet_tolerance(coordinates, scale, n: int) -> float | np.ndarray:
     apart by rounding alone wherever they touch, and be looked into without
     end. Points that do not move are left out: their rounding is the same at
     every sample, a mechanism a rounding apart, not noise from sample to
-    sample.
+    sample. NaN where the node's points are not found (see
+    :func:`_filled_tolerance`).
 
     Examples
     --------
@@ -1849,9 +1903,9 @@ def _meet_tolerance(coordinates, scale, n: int) -> float | np.ndarray:
         return MEET_RTOL
     with np.errstate(all="ignore"):
         largest = np.fmax.reduce([np.abs(np.broadcast_to(c, (n,))) for c in coordinates])
-        ratio = np.where(scale > 0, largest / scale, 1.0)
-        # NaN (no root, no scale) leaves the tolerance as it is
-        return MEET_RTOL * np.sqrt(np.clip(np.fmax(ratio, 1.0), 1.0, FAR_RATIO))
+        ratio = np.where(scale == 0, 1.0, largest / scale)
+        tolerance = MEET_RTOL * np.sqrt(np.clip(ratio, 1.0, FAR_RATIO))
+    return tolerance
 
 
 def _tolerance_at(node, coords, values, rows, ground, samples):
