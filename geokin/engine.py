@@ -1087,21 +1087,20 @@ def _meeting_until(sweep: Sweep, offset: int, at: int, names) -> int | None:
     compiled = sweep.construction
     steps = {step.node.name: step for step in _plan(compiled)}
     env = _environment(compiled, dict(sweep.inputs))
+    i = at - offset
+    tail = np.arange(i, n)  # the samples from ``at`` on
     for name in names:
-        x = sweep.points.xy(name)[0]
-        margin = np.broadcast_to(sweep.margins[name], (n,))
+        x = np.broadcast_to(sweep.points.xy(name)[0], (n,))[tail]
+        margin = np.broadcast_to(sweep.margins[name], (n,))[tail]
         node = steps[name].node
         coords = {p: sweep.points.xy(p) for p in node.depends_on()}
         with np.errstate(all="ignore"):
-            scale = node.scale(coords, _step_values(steps[name], env))
-            moving = [c for p in node.depends_on() if p not in compiled.ground
-                      for c in coords[p]]
-            tolerance = _filled_tolerance(_meet_tolerance(moving, scale, n), np.zeros(n, int))
-            met = _apart_at(np.isfinite(np.broadcast_to(x, (n,))), margin) <= tolerance
-        i = at - offset
-        if not met[i]:
+            tolerance = _tolerance_at(node, coords, _step_values(steps[name], env), None,
+                                      compiled.ground, tail, np.zeros(tail.size, int))
+            met = _apart_at(np.isfinite(x), margin) <= tolerance
+        if not met[0]:
             continue
-        after = np.flatnonzero(~met[i:])
+        after = np.flatnonzero(~met)
         end = offset + i + (int(after[0]) - 1 if after.size else n - 1 - i)
         last = end if last is None else max(last, end)
     return last
@@ -1255,7 +1254,7 @@ class _Tracker:
             if len(self.inputs) == 1:
                 # into memory kept from sweep to sweep: a fresh array of this size costs
                 # page faults that would double what tracking costs a sweep
-                step = np.subtract(values[1:], values[:-1], out=_scratch(n - 1))
+                step = np.subtract(values[1:], values[:-1], out=kept_memory(n - 1, "tracking"))
             else:
                 step = np.diff(values)
             if self.cut is not None:
@@ -1323,11 +1322,13 @@ class _Tracker:
         self.scratch = np.empty(n - 1) if scratch is None else scratch
 
     def track(self, position: int, cand, start: int | np.ndarray,
-              tolerance_at: Callable[[np.ndarray], float | np.ndarray] | None = None):
+              tolerance_at: Callable[[np.ndarray, np.ndarray], float | np.ndarray] | None = None
+              ):
         """Return the branch of node ``plan[position]`` at every sample, and its events.
 
-        ``tolerance_at(samples)`` gives how close its roots meet at some
-        samples (:func:`_meet_tolerance`; :data:`MEET_RTOL` without it).
+        ``tolerance_at(samples, path)`` gives how close its roots meet at
+        some samples, each on its path (:func:`_tolerance_at`;
+        :data:`MEET_RTOL` without it).
         """
         if not self.prepared:
             self._prepare()
@@ -1446,7 +1447,7 @@ class _Tracker:
             close = np.flatnonzero(close)
             if close.size:
                 samples = close if keep is None else keep[close]
-                found = _filled_tolerance(tolerance_at(samples), samples // self.length)
+                found = tolerance_at(samples, samples // self.length)
                 if np.ndim(found):
                     tolerance = np.full(m, MEET_RTOL)
                     tolerance[close] = found
@@ -1569,31 +1570,24 @@ class _Tracker:
             # a piece with one end in a gap holds the gap's edge: cut until it is found
             straddling = np.isfinite(at_low) != np.isfinite(at_high)
             found = straddling & (high - low <= EDGE_WIDTH)
-            edge_step.append(step[found])
-            edge_low.append(low[found])
-            edge_high.append(high[found])
             # a piece at the inputs' rounding is decided: it meets only if the roots
             # are within the tolerance at one of its ends
             open_ = (present & ~meet & ~settled & (high - low > EDGE_WIDTH)) | (
                 straddling & ~found)
+            crowded = _most_crowded(step[open_], MAX_OPEN_PIECES, closable_above)
+            if crowded is not None:
+                # rounding noise over a stretch: its gaps' edges and its meetings lie
+                # where it is still open
+                crowded = open_ & np.isin(step, crowded)
+                found |= crowded & straddling
+                meet |= crowded & ~straddling
+                open_ &= ~crowded
+            edge_step.append(step[found])
+            edge_low.append(low[found])
+            edge_high.append(high[found])
             found_step.append(step[meet])
             found_low.append(low[meet])
             found_high.append(high[meet])
-            if not open_.any():
-                break
-            crowded = _most_crowded(step[open_], MAX_OPEN_PIECES, closable_above)
-            if crowded is not None:
-                crowded = open_ & np.isin(step, crowded)
-                # rounding noise over a stretch: its gaps' edges and its meetings lie
-                # where it is still open
-                edge, meeting = crowded & straddling, crowded & ~straddling
-                edge_step.append(step[edge])
-                edge_low.append(low[edge])
-                edge_high.append(high[edge])
-                found_step.append(step[meeting])
-                found_low.append(low[meeting])
-                found_high.append(high[meeting])
-                open_ &= ~crowded
             if not open_.any():
                 break
             # each open piece is cut as finely as its test asks, in 2 to CUTS pieces
@@ -1723,7 +1717,7 @@ class _Tracker:
         """
         paths, length = self.n // self.length, self.length
         # each path's steps in a row, the step to the next path last, where it is zero
-        moved = _scratch(self.n)
+        moved = kept_memory(self.n, "tracking")
         np.subtract(margin[1:], margin[:-1], out=moved[:-1])
         moved = moved.reshape(paths, length)
         moved[:, -1] = 0.0
@@ -1797,16 +1791,28 @@ class _Tracker:
         return label
 
 
-_SCRATCH = threading.local()
+_KEPT = threading.local()
 
 
-def _scratch(size: int) -> np.ndarray:
-    """Return ``size`` floats of this thread's scratch memory, kept between sweeps."""
-    buffer = getattr(_SCRATCH, "buffer", None)
+def kept_memory(size: int, purpose: str) -> np.ndarray:
+    """Return ``size`` floats of this thread's memory for ``purpose``, kept between calls.
+
+    A fresh array of many samples costs more to fault in than the work done
+    in it; up to 2**22 floats (32 MiB) are kept per thread and purpose. Each
+    purpose has its own, so that one never writes into another's.
+
+    Examples
+    --------
+    >>> a = kept_memory(10, "example")
+    >>> a.shape, kept_memory(5, "example").base is a.base
+    ((10,), True)
+    """
+    buffers = _KEPT.__dict__.setdefault("buffers", {})
+    buffer = buffers.get(purpose)
     if buffer is None or buffer.size < size:
         buffer = np.empty(size)
         if size <= 2**22:
-            _SCRATCH.buffer = buffer
+            buffers[purpose] = buffer
     return buffer[:size]
 
 
@@ -1908,12 +1914,14 @@ def _meet_tolerance(coordinates, scale, n: int) -> float | np.ndarray:
     return tolerance
 
 
-def _tolerance_at(node, coords, values, rows, ground, samples):
+def _tolerance_at(node, coords, values, rows, ground, samples, path):
     """Return a node's :func:`_meet_tolerance` at some samples of an evaluation.
 
     ``coords`` and ``values`` are the evaluation's, at every sample (over
     design variants evaluated on rows, ``values`` are on the rows);
-    ``ground`` names the points that do not move.
+    ``ground`` names the points that do not move. Where the node's points
+    are not found, the largest known on the sample's ``path`` (one number
+    per sample) stands in (:func:`_filled_tolerance`).
     """
     if rows is not None:
         values = {k: _as_samples(v, rows) for k, v in values.items()}
@@ -1924,7 +1932,7 @@ def _tolerance_at(node, coords, values, rows, ground, samples):
     picked = {p: (part(coords[p][0]), part(coords[p][1])) for p in node.depends_on()}
     scale = node.scale(picked, {k: part(v) for k, v in values.items()})
     moving = [c for p in node.depends_on() if p not in ground for c in picked[p]]
-    return _meet_tolerance(moving, scale, samples.size)
+    return _filled_tolerance(_meet_tolerance(moving, scale, samples.size), path)
 
 
 def _apart_at(present, margin):

@@ -66,7 +66,6 @@ Time derivatives follow by the chain rule from the input's rate
 from __future__ import annotations
 
 import math
-import threading
 from collections.abc import Mapping
 from contextlib import nullcontext
 from dataclasses import dataclass
@@ -77,7 +76,7 @@ from numpy.typing import ArrayLike
 from . import display
 from .budgets import check_sweep_memory
 from .compat import renamed_attribute, renamed_keywords
-from .engine import BLOCKED_ABOVE, assembly_guesses, evaluate
+from .engine import BLOCKED_ABOVE, assembly_guesses, evaluate, kept_memory
 from .errors import ConstructionError
 from .frozen import Frozen, read_only
 from .primitives import nearby_rows
@@ -390,7 +389,9 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
         hi = min(lo + SAMPLES_PER_BLOCK, n)
         block = _Block(sweep, slice(lo, hi), rates, h, origin, noise, QUICK + extra, quick=True)
         if work is None:
-            work = _stencil_memory((4, len(moving), 2, min(n, SAMPLES_PER_BLOCK)))
+            # the quick stencil's differences, in memory kept from motion to motion
+            shape = (4, len(moving), 2, min(n, SAMPLES_PER_BLOCK))
+            work = kept_memory(math.prod(shape), "stencil").reshape(shape)
         ok = block.valid(QUICK + extra) & sweep.valid[lo:hi]
         into = _Into(firsts[:, :, lo:hi], seconds[:, :, lo:hi], first_error[lo:hi],
                      second_error[lo:hi], errors1[:, lo:hi], errors2[:, lo:hi],
@@ -427,26 +428,6 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
             stencil[rest[forward]], stencil[rest[backward]] = 1, -1
     return Derivatives(label, h, first, second, stencil, first_error, second_error,
                        first_errors, second_errors)
-
-
-_STENCIL_MEMORY = threading.local()
-
-
-def _stencil_memory(shape: tuple[int, ...]) -> np.ndarray:
-    """Return this thread's memory for the quick stencil's differences, kept between motions.
-
-    Where glibc keeps freed memory, the differences taken straight into it
-    spare a copy of every block (a motion takes 0.89 to 0.95 of the time);
-    kept from motion to motion, it spares the page faults of a fresh array
-    each time. Up to 2**22 floats (32 MiB) are kept per thread.
-    """
-    size = math.prod(shape)
-    buffer = getattr(_STENCIL_MEMORY, "buffer", None)
-    if buffer is None or buffer.size < size:
-        buffer = np.empty(size)
-        if size <= 2**22:
-            _STENCIL_MEMORY.buffer = buffer
-    return buffer[:size].reshape(shape)
 
 
 def _frame(sweep: Sweep, size: float) -> tuple[np.ndarray, tuple[float, float] | None]:
