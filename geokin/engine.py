@@ -1656,28 +1656,22 @@ class _Tracker:
         several islands). Meetings joined to a sample where the roots meet
         belong to that sample (rule 4), and those joined to the edge of a
         stretch that cannot be assembled belong to that stretch (rule 5):
-        both are left out. So are meetings between two edges of one step: an
-        island of assembly that no sample sees (at a gap's edge where the
-        node's points are known only to rounding, the edge flickers and
-        leaves such islands) is part of the gap around it.
-        ``step_tolerance`` is the :func:`_meet_tolerance` of each of
-        ``steps`` (sorted), or a number for all.
+        both are left out. ``step_tolerance`` is the :func:`_meet_tolerance`
+        of each of ``steps`` (sorted), or a number for all.
         """
         # the meeting samples at the ends of the steps looked into, as pieces of no
         # width, and the edges of gaps: a group holding one of them is left out
         start, end = at_sample[steps], at_sample[steps + 1]
         edge_step, edge_low, edge_high = edges
-        found = step.size
+        owned = np.zeros(step.size, dtype=bool)
         step = np.concatenate([step, steps[start], steps[end], edge_step])
         low = np.concatenate([low, np.zeros(start.sum()), np.ones(end.sum()), edge_low])
         high = np.concatenate([high, np.zeros(start.sum()), np.ones(end.sum()), edge_high])
-        owned = np.arange(step.size) >= found
-        is_edge = np.arange(step.size) >= step.size - edge_step.size
+        owned = np.concatenate([owned, np.ones(step.size - owned.size, dtype=bool)])
         if step.size == 0:
             return np.empty(0)
         order = np.lexsort((low, step))
         step, low, high, owned = step[order], low[order], high[order], owned[order]
-        is_edge = is_edge[order]
         same = step[1:] == step[:-1]
         gap = same & (low[1:] > high[:-1])
         joined = same & ~gap
@@ -1700,17 +1694,6 @@ class _Tracker:
         np.maximum.at(g_high, group, high)
         g_owned = np.zeros(count, dtype=bool)
         np.logical_or.at(g_owned, group, owned)
-        if edge_step.size:
-            # a group with an edge of its step before its first piece and one after its last
-            starts = np.concatenate([[True], step[1:] != step[:-1]])
-            ends = np.concatenate([np.flatnonzero(starts)[1:], [step.size]]) - 1
-            edges_to = np.cumsum(is_edge)  # up to each piece, itself included
-            edges_before = edges_to - is_edge
-            edges_before -= np.maximum.accumulate(np.where(starts, edges_before, 0))
-            edges_after = edges_to[ends][np.cumsum(starts) - 1] - edges_to
-            first = np.flatnonzero(np.concatenate([[True], ~joined]))
-            last = np.concatenate([first[1:], [step.size]]) - 1
-            g_owned |= (edges_before[first] > 0) & (edges_after[last] > 0)
         keep = ~g_owned
         found = g_step[keep] if sweep_step is None else sweep_step(g_step[keep])
         return np.sort(found + 0.5 * (g_low[keep] + g_high[keep]))
