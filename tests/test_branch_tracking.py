@@ -641,6 +641,24 @@ def test_an_island_of_assembly_far_from_the_origin_changes_no_branch():
     assert in_a_limited_process("island_report([0.0, 3e3, 1e4])") == [[0, 0]] * 3
 
 
+@pytest.mark.parametrize("turns", [2, 3])
+def test_a_change_point_on_an_island_no_sample_sees_is_passed(turns):
+    """A change-point four-bar assembles only within 0.83 rad of a whole turn.
+
+    One step from 0.5 to ``2 turns`` pi - 0.5 leaves the assembly, crosses
+    ``turns - 1`` islands (each through its change point at a whole turn) and
+    comes back to it: the branch changes as often as in a dense sweep.
+    """
+    c = fourbar(0.5528881343007654, 0.5316564310361038, 0.23032365423520818,
+                0.2090919509705466, branch="right")
+    theta = np.array([0.5, 2 * turns * np.pi - 0.5])
+    coarse = sweep(c, theta)
+    dense = sweep(c, np.linspace(*theta, 20_000 * turns + 1))
+    assert not dense.valid.all() and coarse.valid.all()
+    assert len(coarse.events) == len(dense.events) == turns - 1
+    np.testing.assert_array_equal(coarse.branches["B"], dense.branches["B"][[0, -1]])
+
+
 def test_a_flat_near_miss_is_looked_into_until_it_is_settled():
     """Roots whose distance has a flat minimum 5 MEET_RTOL wide leave many pieces open.
 
