@@ -1226,7 +1226,6 @@ class _Tracker:
         # a continued node's solution at the samples, (N, 2k): between two samples it
         # starts from their solutions interpolated
         self.solutions: dict[str, np.ndarray] = {}
-        self.ancestors: dict[int, frozenset[str]] = {}
         self.prepared = False
 
     def _prepare(self) -> None:
@@ -1678,15 +1677,12 @@ class _Tracker:
         joined = same & ~gap
         if gap.any():
             at = np.flatnonzero(gap)
-            middle, units = self._apart(
-                position, step[at] if sweep_step is None else sweep_step(step[at]),
-                0.5 * (high[at] + low[at + 1]), noise=True)
+            middle = self._apart(position, step[at] if sweep_step is None else sweep_step(step[at]),
+                                 0.5 * (high[at] + low[at + 1]))
             # roots that cannot be assembled between two pieces: the edge of a gap,
-            # which flickers within rounding of the primitives' tangency test, and
-            # widely where the node is found from points rounded coarsely there
-            tolerance = np.fmax(step_tolerance if np.ndim(step_tolerance) == 0
-                                else step_tolerance[np.searchsorted(steps, step[at])],
-                                _meet_tolerance_of(units))
+            # which flickers within rounding of the primitives' tangency test
+            tolerance = (step_tolerance if np.ndim(step_tolerance) == 0
+                         else step_tolerance[np.searchsorted(steps, step[at])])
             joined[at] = ~(middle > 4 * tolerance)
             owned[at[np.isnan(middle)] + 1] = True
         group = np.concatenate([[0], np.cumsum(~joined)])
@@ -1746,18 +1742,11 @@ class _Tracker:
                 settled[open_] = np.min(apart, axis=1) > SAFETY * np.max(moved, axis=1)
         return self._samples_of(np.flatnonzero(~settled))
 
-    def _apart(self, position, step, fraction, noise=False):
+    def _apart(self, position, step, fraction):
         """Return how far apart a node's roots are at fractions of steps.
 
         The distance is relative, as in :meth:`track`, with every earlier node
-        on its branch there; NaN where the roots do not exist. With ``noise``,
-        also the rounding of the points the node is found from there, in
-        rounding units of its scale (at least 1): a point found by two roots
-        a relative distance ``a`` apart is known to ``1 / (2 a)`` units of
-        its own scale (at most ``1 / sqrt(eps)``, where they meet), so the
-        node's roots next to an earlier node's meeting are known only as
-        well as :func:`_meet_tolerance` says of points that far from the
-        origin.
+        on its branch there; NaN where the roots do not exist.
         """
         inputs = {name: values[step] + fraction * (values[step + 1] - values[step])
                   for name, values in self.inputs.items()}
@@ -1766,10 +1755,6 @@ class _Tracker:
         env = _environment(self.compiled, inputs)
         coords = {}
         size = step.size
-        ancestors = self._two_root_ancestors(position) if noise else frozenset()
-        # each ancestor's rounding, in absolute units of eps: its scale over twice its
-        # roots' relative distance
-        rounding = np.zeros(size)
         for planned in self.plan[:position + 1]:
             node = planned.node
             guess = None
@@ -1779,47 +1764,16 @@ class _Tracker:
                                                                - solution[step]))
                 if self.origin is not None:  # shifted back in _candidates
                     guess = guess + np.tile(self.origin, guess.shape[1] // 2)
-            values = _step_values(planned, env)
-            cand = _candidates(planned, coords, values, self.origin, guess)
+            cand = _candidates(planned, coords, _step_values(planned, env), self.origin, guess)
             if planned is self.plan[position]:
                 present = np.isfinite(np.broadcast_to(cand.x[0], (size,)))
                 margin = np.broadcast_to(cand.margin, (size,))
-                if not noise:
-                    return _apart_at(present, margin)
-                scale = node.scale(coords, values)
-                with np.errstate(all="ignore"):
-                    units = np.fmax(rounding / np.broadcast_to(scale, (size,)), 1.0)
-                return _apart_at(present, margin), np.where(np.isfinite(units), units, 1.0)
-            if node.name in ancestors:
-                scale = node.scale(coords, values)
-                if scale is not None:
-                    with np.errstate(all="ignore"):
-                        apart = np.sqrt(np.fmax(np.broadcast_to(cand.margin, (size,)),
-                                                _ROUNDING))
-                        rounding = np.fmax(rounding, scale / (2 * apart))
+                return _apart_at(present, margin)
             if node.roots == 1:
                 coords[node.name] = (cand.x[0], cand.y[0])
             else:
                 coords[node.name] = _choose(cand, self._label_between(node.name, step, fraction))
         raise AssertionError("unreachable")
-
-    def _two_root_ancestors(self, position) -> frozenset[str]:
-        """Return the two-root nodes whose points node ``plan[position]`` is found from."""
-        found = self.ancestors.get(position)
-        if found is None:
-            defined_by = {p: planned.node for planned in self.plan[:position]
-                          for p in planned.node.defines}
-            seen: set[str] = set()
-            todo = list(self.plan[position].node.depends_on())
-            while todo:
-                source = defined_by.get(todo.pop())
-                if source is not None and source.name not in seen:
-                    seen.add(source.name)
-                    todo.extend(source.depends_on())
-            found = self.ancestors[position] = frozenset(
-                planned.node.name for planned in self.plan[:position]
-                if planned.node.name in seen and planned.node.roots == 2)
-        return found
 
     def _label_between(self, name, step, fraction):
         """Return a tracked node's branch at fractions of steps (after its meetings there)."""
@@ -1958,22 +1912,6 @@ def _meet_tolerance(coordinates, scale, n: int) -> float | np.ndarray:
         ratio = np.where(scale == 0, 1.0, largest / scale)
         tolerance = MEET_RTOL * np.sqrt(np.clip(ratio, 1.0, FAR_RATIO))
     return tolerance
-
-
-_ROUNDING = float(np.finfo(float).eps)
-"""The least squared relative distance of two roots counted in their rounding:
-roots that meet are known to about the square root of it, not exactly."""
-
-
-def _meet_tolerance_of(units):
-    """Return :data:`MEET_RTOL` widened for points rounded ``units`` times coarser.
-
-    Examples
-    --------
-    >>> float(_meet_tolerance_of(np.array([100.0]))[0] / MEET_RTOL)
-    10.0
-    """
-    return MEET_RTOL * np.sqrt(np.clip(units, 1.0, FAR_RATIO))
 
 
 def _tolerance_at(node, coords, values, rows, ground, samples, path):

@@ -641,38 +641,6 @@ def test_an_island_of_assembly_far_from_the_origin_changes_no_branch():
     assert in_a_limited_process("island_report([0.0, 3e3, 1e4])") == [[0, 0]] * 3
 
 
-def dyad_born_beside_a_change_point(x):
-    """A line-circle dyad D on a parallelogram's coupler, pivots shifted by ``x``.
-
-    D cannot be assembled at the first sample; its roots are born 3e-5 of
-    the step before the parallelogram's change point, where the coupler,
-    and with it D's line, is known only to about 1e-10: D's gap's edge
-    flickers over 1e-9 of the step, with islands of assembly between whose
-    roots seem to meet and part by rounding.
-    """
-    c = Construction("parallelogram and a line dyad")
-    c.input("theta")
-    ground, crank = 1.9452995946842748, 1.8569450049350469
-    c.fixed("O2", x, 0)
-    c.fixed("O4", x + ground, 0)
-    c.fixed("O6", x - 0.34617028400752925, 2.5796101297675644)
-    c.polar("A", "O2", crank, "theta")
-    c.circle_circle("B", ("A", "O4"), (ground, crank), branch="left")
-    c.local("CP", "A", "B", (0.3553752477335389, 1.6336804888560523))
-    c.line_circle("D", ("A", "CP"), "O6", 0.92793310128828, branch="first")
-    return c
-
-
-@pytest.mark.parametrize("x", [0.0, 1.0, 100.0])
-@pytest.mark.parametrize("samples", [2, 3, 20001])
-def test_an_edge_that_flickers_by_rounding_is_one_edge(x, samples):
-    """D comes out of its gap on the branch it went in on; the parallelogram changes."""
-    s = sweep(dyad_born_beside_a_change_point(x), np.linspace(2.967076, 3.214118, samples))
-    assert not s.valid[0] and s.valid[-1]
-    assert [e.node for e in s.events] == ["B"]
-    assert (s.branches["D"] == 0).all()
-
-
 @pytest.mark.parametrize("turns", [2, 3])
 def test_a_change_point_on_an_island_no_sample_sees_is_passed(turns):
     """A change-point four-bar assembles only within 0.83 rad of a whole turn.
