@@ -1226,6 +1226,8 @@ class _Tracker:
         # a continued node's solution at the samples, (N, 2k): between two samples it
         # starts from their solutions interpolated
         self.solutions: dict[str, np.ndarray] = {}
+        # by node (its place in the plan): the two-root nodes it is found from
+        self.ancestors: dict[int, frozenset[str]] = {}
         self.prepared = False
 
     def _prepare(self) -> None:
@@ -1677,13 +1679,18 @@ class _Tracker:
         joined = same & ~gap
         if gap.any():
             at = np.flatnonzero(gap)
-            middle = self._apart(position, step[at] if sweep_step is None else sweep_step(step[at]),
-                                 0.5 * (high[at] + low[at + 1]))
+            between = step[at] if sweep_step is None else sweep_step(step[at])
+            fraction = 0.5 * (high[at] + low[at + 1])
+            middle = self._apart(position, between, fraction)
             # roots that cannot be assembled between two pieces: the edge of a gap,
             # which flickers within rounding of the primitives' tangency test
             tolerance = (step_tolerance if np.ndim(step_tolerance) == 0
                          else step_tolerance[np.searchsorted(steps, step[at])])
-            joined[at] = ~(middle > 4 * tolerance)
+            # or within what the rounding of earlier nodes' roots makes of their
+            # distance (next to such a node's meeting): their margin within four times
+            # what it moves by that rounding, as near as can be told, they stay met
+            _, _, shift = self._margin(position, between, fraction, rounding=True)
+            joined[at] = ~((middle > 4 * tolerance) & (middle > 2 * np.sqrt(shift)))
             owned[at[np.isnan(middle)] + 1] = True
         group = np.concatenate([[0], np.cumsum(~joined)])
         count = group[-1] + 1
@@ -1748,12 +1755,35 @@ class _Tracker:
         The distance is relative, as in :meth:`track`, with every earlier node
         on its branch there; NaN where the roots do not exist.
         """
+        return _apart_at(*self._margin(position, step, fraction))
+
+    def _margin(self, position, step, fraction, rounding=False):
+        """Return whether a node's roots exist at fractions of steps, and its margin there.
+
+        Every earlier node is on its branch there (:meth:`_label_between`).
+        With ``rounding``, also how far the margin moves when each moving
+        two-root node it is found from moves by its own rounding: a root a
+        relative distance ``a`` from the other is known to ``eps / (2 a)``
+        of its node's scale (about ``sqrt(eps)`` where they meet), towards or
+        away from it. Next to such a node's meeting its points are known
+        coarsely, and so is the margin, as far as it depends on them.
+
+        Returns
+        -------
+        present : ndarray of bool
+        margin : ndarray
+        shift : ndarray
+            Only with ``rounding``: the margin's move, zero where it does not
+            depend on such a node.
+        """
         inputs = {name: values[step] + fraction * (values[step + 1] - values[step])
                   for name, values in self.inputs.items()}
         at = step // self.length if self.per_path else step
         inputs.update({name: values[at] for name, values in self.varied.items()})
         env = _environment(self.compiled, inputs)
-        coords = {}
+        coords: dict[str, tuple] = {}
+        moved: dict[str, tuple] = {}  # the points that move with those roundings
+        ancestors = self._two_root_ancestors(position) if rounding else frozenset()
         size = step.size
         for planned in self.plan[:position + 1]:
             node = planned.node
@@ -1764,16 +1794,54 @@ class _Tracker:
                                                                - solution[step]))
                 if self.origin is not None:  # shifted back in _candidates
                     guess = guess + np.tile(self.origin, guess.shape[1] // 2)
-            cand = _candidates(planned, coords, _step_values(planned, env), self.origin, guess)
+            values = _step_values(planned, env)
+            cand = _candidates(planned, coords, values, self.origin, guess)
+            again = (_candidates(planned, {**coords, **moved}, values, self.origin, guess)
+                     if moved and not moved.keys().isdisjoint(node.depends_on()) else None)
             if planned is self.plan[position]:
                 present = np.isfinite(np.broadcast_to(cand.x[0], (size,)))
                 margin = np.broadcast_to(cand.margin, (size,))
-                return _apart_at(present, margin)
+                if not rounding:
+                    return present, margin
+                shift = (np.zeros(size) if again is None
+                         else np.abs(np.broadcast_to(again.margin, (size,)) - margin))
+                return present, margin, shift
             if node.roots == 1:
                 coords[node.name] = (cand.x[0], cand.y[0])
-            else:
-                coords[node.name] = _choose(cand, self._label_between(node.name, step, fraction))
+                if again is not None:
+                    moved[node.name] = (again.x[0], again.y[0])
+                continue
+            label = self._label_between(node.name, step, fraction)
+            coords[node.name] = _choose(cand, label)
+            if again is not None:
+                moved[node.name] = _choose(again, label)
+            if node.name in ancestors:
+                (x, y), (ox, oy) = moved.get(node.name, coords[node.name]), _choose(cand, 1 - label)
+                toward = _EPS / (4 * np.fmax(np.broadcast_to(cand.margin, (size,)), _EPS))
+                moved[node.name] = (x + toward * (ox - coords[node.name][0]),
+                                    y + toward * (oy - coords[node.name][1]))
         raise AssertionError("unreachable")
+
+    def _two_root_ancestors(self, position) -> frozenset[str]:
+        """Return the moving two-root nodes node ``plan[position]`` is found from, at any remove."""
+        found = self.ancestors.get(position)
+        if found is None:
+            defined_by = {p: planned.node for planned in self.plan[:position]
+                          for p in planned.node.defines}
+            seen: set[str] = set()
+            todo = list(self.plan[position].node.depends_on())
+            while todo:
+                source = defined_by.get(todo.pop())
+                if source is not None and source.name not in seen:
+                    seen.add(source.name)
+                    todo.extend(source.depends_on())
+            # a fixed point is rounded once, the same at every sample: a mechanism a
+            # rounding apart, not noise
+            found = self.ancestors[position] = frozenset(
+                planned.node.name for planned in self.plan[:position]
+                if planned.node.name in seen and planned.node.roots == 2
+                and planned.node.name not in self.compiled.ground)
+        return found
 
     def _label_between(self, name, step, fraction):
         """Return a tracked node's branch at fractions of steps (after its meetings there)."""
@@ -1912,6 +1980,9 @@ def _meet_tolerance(coordinates, scale, n: int) -> float | np.ndarray:
         ratio = np.where(scale == 0, 1.0, largest / scale)
         tolerance = MEET_RTOL * np.sqrt(np.clip(ratio, 1.0, FAR_RATIO))
     return tolerance
+
+
+_EPS = float(np.finfo(float).eps)
 
 
 def _tolerance_at(node, coords, values, rows, ground, samples, path):

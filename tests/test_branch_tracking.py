@@ -641,6 +641,89 @@ def test_an_island_of_assembly_far_from_the_origin_changes_no_branch():
     assert in_a_limited_process("island_report([0.0, 3e3, 1e4])") == [[0, 0]] * 3
 
 
+def dyad_born_beside_a_change_point(x):
+    """A line-circle dyad D on a parallelogram's coupler, pivots shifted by ``x``.
+
+    D cannot be assembled at the first sample; its roots are born 3e-5 of
+    the step before the parallelogram's change point, where the coupler,
+    and with it D's line, is known only to about 1e-10: D's gap's edge
+    flickers over 1e-9 of the step, with islands of assembly between whose
+    roots seem to meet and part by rounding.
+    """
+    c = Construction("parallelogram and a line dyad")
+    c.input("theta")
+    ground, crank = 1.9452995946842748, 1.8569450049350469
+    c.fixed("O2", x, 0)
+    c.fixed("O4", x + ground, 0)
+    c.fixed("O6", x - 0.34617028400752925, 2.5796101297675644)
+    c.polar("A", "O2", crank, "theta")
+    c.circle_circle("B", ("A", "O4"), (ground, crank), branch="left")
+    c.local("CP", "A", "B", (0.3553752477335389, 1.6336804888560523))
+    c.line_circle("D", ("A", "CP"), "O6", 0.92793310128828, branch="first")
+    return c
+
+
+@pytest.mark.parametrize("x", [0.0, 1.0, 100.0])
+@pytest.mark.parametrize("samples", [2, 3, 20001])
+def test_an_edge_that_flickers_by_rounding_is_one_edge(x, samples):
+    """D comes out of its gap on the branch it went in on; the parallelogram changes."""
+    s = sweep(dyad_born_beside_a_change_point(x), np.linspace(2.967076, 3.214118, samples))
+    assert not s.valid[0] and s.valid[-1]
+    assert [e.node for e in s.events] == ["B"]
+    assert (s.branches["D"] == 0).all()
+
+
+def dyad_on_a_coupler_meeting_twice(d):
+    """A dyad D whose roots cross at pi - d and pi + d, on a parallelogram's coupler.
+
+    The parallelogram's change point is at pi, between D's meetings, where
+    the coupler is known only to about sqrt(eps); D's circles are centred at
+    A and at G, 2 along the coupler from A: their distance, and D's roots',
+    does not depend on that rounding.
+    """
+    c = Construction("a dyad meeting twice around a change point")
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 2, 0)
+    c.polar("A", "O2", 1, "theta")
+    c.circle_circle("B", ("A", "O4"), (2, 1), branch="left")
+    c.local("G", "A", "B", (2, 0))
+    c.circle_circle("D", ("A", "G"), (f"1 + ((theta - (pi - {d})) * (theta - (pi + {d}))) ** 2",
+                                      1), branch="left")
+    return c
+
+
+def pivot_touching_twice():
+    """D touches its circle twice, 0.02 apart, on a pivot where two fixed circles touch.
+
+    The pivot is rounded once, the same at every sample: no noise.
+    """
+    c = Construction("a dyad on a pivot of touching circles")
+    c.input("t")
+    c.fixed("O1", 0, 0)
+    c.fixed("O2", 2, 0)
+    c.circle_circle("P", ("O1", "O2"), (1, 1), branch="left")
+    c.fixed("Q", 3, 0)
+    c.circle_circle("D", ("P", "Q"), ("1 + ((t - 0.4900037) * (t - 0.5100041)) ** 2", 1),
+                    branch="left")
+    return c
+
+
+@pytest.mark.parametrize("make, path", [
+    (lambda: dyad_on_a_coupler_meeting_twice(0.02), (np.pi - 0.03, np.pi + 0.03)),
+    (lambda: dyad_on_a_coupler_meeting_twice(0.003), (np.pi - 0.0100123, np.pi + 0.0100456)),
+    (pivot_touching_twice, (0.0, 1.0)), (pivot_touching_twice, (0.3, 0.7))])
+def test_meetings_next_to_an_earlier_meeting_stay_apart_where_rounding_cannot_join_them(
+        make, path):
+    """Two meetings of D in one step, each passed, as in a dense sweep of the step."""
+    c = make()
+    coarse = sweep(c, np.array(path))
+    dense = sweep(c, np.linspace(*path, 20_001))
+    assert [e.node for e in coarse.events if e.node == "D"] == ["D", "D"]
+    assert [e.node for e in dense.events if e.node == "D"] == ["D", "D"]
+    np.testing.assert_array_equal(coarse.branches["D"], dense.branches["D"][[0, -1]])
+
+
 @pytest.mark.parametrize("turns", [2, 3])
 def test_a_change_point_on_an_island_no_sample_sees_is_passed(turns):
     """A change-point four-bar assembles only within 0.83 rad of a whole turn.
