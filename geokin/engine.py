@@ -246,6 +246,46 @@ def _plan(compiled: Compiled, varied: frozenset[str] = frozenset()) -> tuple[_Pl
     return plan
 
 
+FRAME_RATIO = 4.0
+"""A construction whose fixed points lie more than this many times its size
+from (0, 0) is evaluated around them (see :func:`_far_frame`)."""
+
+
+def _far_frame(plan: tuple[_PlannedStep, ...]) -> tuple[float, float] | None:
+    """Return where to put the origin of a construction far from (0, 0), or None.
+
+    The mean of its fixed points, when that lies more than
+    :data:`FRAME_RATIO` sizes from (0, 0); the size is the larger of the
+    fixed points' distance from their mean and the largest constant value of
+    its other nodes (a length, most often). Found there, every point keeps the
+    digits a construction at the origin has: its moving points are then
+    rounded as finely as the node they are found by, and branch tracking
+    decides as it would at the origin. Fixed points a few sizes apart
+    shift exactly (their difference from the mean is exact).
+
+    Examples
+    --------
+    >>> from geokin import Construction
+    >>> c = Construction()
+    >>> c.input("t")
+    >>> c.fixed("O", 2500, -1800)
+    >>> c.polar("A", "O", 10, "t")
+    >>> _far_frame(_plan(c.compile()))
+    (2500.0, -1800.0)
+    """
+    fixed = [(step.known.x[0], step.known.y[0]) for step in plan if step.known is not None]
+    if not fixed:
+        return None
+    x = math.fsum(p[0] for p in fixed) / len(fixed)
+    y = math.fsum(p[1] for p in fixed) / len(fixed)
+    size = max([math.hypot(px - x, py - y) for px, py in fixed]
+               + [abs(v) for step in plan if not step.node.ground_kind
+                  for v in step.constants.values()])
+    if not (math.isfinite(x) and math.isfinite(y)) or math.hypot(x, y) <= FRAME_RATIO * size:
+        return None
+    return float(x), float(y)
+
+
 def _deciding_branches(planned: list[_PlannedStep]) -> list[_PlannedStep]:
     """Mark the steps whose branch can decide where they or a later node are found.
 
@@ -376,7 +416,9 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         Evaluate in a frame with its origin here: every point is found
         relative to it (constructions move with their fixed points), which
         keeps digits for a mechanism far from (0, 0). Positions in the result
-        are then relative to ``origin``.
+        are then relative to ``origin``. Without it, a construction whose
+        fixed points lie far from (0, 0) is evaluated around them
+        (:func:`_far_frame`), and its positions are given back where they are.
     sketches : mapping of str to ndarray, optional
         For some continued nodes (closure groups), the positions (x, y of
         each point it finds, absolute) to start the continuation from at the
@@ -426,6 +468,10 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
     if not per_path:
         varied = {k: np.broadcast_to(v, (n,)) for k, v in varied.items()}
     plan = _plan(compiled, frozenset(varied))
+    # a construction far from (0, 0) is found around its fixed points, its positions
+    # moved back at the end
+    frame = _far_frame(plan) if origin is None else None
+    origin = frame or origin
     chosen = {**(start or {}), **(held or {})}
     if (not track and n > BLOCKED_ABOVE and paths == 1
             and all(step.node.name in chosen or not step.node.chosen_by_position
@@ -436,6 +482,10 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
     else:
         parts = _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track, sketches,
                                 varied, paths, per_path, track_incomplete)
+
+    if frame is not None:
+        parts.coords = {name: (x + frame[0], y + frame[1])
+                        for name, (x, y) in parts.coords.items()}
 
     def per_sample(array, dtype=float):
         return _over_samples(np.asarray(array, dtype=dtype), n)
@@ -535,7 +585,8 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
                     if tracker is not None:  # held: later nodes see it between samples too
                         tracker.labels[node.name] = label
                 else:
-                    first = _initial_label(node, cand, n, (start or {}).get(node.name), paths)
+                    first = _initial_label(node, cand, n, (start or {}).get(node.name), paths,
+                                           origin)
                     if tracker is None:
                         label = first
                     else:
@@ -1085,15 +1136,19 @@ def _meeting_until(sweep: Sweep, offset: int, at: int, names) -> int | None:
     n = len(sweep)
     last = None
     compiled = sweep.construction
-    steps = {step.node.name: step for step in _plan(compiled)}
+    plan = _plan(compiled)
+    steps = {step.node.name: step for step in plan}
     env = _environment(compiled, dict(sweep.inputs))
     i = at - offset
     tail = np.arange(i, n)  # the samples from ``at`` on
+    # the points where the evaluation found them, relative to its frame
+    ox, oy = _far_frame(plan) or (0.0, 0.0)
     for name in names:
         x = np.broadcast_to(sweep.points.xy(name)[0], (n,))[tail]
         margin = np.broadcast_to(sweep.margins[name], (n,))[tail]
         node = steps[name].node
-        coords = {p: sweep.points.xy(p) for p in node.depends_on()}
+        coords = {p: (px - ox, py - oy) for p in node.depends_on()
+                  for px, py in [sweep.points.xy(p)]}
         with np.errstate(all="ignore"):
             tolerance = _tolerance_at(node, coords, _step_values(steps[name], env), None,
                                       compiled.ground, tail, np.zeros(tail.size, int))
@@ -1181,14 +1236,19 @@ def start_labels(compiled: Compiled,
     return start
 
 
-def _initial_label(node, cand, n, override, paths=1) -> int | np.ndarray:
+def _initial_label(node, cand, n, override, paths=1, origin=None) -> int | np.ndarray:
     """Return the branch a node starts on: the one given, else the node's own choice.
 
     Over several paths it may differ from path to path: it is then given at
-    every sample, each path's at all of its samples.
+    every sample, each path's at all of its samples. Roots found relative to
+    ``origin`` are compared with a sketch position (``near``, absolute) where
+    they are.
     """
     if override is not None:
         return override
+    if origin is not None and node.chosen_by_position:
+        cand = replace(cand, x=tuple(x + origin[0] for x in cand.x),
+                       y=tuple(y + origin[1] for y in cand.y))
     first = node.initial_root(cand, n, paths)
     return first if np.ndim(first) == 0 else _repeated(first, n // paths)
 

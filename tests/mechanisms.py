@@ -32,12 +32,14 @@ def sixbar():
     return c
 
 
-def fourbar(ground=24.0, crank=10.55, coupler=25.0, rocker=14.0, branch="left", **input_options):
-    """A four-bar O2-A-B-O4 with ground pivots on the x axis, crank angle theta."""
+def fourbar(ground=24.0, crank=10.55, coupler=25.0, rocker=14.0, branch="left",
+            ground_at=(0.0, 0.0), **input_options):
+    """A four-bar O2-A-B-O4, crank angle theta; O2 at ``ground_at``, O4 ``ground`` to its right."""
     c = Construction("four-bar")
     c.input("theta", **input_options)
-    c.fixed("O2", 0, 0)
-    c.fixed("O4", ground, 0)
+    x, y = ground_at
+    c.fixed("O2", x, y)
+    c.fixed("O4", x + ground, y)
     c.polar("A", "O2", crank, "theta")
     c.circle_circle("B", ("A", "O4"), (coupler, rocker), branch=branch)
     return c

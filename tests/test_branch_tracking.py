@@ -224,6 +224,37 @@ def test_near_is_judged_at_the_first_sample_that_assembles():
     assert (s["X"][2:, 1] < 0).all()
 
 
+@pytest.mark.parametrize("x", [3e7, -1e9])
+def test_near_is_judged_where_the_roots_are_far_from_the_origin(x):
+    """The mechanism is found around its pivots; ``near`` stays absolute."""
+    def make(x):
+        c = Construction()
+        c.input("theta")
+        c.fixed("O2", x, x)
+        c.polar("A", "O2", 6, "theta")
+        c.fixed("O4", x + 1, x - 4)
+        c.circle_circle("B", ("A", "O4"), (4, 5), near=(x + 2, x + 1))
+        return c
+    for theta in ([0.0], [0.3, 0.0]):
+        far, near = sweep(make(x), theta), sweep(make(0.0), theta)
+        assert far.branches["B"].tolist() == near.branches["B"].tolist()
+        np.testing.assert_allclose(far["B"] - [x, x], near["B"], atol=1e-15 * abs(x))
+
+
+@pytest.mark.parametrize("x", [2500.0, 1e5, 3e7, 1e9])
+@pytest.mark.parametrize("start, samples", [(0.3, 721), (0.5, 721), (0.0, 40_001)])
+def test_a_parallelogram_far_from_the_origin_changes_branch_as_at_the_origin(x, start, samples):
+    """Its pivots x away: the same changes, at the same fractions of the same steps."""
+    theta = np.linspace(start, start + 4 * np.pi, samples)
+    far, near = (sweep(fourbar(10, 4, 10, 4, ground_at=(offset, -offset)), theta)
+                 for offset in (x, 0.0))
+    assert len(near.events) in (3, 4)
+    assert ([(e.index, e.fraction) for e in far.events]
+            == [(e.index, e.fraction) for e in near.events])
+    coupler = far["B"] - far["A"]
+    assert np.abs(coupler[:, 1]).max() <= 1e-14 * x  # a parallelogram throughout
+
+
 # -- the defects the contract removes ------------------------------------------------
 
 
