@@ -96,6 +96,10 @@ EDGE_WIDTH = 2.0**-44
 is located inside a step, as a fraction of the step: about the rounding of
 the inputs."""
 
+_EPS = float(np.finfo(float).eps)
+"""The rounding of one operation, relative: a root a relative distance ``a``
+from the other is known to ``_EPS / (2 a)`` of its node's scale."""
+
 MAX_PIECES = 2**16
 """The most pieces one step is cut into before cutting finer (a step of 180 turns at
 :data:`ANGLE_RESOLUTION`): a longer step cannot be resolved, and is not looked
@@ -254,24 +258,22 @@ from (0, 0) is evaluated around them (see :func:`_far_frame`)."""
 def _far_frame(plan: tuple[_PlannedStep, ...]) -> tuple[float, float] | None:
     """Return where to put the origin of a construction far from (0, 0), or None.
 
-    The mean of its fixed points, when that lies more than
+    Near the mean of its fixed points, when that lies more than
     :data:`FRAME_RATIO` sizes from (0, 0); the size is the larger of the
-    fixed points' distance from their mean and the largest constant value of
-    its other nodes (a length, most often). Found there, every point keeps the
-    digits a construction at the origin has: its moving points are then
-    rounded as finely as the node they are found by, and branch tracking
-    decides as it would at the origin. Fixed points a few sizes apart
-    shift exactly (their difference from the mean is exact).
+    fixed points' distance from their mean and the largest constant length
+    of its other nodes. The origin is a whole multiple of a power of two
+    near the size, so that fixed points shift to it and back exactly.
+    Found there, every point is found as precisely as at the origin.
 
     Examples
     --------
     >>> from geokin import Construction
     >>> c = Construction()
     >>> c.input("t")
-    >>> c.fixed("O", 2500, -1800)
+    >>> c.fixed("O", 2500.3, -1800.7)
     >>> c.polar("A", "O", 10, "t")
     >>> _far_frame(_plan(c.compile()))
-    (2500.0, -1800.0)
+    (2504.0, -1800.0)
     """
     fixed = [(step.known.x[0], step.known.y[0]) for step in plan if step.known is not None]
     if not fixed:
@@ -279,11 +281,14 @@ def _far_frame(plan: tuple[_PlannedStep, ...]) -> tuple[float, float] | None:
     x = math.fsum(p[0] for p in fixed) / len(fixed)
     y = math.fsum(p[1] for p in fixed) / len(fixed)
     size = max([math.hypot(px - x, py - y) for px, py in fixed]
-               + [abs(v) for step in plan if not step.node.ground_kind
-                  for v in step.constants.values()])
-    if not (math.isfinite(x) and math.isfinite(y)) or math.hypot(x, y) <= FRAME_RATIO * size:
+               + [abs(value) for step in plan if not step.node.ground_kind
+                  for name, value in step.constants.items()
+                  if name not in step.node.angle_fields()])
+    if (not (math.isfinite(x) and math.isfinite(y) and math.isfinite(size)) or size == 0
+            or math.hypot(x, y) <= FRAME_RATIO * size):
         return None
-    return float(x), float(y)
+    unit = 2.0 ** math.floor(math.log2(size))
+    return unit * round(x / unit), unit * round(y / unit)
 
 
 def _deciding_branches(planned: list[_PlannedStep]) -> list[_PlannedStep]:
@@ -470,7 +475,8 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
     plan = _plan(compiled, frozenset(varied))
     # a construction far from (0, 0) is found around its fixed points, its positions
     # moved back at the end
-    frame = _far_frame(plan) if origin is None else None
+    # from the construction's own parameters: variants of it share its frame
+    frame = _far_frame(_plan(compiled)) if origin is None else None
     origin = frame or origin
     chosen = {**(start or {}), **(held or {})}
     if (not track and n > BLOCKED_ABOVE and paths == 1
@@ -593,7 +599,7 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
                         label, found = tracker.track(
                             position, cand, first,
                             partial(_tolerance_at, node, coords, values, rows,
-                                    compiled.ground))
+                                    compiled.ground, origin=origin))
                         events.extend(found)
                 x, y = _choose(cand, label)
                 labels[node.name] = label
@@ -1136,19 +1142,15 @@ def _meeting_until(sweep: Sweep, offset: int, at: int, names) -> int | None:
     n = len(sweep)
     last = None
     compiled = sweep.construction
-    plan = _plan(compiled)
-    steps = {step.node.name: step for step in plan}
+    steps = {step.node.name: step for step in _plan(compiled)}
     env = _environment(compiled, dict(sweep.inputs))
     i = at - offset
     tail = np.arange(i, n)  # the samples from ``at`` on
-    # the points where the evaluation found them, relative to its frame
-    ox, oy = _far_frame(plan) or (0.0, 0.0)
     for name in names:
         x = np.broadcast_to(sweep.points.xy(name)[0], (n,))[tail]
         margin = np.broadcast_to(sweep.margins[name], (n,))[tail]
         node = steps[name].node
-        coords = {p: (px - ox, py - oy) for p in node.depends_on()
-                  for px, py in [sweep.points.xy(p)]}
+        coords = {p: sweep.points.xy(p) for p in node.depends_on()}
         with np.errstate(all="ignore"):
             tolerance = _tolerance_at(node, coords, _step_values(steps[name], env), None,
                                       compiled.ground, tail, np.zeros(tail.size, int))
@@ -1740,17 +1742,22 @@ class _Tracker:
         if gap.any():
             at = np.flatnonzero(gap)
             between = step[at] if sweep_step is None else sweep_step(step[at])
-            fraction = 0.5 * (high[at] + low[at + 1])
-            middle = self._apart(position, between, fraction)
+            # the stretch's ends and middle, in a row each
+            fraction = np.stack([high[at], 0.5 * (high[at] + low[at + 1]), low[at + 1]])
+            present, margin, shift = self._margin(position, np.tile(between, 3),
+                                                  fraction.reshape(-1), rounding=True)
+            middle = _apart_at(present, margin).reshape(3, -1)[1]
             # roots that cannot be assembled between two pieces: the edge of a gap,
             # which flickers within rounding of the primitives' tangency test
             tolerance = (step_tolerance if np.ndim(step_tolerance) == 0
                          else step_tolerance[np.searchsorted(steps, step[at])])
             # or within what the rounding of earlier nodes' roots makes of their
             # distance (next to such a node's meeting): their margin within four times
-            # what it moves by that rounding, as near as can be told, they stay met
-            _, _, shift = self._margin(position, between, fraction, rounding=True)
-            joined[at] = ~((middle > 4 * tolerance) & (middle > 2 * np.sqrt(shift)))
+            # what it moves by that rounding, as near as can be told, they stay met.
+            # The least rounding over the stretch: its middle may fall on that earlier
+            # node's own meeting, where its rounding is largest, while its ends do not
+            least = np.min(shift.reshape(3, -1), axis=0)
+            joined[at] = ~((middle > 4 * tolerance) & (middle > 2 * np.sqrt(least)))
             owned[at[np.isnan(middle)] + 1] = True
         group = np.concatenate([[0], np.cumsum(~joined)])
         count = group[-1] + 1
@@ -2042,17 +2049,18 @@ def _meet_tolerance(coordinates, scale, n: int) -> float | np.ndarray:
     return tolerance
 
 
-_EPS = float(np.finfo(float).eps)
-
-
-def _tolerance_at(node, coords, values, rows, ground, samples, path):
+def _tolerance_at(node, coords, values, rows, ground, samples, path, origin=None):
     """Return a node's :func:`_meet_tolerance` at some samples of an evaluation.
 
     ``coords`` and ``values`` are the evaluation's, at every sample (over
-    design variants evaluated on rows, ``values`` are on the rows);
-    ``ground`` names the points that do not move. Where the node's points
-    are not found, the largest known on the sample's ``path`` (one number
-    per sample) stands in (:func:`_filled_tolerance`).
+    design variants evaluated on rows, ``values`` are on the rows), its
+    points relative to ``origin``; ``ground`` names the points that do not
+    move. The tolerance is that of the points where they are: a mechanism
+    found around its pivots far from (0, 0) is known to the rounding of
+    the coordinates it is written in (a parallelogram written there is a
+    parallelogram only to within it). Where the node's points are not
+    found, the largest known on the sample's ``path`` (one number per
+    sample) stands in (:func:`_filled_tolerance`).
     """
     if rows is not None:
         values = {k: _as_samples(v, rows) for k, v in values.items()}
@@ -2062,7 +2070,9 @@ def _tolerance_at(node, coords, values, rows, ground, samples, path):
 
     picked = {p: (part(coords[p][0]), part(coords[p][1])) for p in node.depends_on()}
     scale = node.scale(picked, {k: part(v) for k, v in values.items()})
-    moving = [c for p in node.depends_on() if p not in ground for c in picked[p]]
+    ox, oy = origin or (0.0, 0.0)
+    moving = [c for p in node.depends_on() if p not in ground
+              for c in (picked[p][0] + ox, picked[p][1] + oy)]
     return _filled_tolerance(_meet_tolerance(moving, scale, samples.size), path)
 
 

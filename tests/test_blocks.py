@@ -126,31 +126,22 @@ def test_blocks_along_paths_that_stop_turn_and_land_on_change_points(steps, leng
     assert_blocks_equal_whole(fourbar(*lengths), values, block)
 
 
-def parallelogram_at(x):
-    """A parallelogram (ground 10, crank 4) with its crank's pivot at (x, x)."""
+@pytest.mark.parametrize("block", range(1, 9))
+def test_change_points_within_the_rounding_of_a_mechanism_far_from_the_origin(block):
+    # 1e5 from the origin, the parallelogram's roots meet within 1e-5 of their scale
+    # (their coordinates' rounding): samples 1e-5 rad past the change points, where
+    # they are 2e-6 apart, are meeting samples, in every block as in the whole sweep
     c = geokin.Construction("parallelogram far from the origin")
     c.input("theta")
-    c.fixed("O2", x, x)
-    c.fixed("O4", x + 10, x)
+    c.fixed("O2", 1e5, 1e5)
+    c.fixed("O4", 1e5 + 10, 1e5)
     c.polar("A", "O2", 4, "theta")
     c.circle_circle("B", ("A", "O4"), (10, 4), branch="left")
-    return c
-
-
-@pytest.mark.parametrize("block", range(1, 9))
-def test_change_points_of_a_mechanism_far_from_the_origin_as_at_the_origin(block):
-    # 1e5 from the origin the parallelogram is found around its pivots, and its roots
-    # are told apart as at the origin: samples 1e-5 rad past the change points,
-    # where they are 2e-6 apart, are not meeting samples; the change lies just
-    # before each (the first before the path begins), in every block as in the
-    # whole sweep
+    # each change point held over three samples: one meeting, the branch changing after it
     degrees = np.repeat(np.arange(0.0, 1081.0, 30.0), np.where(
         np.arange(0.0, 1081.0, 30.0) % 180 == 0, 3, 1))
     values = np.radians(degrees) + np.where(degrees % 180 == 0, 1e-5, 0.0)
-    far, near = parallelogram_at(1e5), parallelogram_at(0.0)
-    whole = geokin.sweep(far, values)
-    first = np.flatnonzero((degrees % 180 == 0) & (np.roll(degrees, 1) != degrees))
-    assert [e.index for e in whole.events] == first[1:].tolist()
-    assert ([(e.index, e.fraction) for e in whole.events]
-            == [(e.index, e.fraction) for e in geokin.sweep(near, values).events])
-    assert_blocks_equal_whole(far, values, block)
+    whole = geokin.sweep(c, values)
+    last = np.flatnonzero((degrees % 180 == 0) & (np.roll(degrees, -1) != degrees))
+    assert [(e.index, e.fraction) for e in whole.events] == [(i + 1, 0.0) for i in last[1:-1]]
+    assert_blocks_equal_whole(c, values, block)
