@@ -261,8 +261,9 @@ def _far_frame(plan: tuple[_PlannedStep, ...]) -> tuple[float, float] | None:
     Near the mean of its fixed points, when that lies more than
     :data:`FRAME_RATIO` sizes from (0, 0); the size is the larger of the
     fixed points' distance from their mean and the largest constant length
-    of its other nodes. The origin is a whole multiple of a power of two
-    near the size, so that fixed points shift to it and back exactly.
+    of its other nodes. Along an axis the mechanism is far along, the
+    origin is a whole multiple of a power of two near the size, so that
+    fixed points shift to it and back exactly; along the other it is 0.
     Found there, every point is found as precisely as at the origin.
 
     Examples
@@ -284,11 +285,17 @@ def _far_frame(plan: tuple[_PlannedStep, ...]) -> tuple[float, float] | None:
                + [abs(value) for step in plan if not step.node.ground_kind
                   for name, value in step.constants.items()
                   if name not in step.node.angle_fields()])
-    if (not (math.isfinite(x) and math.isfinite(y) and math.isfinite(size)) or size == 0
-            or math.hypot(x, y) <= FRAME_RATIO * size):
+    if size == 0 or math.hypot(x, y) <= FRAME_RATIO * size:
         return None
     unit = 2.0 ** math.floor(math.log2(size))
-    return unit * round(x / unit), unit * round(y / unit)
+
+    def snapped(mean):
+        # an axis the mechanism is not far along keeps its origin: a coordinate
+        # near 0 would not shift exactly to a whole multiple of the unit
+        return unit * round(mean / unit) if abs(mean) > FRAME_RATIO * size else 0.0
+
+    origin = snapped(x), snapped(y)
+    return None if origin == (0.0, 0.0) else origin
 
 
 def _deciding_branches(planned: list[_PlannedStep]) -> list[_PlannedStep]:

@@ -282,15 +282,18 @@ def test_variants_of_a_mechanism_far_from_the_origin_share_its_frame():
     np.testing.assert_array_equal(variant["B"][0], alone["B"])
 
 
-def test_fixed_points_far_from_the_origin_come_back_as_written():
+@pytest.mark.parametrize("o2, o4", [((1e6, -0.5), (1e6 + 10, 0.1)),
+                                     ((0.1, 1e6), (10.1, 1e6)),
+                                     ((-3e7 + 0.3, 4e5 - 0.7), (-3e7 + 10.3, 4e5 - 0.7))])
+def test_fixed_points_far_from_the_origin_come_back_as_written(o2, o4):
     c = Construction()
     c.input("t")
-    c.fixed("O2", 1e6, -0.5)
-    c.fixed("O4", 1e6 + 10, 0.1)
+    c.fixed("O2", *o2)
+    c.fixed("O4", *o4)
     c.polar("A", "O2", 4, "t")
     c.circle_circle("B", ("A", "O4"), (10, 4), branch="left")
     s = sweep(c, np.linspace(0, 1, 5))
-    assert (s["O2"] == [1e6, -0.5]).all() and (s["O4"] == [1e6 + 10, 0.1]).all()
+    assert (s["O2"] == o2).all() and (s["O4"] == o4).all()
 
 
 @pytest.mark.parametrize("x", [2500.3, 5000.3, 12345.6, 100000.3, 1e6 + 0.3])
