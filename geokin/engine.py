@@ -255,6 +255,19 @@ FRAME_RATIO = 4.0
 from (0, 0) is evaluated around them (see :func:`_far_frame`)."""
 
 
+_FRAMES: dict[int, tuple[float, float] | None] = {}
+"""The frame of each compiled construction (by id), found once and dropped with it."""
+
+
+def _frame_of(compiled: Compiled) -> tuple[float, float] | None:
+    """Return :func:`_far_frame` of a construction with its own parameters, found once."""
+    key = id(compiled)
+    if key not in _FRAMES:
+        _FRAMES[key] = _far_frame(_plan(compiled))
+        weakref.finalize(compiled, _FRAMES.pop, key, None)
+    return _FRAMES[key]
+
+
 def _far_frame(plan: tuple[_PlannedStep, ...]) -> tuple[float, float] | None:
     """Return where to put the origin of a construction far from (0, 0), or None.
 
@@ -483,7 +496,7 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
     # a construction far from (0, 0) is found around its fixed points, its positions
     # moved back at the end
     # from the construction's own parameters: variants of it share its frame
-    frame = _far_frame(_plan(compiled)) if origin is None else None
+    frame = _frame_of(compiled) if origin is None else None
     origin = frame or origin
     chosen = {**(start or {}), **(held or {})}
     if (not track and n > BLOCKED_ABOVE and paths == 1
