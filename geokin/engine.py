@@ -289,7 +289,10 @@ def _far_frame(plan: tuple[_PlannedStep, ...]) -> tuple[float, float] | None:
     >>> _far_frame(_plan(c.compile()))
     (2504.0, -1800.0)
     """
-    fixed = [(step.known.x[0], step.known.y[0]) for step in plan if step.known is not None]
+    # a fixed point of degenerate geometry (parallel guides) is NaN: it marks its
+    # samples invalid, and has no place
+    fixed = [(step.known.x[0], step.known.y[0]) for step in plan if step.known is not None
+             and math.isfinite(step.known.x[0]) and math.isfinite(step.known.y[0])]
     if not fixed:
         return None
     x = math.fsum(p[0] for p in fixed) / len(fixed)
@@ -297,8 +300,8 @@ def _far_frame(plan: tuple[_PlannedStep, ...]) -> tuple[float, float] | None:
     size = max([math.hypot(px - x, py - y) for px, py in fixed]
                + [abs(value) for step in plan if not step.node.ground_kind
                   for name, value in step.constants.items()
-                  if name not in step.node.angle_fields()])
-    if size == 0 or math.hypot(x, y) <= FRAME_RATIO * size:
+                  if name not in step.node.angle_fields() and math.isfinite(value)])
+    if not 0 < size < math.inf or math.hypot(x, y) <= FRAME_RATIO * size:
         return None
     unit = 2.0 ** math.floor(math.log2(size))
 
