@@ -497,8 +497,8 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         varied = {k: np.broadcast_to(v, (n,)) for k, v in varied.items()}
     plan = _plan(compiled, frozenset(varied))
     # a construction far from (0, 0) is found around its fixed points, its positions
-    # moved back at the end
-    # from the construction's own parameters: variants of it share its frame
+    # moved back at the end; the frame is that of its own parameters, which its
+    # variants share
     frame = _frame_of(compiled) if origin is None else None
     origin = frame or origin
     chosen = {**(start or {}), **(held or {})}
@@ -1916,21 +1916,20 @@ class _Tracker:
         """Return the moving two-root nodes node ``plan[position]`` is found from, at any remove."""
         found = self.ancestors.get(position)
         if found is None:
-            defined_by = {p: planned.node for planned in self.plan[:position]
-                          for p in planned.node.defines}
-            seen: set[str] = set()
-            todo = list(self.plan[position].node.depends_on())
-            while todo:
-                source = defined_by.get(todo.pop())
-                if source is not None and source.name not in seen:
-                    seen.add(source.name)
-                    todo.extend(source.depends_on())
-            # a fixed point is rounded once, the same at every sample: a mechanism a
-            # rounding apart, not noise
-            found = self.ancestors[position] = frozenset(
-                planned.node.name for planned in self.plan[:position]
-                if planned.node.name in seen and planned.node.roots == 2
-                and planned.node.name not in self.compiled.ground)
+            # the plan is in the order points are found: walking back, a node that
+            # finds a point needed finds its own from earlier ones
+            needed = set(self.plan[position].node.depends_on())
+            two_root = set()
+            for planned in reversed(self.plan[:position]):
+                node = planned.node
+                if needed.isdisjoint(node.defines):
+                    continue
+                needed.update(node.depends_on())
+                # a fixed point is rounded once, the same at every sample: a mechanism
+                # a rounding apart, not noise
+                if node.roots == 2 and node.name not in self.compiled.ground:
+                    two_root.add(node.name)
+            found = self.ancestors[position] = frozenset(two_root)
         return found
 
     def _label_between(self, name, step, fraction):
