@@ -357,7 +357,11 @@ def _limits_of_variants(compiled, name, grid, held, start, turn, varied, count):
         branches = {k: np.broadcast_to(v[:, None], (count, samples)).reshape(-1)
                     for k, v in held_rows.items()}
     probe = _evaluate_at(compiled, name, np.tile(grid, count), held, branches, per_sample)
-    ok = _strictly_valid(probe).reshape(count, samples) & assembles[:, None]
+    # the search takes the primitives' word for where the mechanism assembles, as a sweep
+    # does: a sample whose roots miss within their tolerance is a meeting to it, not a
+    # gap (a parallelogram written in decimals far from (0, 0) is a near miss once
+    # rounded); the brackets are then narrowed to where the roots strictly meet
+    ok = probe.valid.reshape(count, samples) & assembles[:, None]
     row, change = np.nonzero(ok[:, 1:] != ok[:, :-1])
     into = ok[row, change]
     inside = np.where(into, grid[change], grid[change + 1])

@@ -312,6 +312,44 @@ def test_a_parallelogram_drawn_in_decimal_coordinates_keeps_its_change_points(x)
     assert np.abs(coupler[:, 1]).max() <= 1e-9 * x
 
 
+@pytest.mark.parametrize("x, y", [(5000.3, -1800.7), (12345.6, 0.0), (100000.3, 7.1)])
+def test_limits_and_circuits_see_the_change_points_a_sweep_sees_far_from_the_origin(x, y):
+    """The decimal parallelogram turns fully, and its circuit is the one at the origin.
+
+    Rounded, its roots miss by 2e-15 at pi: a gap of 4e-7 rad for a search
+    that takes them as they are, which then bounced between its two sides
+    and never closed. Within the rounding of its coordinates, as a sweep
+    tells a meeting, it passes its change point.
+    """
+    far, near = (fourbar(52.6, 30.25, 52.6, 30.25, ground_at=at) for at in ((x, y), (0, 0)))
+    assert limits(far).full_turn and limits(near).full_turn
+    far_circuit, near_circuit = circuit(far), circuit(near)
+    assert len(far_circuit) == len(near_circuit)
+    assert [(e.index, e.before, e.after) for e in far_circuit.events] == [
+        (e.index, e.before, e.after) for e in near_circuit.events]
+    # at a change point the roots are known to 1e-7 sqrt(R) of the scale
+    for point in ("A", "B"):
+        np.testing.assert_allclose(far_circuit[point] - [x, y], near_circuit[point],
+                                   rtol=0, atol=1e-6 * np.sqrt(x))
+
+
+@pytest.mark.parametrize("x, y", [(0.0, 0.0), (5000.3, -1800.7), (100000.3, 7.1)])
+def test_a_narrow_gap_wider_than_the_rounding_stays_a_gap(x, y):
+    """A coupler 1e-6 too long: no crank position near 0 reaches; limits closed by hand.
+
+    At crank angle t, A to O4 is sqrt(a^2 + d^2 - 2ad cos t); B is found while
+    that is at least b - c, so cos t <= (a^2 + d^2 - (b - c)^2) / 2ad.
+    """
+    a, b, c, d = 30.25, 52.6 + 1e-6, 30.25, 52.6
+    found = limits(fourbar(d, a, b, c, ground_at=(x, y)))
+    assert not found.full_turn
+    edge = np.arccos((a * a + d * d - (b - c) ** 2) / (2 * a * d))
+    [(lo, hi)] = found.intervals
+    assert lo.kind == hi.kind == "tangent"
+    np.testing.assert_allclose([lo.value, hi.value], [edge, 2 * np.pi - edge], rtol=0,
+                               atol=1e-9)
+
+
 # -- the defects the contract removes ------------------------------------------------
 
 
