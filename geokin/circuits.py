@@ -6,7 +6,11 @@ and not, and narrows each bracket by bisection on the failing node's margin
 (or on assemblability where the node leaves a ray or segment) to
 :data:`LIMIT_TOLERANCE`. Each limit records the node that reaches it and
 whether it is a tangency (a toggle the mechanism can pass through by changing
-branch) or an end (of a ray, a segment, or the input's range).
+branch) or an end (of a ray, a segment, or the input's range). A gap between
+two tangent limits of one node across which the primitives assemble the
+mechanism, its roots missing by less than their tangency tolerance (a change
+point, once a mechanism written in decimals is rounded), is no gap: a sweep
+passes it as a meeting.
 
 :func:`circuit` is the second sweep mode. In a plain sweep (:func:`~geokin.sweep`)
 unreachable samples are invalid. In circuit mode the input runs from
@@ -357,11 +361,7 @@ def _limits_of_variants(compiled, name, grid, held, start, turn, varied, count):
         branches = {k: np.broadcast_to(v[:, None], (count, samples)).reshape(-1)
                     for k, v in held_rows.items()}
     probe = _evaluate_at(compiled, name, np.tile(grid, count), held, branches, per_sample)
-    # the search takes the primitives' word for where the mechanism assembles, as a sweep
-    # does: a sample whose roots miss within their tolerance is a meeting to it, not a
-    # gap (a parallelogram written in decimals far from (0, 0) is a near miss once
-    # rounded); the brackets are then narrowed to where the roots strictly meet
-    ok = probe.valid.reshape(count, samples) & assembles[:, None]
+    ok = _strictly_valid(probe).reshape(count, samples) & assembles[:, None]
     row, change = np.nonzero(ok[:, 1:] != ok[:, :-1])
     into = ok[row, change]
     inside = np.where(into, grid[change], grid[change + 1])
@@ -375,6 +375,11 @@ def _limits_of_variants(compiled, name, grid, held, start, turn, varied, count):
             inside, outside, assembly_guesses(probe, start_at),
             None if varied is None else {k: v[row] for k, v in varied.items()})
         found = [Limit(float(value), *_what_stops(beyond, i)) for i, value in enumerate(refined)]
+        if not any(step.node.continued for step in compiled.steps):
+            kept = ~_rounding_gaps(compiled, name, held, held_rows, varied, turn, ok, row,
+                                   change, found)
+            row, found = row[kept], [limit for limit, keep in zip(found, kept, strict=True)
+                                     if keep]
     declared = compiled.inputs[name]
     ends = np.searchsorted(row, np.arange(count + 1))
     result = []
@@ -386,6 +391,62 @@ def _limits_of_variants(compiled, name, grid, held, start, turn, varied, count):
         result.append(_intervals(name, declared, grid, turn, ok[variant],
                                  found[ends[variant]:ends[variant + 1]], held_branches))
     return result
+
+
+ROUNDING_GAP_PROBES = 17
+"""Inputs evenly spaced inside a gap between two tangent limits of one node that
+are assembled to tell it a meeting within rounding (see :func:`_rounding_gaps`)."""
+
+
+def _rounding_gaps(compiled, name, held, held_rows, varied, turn, ok, row, change, found):
+    """Mark the brackets of gaps that a sweep passes as meetings, and fill their samples.
+
+    A parallelogram written in decimals far from (0, 0) is, once rounded, a
+    near miss: its roots miss by 2e-15 of its size at its change point, a
+    gap of 4e-7 rad where they do not strictly exist. The primitives find it
+    assembled there, its roots met within their tangency tolerance, and so
+    does a sweep, which passes the change point. A gap between two tangent
+    limits of the same node, where each of :data:`ROUNDING_GAP_PROBES`
+    inputs evenly spaced inside can be so assembled, is such a meeting: its
+    samples in ``ok`` (variants by grid samples) are set, and the mask of
+    its two brackets (the limits ``found``, bracket ``i`` between grid samples
+    ``change[i]`` and ``change[i] + 1`` of variant ``row[i]``) is returned.
+    Over a whole turn the gap may straddle the ends of the grid.
+    """
+    into = ok[row, change]  # the bracket leaves the assembled samples, going up
+    gaps = []  # (exit bracket, entry bracket, from, to)
+    for i in range(len(found) - 1):
+        if row[i] == row[i + 1] and into[i] and not into[i + 1]:
+            gaps.append((i, i + 1, found[i].value, found[i + 1].value))
+    if turn:
+        for r in np.unique(row):
+            first, last = np.searchsorted(row, r), np.searchsorted(row, r, side="right") - 1
+            if first < last and not into[first] and into[last]:
+                gaps.append((last, first, found[last].value, found[first].value + 2 * np.pi))
+    gaps = [g for g in gaps if found[g[0]].kind == found[g[1]].kind == "tangent"
+            and found[g[0]].node == found[g[1]].node]
+    merged = np.zeros(len(found), dtype=bool)
+    if not gaps:
+        return merged
+    leaving = np.array([g[0] for g in gaps])
+    between = np.linspace(0.0, 1.0, ROUNDING_GAP_PROBES + 2)[1:-1]
+    values = np.concatenate([low + (high - low) * between for _, _, low, high in gaps])
+    rows = np.repeat(row[leaving], ROUNDING_GAP_PROBES)
+    branches = {k: v[rows] for k, v in held_rows.items()}
+    parameters = None if varied is None else {k: v[rows] for k, v in varied.items()}
+    probe = _evaluate_at(compiled, name, values, held, branches, parameters)
+    assembled = probe.valid.reshape(len(gaps), -1).all(axis=1)
+    for (out, back, _, _), passed in zip(gaps, assembled, strict=True):
+        if not passed:
+            continue
+        merged[[out, back]] = True
+        r = row[out]
+        if change[out] < change[back]:
+            ok[r, change[out] + 1:change[back] + 1] = True
+        else:  # through the ends of the turn
+            ok[r, change[out] + 1:] = True
+            ok[r, :change[back] + 1] = True
+    return merged
 
 
 def _intervals(name, declared, grid, turn, ok, found, held_branches) -> Limits:

@@ -312,14 +312,16 @@ def test_a_parallelogram_drawn_in_decimal_coordinates_keeps_its_change_points(x)
     assert np.abs(coupler[:, 1]).max() <= 1e-9 * x
 
 
-@pytest.mark.parametrize("x, y", [(5000.3, -1800.7), (12345.6, 0.0), (100000.3, 7.1)])
+@pytest.mark.parametrize("x, y", [(5000.3, -1800.7), (12345.6, 0.0), (100000.3, 7.1),
+                                  (2500.3, -911.9)])
 def test_limits_and_circuits_see_the_change_points_a_sweep_sees_far_from_the_origin(x, y):
     """The decimal parallelogram turns fully, and its circuit is the one at the origin.
 
-    Rounded, its roots miss by 2e-15 at pi: a gap of 4e-7 rad for a search
-    that takes them as they are, which then bounced between its two sides
-    and never closed. Within the rounding of its coordinates, as a sweep
-    tells a meeting, it passes its change point.
+    Rounded, its roots miss by 2e-15 of its size at pi (at 0 for the last):
+    a gap of 4e-7 rad for a search that takes them as they are, which then
+    bounced between its two sides and never closed. The primitives, and a
+    sweep, find it assembled across, its roots met: it passes its change
+    point. The last gap straddles the ends of the searched turn.
     """
     far, near = (fourbar(52.6, 30.25, 52.6, 30.25, ground_at=at) for at in ((x, y), (0, 0)))
     assert limits(far).full_turn and limits(near).full_turn

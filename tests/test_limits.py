@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
-from mechanisms import R1, R2, R3, R4, coupler_fourbar, triple_rocker
+from mechanisms import R1, R2, R3, R4, coupler_fourbar, fourbar, triple_rocker
 
 from geokin import AssemblyError, Construction, sweep
 from geokin.analysis import grashof
@@ -225,3 +225,43 @@ def test_limits_and_circuit_take_start_branches_as_sweep_does():
         limits(c, start_branches={"X": "right"})
     with pytest.raises(ConstructionError, match="unknown branch 'up'"):
         circuit(c, start_branches={"C": "up"})
+
+
+# -- a grid sample within the primitives' tolerances of a limit -------------------------
+
+
+@pytest.mark.parametrize("past", [5e-10, 5e-9])
+def test_a_grid_sample_just_past_a_slider_end_leaves_the_end_where_it_is(past):
+    """P reaches the segment's end E at s = 6; a grid sample lies ``past`` it.
+
+    The primitives take P as on the segment that close past its end (their
+    tolerance is 1e-9 of its length): the limit is still at 6, on the
+    assembled side.
+    """
+    c = Construction()
+    c.input("s", kind="length", range=(0.0, 12.0))
+    c.fixed("S", 0, 0)
+    c.fixed("E", 10, 0)
+    c.fixed("Q", 0, 3)
+    c.polar("C", "Q", "s", 0)
+    c.segment_circle("P", ("S", "E"), "C", 5, branch="second")  # |P - C| = 5: P = E at s = 6
+    [(_, hi)] = limits(c, search_range=(0.0, 2 * (6 + past)), samples=1201).intervals
+    assert hi.kind == "end" and -1e-12 <= 6 - hi.value <= 1e-12
+
+
+@pytest.mark.parametrize("inside", [2e-9, 5e-9, 1e-7])
+def test_a_grid_sample_just_inside_a_real_gap_keeps_the_gap(inside):
+    """A coupler 1e-6 too long: a gap of 3.4e-4 rad about 0, one grid sample ``inside`` it.
+
+    Its edges, in closed form: A to O4 is sqrt(a^2 + d^2 - 2ad cos t), at
+    least b - c where B is found.
+    """
+    a, b, c, d = 30.25, 52.6 + 1e-6, 30.25, 52.6
+    edge = np.arccos((a * a + d * d - (b - c) ** 2) / (2 * a * d))
+    middle = -edge + inside  # the grid's middle sample
+    found = limits(fourbar(d, a, b, c, range=(middle - np.pi, middle + np.pi)))
+    assert not found.full_turn
+    [(lo, hi)] = found.intervals
+    assert lo.kind == hi.kind == "tangent"
+    np.testing.assert_allclose([lo.value, hi.value], [edge - 2 * np.pi, -edge], rtol=0,
+                               atol=1e-9)
