@@ -6,11 +6,11 @@ and not, and narrows each bracket by bisection on the failing node's margin
 (or on assemblability where the node leaves a ray or segment) to
 :data:`LIMIT_TOLERANCE`. Each limit records the node that reaches it and
 whether it is a tangency (a toggle the mechanism can pass through by changing
-branch) or an end (of a ray, a segment, or the input's range). A gap between
-two tangent limits of one node across which the primitives assemble the
-mechanism, its roots missing by less than their tangency tolerance (a change
-point, once a mechanism written in decimals is rounded), is no gap: a sweep
-passes it as a meeting.
+branch) or an end (of a ray, a segment, or the input's range). A gap bounded
+by tangent limits where inputs evenly spaced across it all assemble, roots
+missing by less than the primitives' tangency tolerance (a change point, once
+a mechanism written in decimals is rounded), is no gap: a sweep passes it as
+a meeting.
 
 :func:`circuit` is the second sweep mode. In a plain sweep (:func:`~geokin.sweep`)
 unreachable samples are invalid. In circuit mode the input runs from
@@ -376,8 +376,8 @@ def _limits_of_variants(compiled, name, grid, held, start, turn, varied, count):
             None if varied is None else {k: v[row] for k, v in varied.items()})
         found = [Limit(float(value), *_what_stops(beyond, i)) for i, value in enumerate(refined)]
         if not any(step.node.continued for step in compiled.steps):
-            kept = ~_rounding_gaps(compiled, name, held, held_rows, varied, turn, ok, row,
-                                   change, found)
+            kept = ~_rounding_gaps(compiled, name, held, held_rows, varied, grid, turn, ok,
+                                   row, change, found)
             row, found = row[kept], [limit for limit, keep in zip(found, kept, strict=True)
                                      if keep]
     declared = compiled.inputs[name]
@@ -394,40 +394,67 @@ def _limits_of_variants(compiled, name, grid, held, start, turn, varied, count):
 
 
 ROUNDING_GAP_PROBES = 17
-"""Inputs evenly spaced inside a gap between two tangent limits of one node that
-are assembled to tell it a meeting within rounding (see :func:`_rounding_gaps`)."""
+"""Inputs evenly spaced across a gap bounded by tangent limits that must all be
+assembled to make it a meeting within rounding (see :func:`_rounding_gaps`)."""
 
 
-def _rounding_gaps(compiled, name, held, held_rows, varied, turn, ok, row, change, found):
+def _rounding_gaps(compiled, name, held, held_rows, varied, grid, turn, ok, row, change,
+                   found):
     """Mark the brackets of gaps that a sweep passes as meetings, and fill their samples.
 
     A parallelogram written in decimals far from (0, 0) is, once rounded, a
     near miss: its roots miss by 2e-15 of its size at its change point, a
     gap of 4e-7 rad where they do not strictly exist. The primitives find it
     assembled there, its roots met within their tangency tolerance, and so
-    does a sweep, which passes the change point. A gap between two tangent
-    limits of the same node, where each of :data:`ROUNDING_GAP_PROBES`
-    inputs evenly spaced inside can be so assembled, is such a meeting: its
-    samples in ``ok`` (variants by grid samples) are set, and the mask of
-    its two brackets (the limits ``found``, bracket ``i`` between grid samples
-    ``change[i]`` and ``change[i] + 1`` of variant ``row[i]``) is returned.
-    Over a whole turn the gap may straddle the ends of the grid.
+    does a sweep, which passes the change point. A gap bounded by tangent
+    limits (of one node, or of two whose near misses overlap, as in two
+    parallelograms in series) where :data:`ROUNDING_GAP_PROBES` inputs
+    evenly spaced across it are all so assembled is taken for such a
+    meeting: its samples in ``ok`` (variants by ``grid`` samples) are set,
+    and the mask of its brackets (the limits ``found``, bracket ``i``
+    between grid samples ``change[i]`` and ``change[i] + 1`` of variant
+    ``row[i]``) is returned. Over a whole turn a gap may straddle the ends
+    of the grid; otherwise a gap may run to an end of the grid, the end
+    itself probed.
     """
     into = ok[row, change]  # the bracket leaves the assembled samples, going up
-    gaps = []  # (exit bracket, entry bracket, from, to)
+    inside = np.linspace(0.0, 1.0, ROUNDING_GAP_PROBES + 2)[1:-1]
+    from_end = np.linspace(0.0, 1.0, ROUNDING_GAP_PROBES + 1)[:-1]
+    # (its brackets, its samples as a slice of the grid or two, where it runs, probes)
+    gaps: list[tuple[list[int], list[slice], float, float, np.ndarray]] = []
     for i in range(len(found) - 1):
         if row[i] == row[i + 1] and into[i] and not into[i + 1]:
-            gaps.append((i, i + 1, found[i].value, found[i + 1].value))
-    if turn:
-        for r in np.unique(row):
-            first, last = np.searchsorted(row, r), np.searchsorted(row, r, side="right") - 1
-            if first < last and not into[first] and into[last]:
-                gaps.append((last, first, found[last].value, found[first].value + 2 * np.pi))
-    gaps = [g for g in gaps if found[g[0]].kind == found[g[1]].kind == "tangent"
-            and found[g[0]].node == found[g[1]].node]
+            gaps.append(([i, i + 1], [slice(change[i] + 1, change[i + 1] + 1)],
+                         found[i].value, found[i + 1].value, inside))
+    for r in np.unique(row):
+        first, last = np.searchsorted(row, r), np.searchsorted(row, r, side="right") - 1
+        if turn and first < last and not into[first] and into[last]:
+            gaps.append(([last, first], [slice(change[last] + 1, None),
+                                         slice(0, change[first] + 1)],
+                         found[last].value, found[first].value + 2 * np.pi, inside))
+            continue
+        if not into[first]:  # not assembled from the start of the grid
+            gaps.append(([first], [slice(0, change[first] + 1)], grid[0],
+                         found[first].value, from_end))
+        if into[last]:  # nor up to its end
+            gaps.append(([last], [slice(change[last] + 1, None)], grid[-1],
+                         found[last].value, from_end))
+    gaps = [g for g in gaps if all(found[i].kind == "tangent" for i in g[0])]
     merged = np.zeros(len(found), dtype=bool)
     if not gaps:
         return merged
+    values = np.concatenate([low + (high - low) * at for _, _, low, high, at in gaps])
+    rows = np.repeat(row[[g[0][0] for g in gaps]], ROUNDING_GAP_PROBES)
+    branches = {k: v[rows] for k, v in held_rows.items()}
+    parameters = None if varied is None else {k: v[rows] for k, v in varied.items()}
+    probe = _evaluate_at(compiled, name, values, held, branches, parameters)
+    assembled = probe.valid.reshape(len(gaps), -1).all(axis=1)
+    for (brackets, stretches, *_), passed in zip(gaps, assembled, strict=True):
+        if passed:
+            merged[brackets] = True
+            for stretch in stretches:
+                ok[row[brackets[0]], stretch] = True
+    return merged
     leaving = np.array([g[0] for g in gaps])
     between = np.linspace(0.0, 1.0, ROUNDING_GAP_PROBES + 2)[1:-1]
     values = np.concatenate([low + (high - low) * between for _, _, low, high in gaps])

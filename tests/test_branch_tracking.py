@@ -335,6 +335,52 @@ def test_limits_and_circuits_see_the_change_points_a_sweep_sees_far_from_the_ori
                                    rtol=0, atol=1e-6 * np.sqrt(x))
 
 
+def parallelograms_in_series(x=0.0, y=0.0):
+    """O2-A-B-O4 and O4-B-C-O6, both parallelograms: B and C meet together at pi."""
+    c = Construction("two parallelograms in series")
+    c.input("theta")
+    c.fixed("O2", x, y)
+    c.fixed("O4", x + 52.6, y)
+    c.fixed("O6", x + 93.9, y)
+    c.polar("A", "O2", 30.25, "theta")
+    c.circle_circle("B", ("A", "O4"), (52.6, 30.25), branch="left")
+    c.circle_circle("C", ("B", "O6"), (41.3, 30.25), branch="left")
+    return c
+
+
+@pytest.mark.parametrize("x, y", [(0.0, 0.0), (5000.3, -1800.7), (2500.3, -911.9)])
+def test_near_misses_of_two_nodes_overlapping_are_one_meeting(x, y):
+    """B's and C's near misses at pi overlap, neither inside the other (at the origin too).
+
+    A sweep passes both change points together; so does the circuit, in one
+    turn, both nodes changing branch at its middle sample (at pi).
+    """
+    c = parallelograms_in_series(x, y)
+    assert limits(c).full_turn
+    whole = circuit(c)
+    assert len(whole) == 361
+    assert sorted((e.node, e.index) for e in whole.events) == [("B", 181), ("C", 181)]
+    theta = np.linspace(np.pi - 1e-6, np.pi + 1e-6, 2001)
+    assert sweep(c, theta).valid.all()
+
+
+@pytest.mark.parametrize("x, y, search", [(2500.3, -911.9, (0.0, 2 * np.pi)),
+                                          (5000.3, -1800.7, (0.0, np.pi)),
+                                          (5000.3, -1800.7, (np.pi, 2 * np.pi))])
+def test_a_near_miss_at_an_end_of_the_searched_range_is_no_limit(x, y, search):
+    """The decimal parallelogram's change point at an end of ``search_range``: a range end.
+
+    A sweep is valid there, as it is at the origin, where the search ends
+    on the range's ends too.
+    """
+    far = fourbar(52.6, 30.25, 52.6, 30.25, ground_at=(x, y))
+    near = fourbar(52.6, 30.25, 52.6, 30.25)
+    for found in (limits(far, search_range=search), limits(near, search_range=search)):
+        [(lo, hi)] = found.intervals
+        assert (lo.kind, lo.value, hi.kind, hi.value) == ("range", search[0], "range", search[1])
+    assert sweep(far, np.array(search)).valid.all()
+
+
 @pytest.mark.parametrize("x, y", [(0.0, 0.0), (5000.3, -1800.7), (100000.3, 7.1)])
 def test_a_narrow_gap_wider_than_the_rounding_stays_a_gap(x, y):
     """A coupler 1e-6 too long: no crank position near 0 reaches; limits closed by hand.
