@@ -357,3 +357,30 @@ def test_an_extreme_at_a_closed_circuits_seam_is_placed_between_samples(tmp_path
     swing = analyze(c, degrees=True).strokes["follower.angle"]
     np.testing.assert_allclose([swing.minimum, swing.maximum],
                                dense_extremes(c, "follower.angle"), rtol=0, atol=1e-6)
+
+
+@pytest.mark.parametrize("at", [(0.0, 0.0), (5000.3, -1800.7), (100000.3, 7.1)])
+def test_parallelogram_rockers_turn_fully_through_their_change_points(at):
+    """Two parallelograms in series: each rocker stays parallel to the crank, so turns fully.
+
+    Their couplers stay parallel to the ground: they do not move. At the
+    change points the roots are known only to the meeting tolerance, which
+    once left the second rocker 8e-8 rad short of a turn and gave its
+    coupler a stroke of 1e-6 degrees.
+    """
+    x, y = at
+    c = Construction("two parallelograms in series")
+    c.input("theta")
+    c.fixed("O2", x, y)
+    c.fixed("O4", x + 52.6, y)
+    c.fixed("O6", x + 105.2, y)
+    c.polar("A", "O2", 30.25, "theta")
+    c.circle_circle("B", ("A", "O4"), (52.6, 30.25), branch="left")
+    c.circle_circle("C", ("B", "O6"), (52.6, 30.25), branch="left")
+    for name, points in {"crank": ("O2", "A"), "coupler1": ("A", "B"), "rocker1": ("O4", "B"),
+                         "coupler2": ("B", "C"), "rocker2": ("O6", "C")}.items():
+        c.link(name, *points)
+    strokes = analyze(c).strokes
+    assert {k for k, v in strokes.items() if k.endswith(".angle") and v.turns} == {
+        "crank.angle", "rocker1.angle", "rocker2.angle"}
+    assert "coupler1.angle" not in strokes and "coupler2.angle" not in strokes
