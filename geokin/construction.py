@@ -390,6 +390,11 @@ class Compiled(Frozen):
                                         f"({', '.join(names) or 'none'}); name the one to "
                                         f"{purpose}")
             return names[0]
+        if not isinstance(name, str):
+            # a value passed where the name goes: circuit(c, np.radians(150))
+            raise ConstructionError(f"expected the name of an input to {purpose}, got "
+                                    f"{type(name).__name__} {name!r}; an input value goes in "
+                                    "a keyword (start=, search_range=, ...)")
         if name not in self.inputs:
             raise ConstructionError(f"unknown input {name!r}{did_you_mean(name, names)}",
                                     node=name)

@@ -118,7 +118,7 @@ def test_the_readme_states_the_limits_as_they_are():
     from geokin.primitives import SCALE_RANGE
 
     readme = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
-    limits = readme.split("### Limits", 1)[1].split("\n## ", 1)[0]
+    limits = readme.split("### Limits on size", 1)[1].split("\n## ", 1)[0]
     assert f"{MAX_SCRIPT_BYTES // 2**20} MiB (`MAX_SCRIPT_BYTES`)" in limits
     assert f"{MAX_EXPRESSION_LENGTH:,} characters (`MAX_EXPRESSION_LENGTH`)" in limits
     assert f"at most {MAX_EXPRESSION_DEPTH} levels" in limits

@@ -4,7 +4,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from mechanisms import R1, R2, R3, R4, coupler_fourbar, fourbar, triple_rocker
 
-from geokin import AssemblyError, Construction, sweep
+from geokin import AssemblyError, Construction, ConstructionError, sweep
 from geokin.analysis import grashof
 from geokin.circuits import circuit, limits
 
@@ -213,10 +213,6 @@ def test_a_circuit_starts_on_the_interval_the_declared_range_covers():
 
 
 def test_limits_and_circuit_take_start_branches_as_sweep_does():
-    from mechanisms import triple_rocker
-
-    from geokin import ConstructionError
-
     c = triple_rocker("crank")
     assert limits(c, start_branches={"C": "right"}).held_branches == {"C": 1}
     assert limits(c, start_branches={"C": 1}).held_branches == {"C": 1}
@@ -265,3 +261,10 @@ def test_a_grid_sample_just_inside_a_real_gap_keeps_the_gap(inside):
     assert lo.kind == hi.kind == "tangent"
     np.testing.assert_allclose([lo.value, hi.value], [edge - 2 * np.pi, -edge], rtol=0,
                                atol=1e-9)
+
+
+def test_a_value_where_the_input_name_goes_is_refused_with_where_it_goes():
+    c = triple_rocker("crank")
+    for call in (circuit, limits):
+        with pytest.raises(ConstructionError, match=r"name of an input.*start="):
+            call(c, np.radians(150))
