@@ -392,9 +392,9 @@ class Compiled(Frozen):
             return names[0]
         if not isinstance(name, str):
             # a value passed where the name goes: circuit(c, np.radians(150))
-            raise ConstructionError(f"expected the name of an input to {purpose}, got "
-                                    f"{type(name).__name__} {name!r}; an input value goes in "
-                                    "a keyword (start=, search_range=, ...)")
+            raise ConstructionError(f"expected the name of an input to {purpose} (a str, or "
+                                    f"none for the only input), got {type(name).__name__} "
+                                    f"{name!r}; values are given by keyword")
         if name not in self.inputs:
             raise ConstructionError(f"unknown input {name!r}{did_you_mean(name, names)}",
                                     node=name)

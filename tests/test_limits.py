@@ -266,5 +266,5 @@ def test_a_grid_sample_just_inside_a_real_gap_keeps_the_gap(inside):
 def test_a_value_where_the_input_name_goes_is_refused_with_where_it_goes():
     c = triple_rocker("crank")
     for call in (circuit, limits):
-        with pytest.raises(ConstructionError, match=r"name of an input.*start="):
+        with pytest.raises(ConstructionError, match=r"name of an input.*by keyword"):
             call(c, np.radians(150))

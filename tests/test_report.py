@@ -359,28 +359,48 @@ def test_an_extreme_at_a_closed_circuits_seam_is_placed_between_samples(tmp_path
                                dense_extremes(c, "follower.angle"), rtol=0, atol=1e-6)
 
 
-@pytest.mark.parametrize("at", [(0.0, 0.0), (5000.3, -1800.7), (100000.3, 7.1)])
-def test_parallelogram_rockers_turn_fully_through_their_change_points(at):
+@pytest.mark.parametrize("at, ground, crank, reference", [
+    ((0.0, 0.0), 52.6, 30.25, False), ((5000.3, -1800.7), 52.6, 30.25, False),
+    ((100000.3, 7.1), 52.6, 30.25, False), ((100000.3, 7.1), 52.6, 30.25, True),
+    ((0.0, 0.0), 100.0, 1.0, False)])
+def test_parallelogram_rockers_turn_fully_through_their_change_points(at, ground, crank,
+                                                                       reference):
     """Two parallelograms in series: each rocker stays parallel to the crank, so turns fully.
 
-    Their couplers stay parallel to the ground: they do not move. At the
-    change points the roots are known only to the meeting tolerance, which
-    once left the second rocker 8e-8 rad short of a turn and gave its
-    coupler a stroke of 1e-6 degrees.
+    At the change points the roots are known only to the meeting tolerance,
+    which once left the second rocker 8e-8 rad short of a turn (1e-4 with a
+    ground 100 times the crank). A fixed point at (0, 0) far from the rest
+    changes nothing.
     """
     x, y = at
     c = Construction("two parallelograms in series")
     c.input("theta")
     c.fixed("O2", x, y)
-    c.fixed("O4", x + 52.6, y)
-    c.fixed("O6", x + 105.2, y)
-    c.polar("A", "O2", 30.25, "theta")
-    c.circle_circle("B", ("A", "O4"), (52.6, 30.25), branch="left")
-    c.circle_circle("C", ("B", "O6"), (52.6, 30.25), branch="left")
+    c.fixed("O4", x + ground, y)
+    c.fixed("O6", x + 2 * ground, y)
+    if reference:
+        c.fixed("REF", 0, 0)
+    c.polar("A", "O2", crank, "theta")
+    c.circle_circle("B", ("A", "O4"), (ground, crank), branch="left")
+    c.circle_circle("C", ("B", "O6"), (ground, crank), branch="left")
     for name, points in {"crank": ("O2", "A"), "coupler1": ("A", "B"), "rocker1": ("O4", "B"),
                          "coupler2": ("B", "C"), "rocker2": ("O6", "C")}.items():
         c.link(name, *points)
     strokes = analyze(c).strokes
     assert {k for k, v in strokes.items() if k.endswith(".angle") and v.turns} == {
         "crank.angle", "rocker1.angle", "rocker2.angle"}
-    assert "coupler1.angle" not in strokes and "coupler2.angle" not in strokes
+
+
+def test_a_link_that_falls_short_of_a_turn_over_a_turn_of_the_input_does_not_turn():
+    """A pointer at theta / 1.0005 on the crank pin: 359.8 degrees over the input's turn.
+
+    Its angle spans less than a turn and ends 0.18 degrees short of one.
+    """
+    c = Construction()
+    c.input("theta")
+    c.fixed("O", 0, 0)
+    c.polar("A", "O", 1, "theta")
+    c.polar("P", "A", 1, "theta / 1.0005")
+    c.link("crank", "O", "A")
+    c.link("pointer", "A", "P")
+    assert not analyze(c).strokes["pointer.angle"].turns

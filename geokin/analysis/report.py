@@ -22,7 +22,7 @@ import numpy as np
 
 from ..circuits import circuit, describe_limit, limits
 from ..construction import Compiled, Construction, as_compiled
-from ..engine import MEET_RTOL, sweep
+from ..engine import sweep
 from ..errors import AnalysisError
 from ..kinematics import link_angles, slider_positions
 from ..nodes import CircleCircle
@@ -833,26 +833,27 @@ def _placed_extreme(values, sign, steps: _Steps, of: Callable[[Sweep], np.ndarra
     return best
 
 
-def _angle_resolution(motion: Sweep) -> float:
-    """Return how closely a link's angle is known along ``motion``, in radians.
+WINDING_TOLERANCE = 1e-3
+"""How near a whole number of turns (radians) a link's angle must come back, over
+a motion whose input makes whole turns, to count as turning fully."""
 
-    To rounding (1e-9) where no roots meet. Where they meet (a toggle, a
-    change point: the motion has branch events) the roots are known only
-    to the meeting tolerance of the branch rules, :data:`~geokin.engine.MEET_RTOL`
-    times sqrt(R) of a node's size for coordinates R times that size: a
-    parallelogram's coupler then seems to turn by 1e-7 rad, and its rocker
-    to fall as short of a whole turn. Four times that, with R the largest
-    coordinate over the spread of the points.
+
+def _winds(angle: np.ndarray, travel: float) -> bool:
+    """Whether a link turns fully: over whole turns of the input, it ends whole turns on.
+
+    Its unwrapped ``angle`` then ends a nonzero whole number of turns from
+    where it began, to within :data:`WINDING_TOLERANCE`, where the input
+    ends ``travel`` from its start. Where the motion passes a change point
+    or a toggle, the link's angle there is known only to the meeting
+    tolerance of the branch rules, and its span can fall short of a whole
+    turn by more than rounding: a parallelogram's rocker still winds.
     """
-    if not motion.events:
-        return 1e-9
-    points = np.concatenate([motion[p] for p in motion.construction.point_names])
-    points = points[np.isfinite(points).all(axis=1)]
-    if points.size == 0:
-        return 1e-9
-    spread = float(np.ptp(points, axis=0).max())
-    far = float(np.abs(points).max()) / spread if spread > 0 else 1.0
-    return 4 * MEET_RTOL * float(np.sqrt(max(far, 1.0)))
+    turns = travel / (2 * np.pi)
+    if not (np.isfinite(angle[0]) and np.isfinite(angle[-1])) or round(turns) == 0 or abs(
+            turns - round(turns)) > 1e-9:
+        return False
+    wound = (angle[-1] - angle[0]) / (2 * np.pi)
+    return round(wound) != 0 and abs(wound - round(wound)) * 2 * np.pi <= WINDING_TOLERANCE
 
 
 def _strokes(compiled: Compiled, motion: Sweep,
@@ -893,14 +894,14 @@ def _strokes(compiled: Compiled, motion: Sweep,
     for event in motion.events:
         smooth[max(event.index - 1, 0):event.index + 1] = False
     strokes: dict[str, StrokeReport] = {}
-    known = _angle_resolution(motion)
+    travel = motion.inputs[name][-1] - motion.inputs[name][0]
     for label, (values, is_angle, of) in outputs.items():
         if not np.isfinite(values).any():
             continue
         low, high = np.nanmin(values), np.nanmax(values)
-        if high - low <= (known if is_angle else 1e-9 * max(abs(high), abs(low))):
+        if high - low <= 1e-9 * max(abs(high), abs(low)):
             continue  # it does not move (to rounding, at any scale)
-        if is_angle and high - low >= 2 * np.pi - known:
+        if is_angle and (high - low >= 2 * np.pi - 1e-9 or _winds(values, travel)):
             strokes[label] = StrokeReport(turns=True)
             continue
         convert = angle if is_angle else float
