@@ -368,9 +368,9 @@ def test_parallelogram_rockers_turn_fully_through_their_change_points(at, ground
     """Two parallelograms in series: each rocker stays parallel to the crank, so turns fully.
 
     At the change points the roots are known only to the meeting tolerance,
-    which once left the second rocker 8e-8 rad short of a turn (1e-4 with a
-    ground 100 times the crank). A fixed point at (0, 0) far from the rest
-    changes nothing.
+    which once left the second rocker 8e-8 rad short of spanning a turn
+    (2e-6 with a ground 100 times the crank). A fixed point at (0, 0) far
+    from the rest changes nothing.
     """
     x, y = at
     c = Construction("two parallelograms in series")
@@ -391,16 +391,18 @@ def test_parallelogram_rockers_turn_fully_through_their_change_points(at, ground
         "crank.angle", "rocker1.angle", "rocker2.angle"}
 
 
-def test_a_link_that_falls_short_of_a_turn_over_a_turn_of_the_input_does_not_turn():
-    """A pointer at theta / 1.0005 on the crank pin: 359.8 degrees over the input's turn.
+@pytest.mark.parametrize("ratio", [1.0001, 1.0005])
+def test_a_link_that_falls_short_of_a_turn_over_a_turn_of_the_input_does_not_turn(ratio):
+    """A pointer at theta / ratio on the crank pin: 359.96 or 359.8 degrees over the turn.
 
-    Its angle spans less than a turn and ends 0.18 degrees short of one.
+    No roots meet along the motion: its angle is known to rounding, and
+    ending 6e-4 rad short of a whole turn is short of one.
     """
     c = Construction()
     c.input("theta")
     c.fixed("O", 0, 0)
     c.polar("A", "O", 1, "theta")
-    c.polar("P", "A", 1, "theta / 1.0005")
+    c.polar("P", "A", 1, f"theta / {ratio}")
     c.link("crank", "O", "A")
     c.link("pointer", "A", "P")
     assert not analyze(c).strokes["pointer.angle"].turns

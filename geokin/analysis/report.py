@@ -843,10 +843,11 @@ def _winds(angle: np.ndarray, travel: float) -> bool:
 
     Its unwrapped ``angle`` then ends a nonzero whole number of turns from
     where it began, to within :data:`WINDING_TOLERANCE`, where the input
-    ends ``travel`` from its start. Where the motion passes a change point
-    or a toggle, the link's angle there is known only to the meeting
-    tolerance of the branch rules, and its span can fall short of a whole
-    turn by more than rounding: a parallelogram's rocker still winds.
+    ends ``travel`` from its start. Asked only of a motion through change
+    points or toggles (with branch events): there the link's angle is known
+    only to the meeting tolerance of the branch rules, and its span can
+    fall short of a whole turn by more than rounding (3e-6 rad for a
+    parallelogram's rocker), although it comes back round.
     """
     turns = travel / (2 * np.pi)
     if not (np.isfinite(angle[0]) and np.isfinite(angle[-1])) or round(turns) == 0 or abs(
@@ -901,7 +902,8 @@ def _strokes(compiled: Compiled, motion: Sweep,
         low, high = np.nanmin(values), np.nanmax(values)
         if high - low <= 1e-9 * max(abs(high), abs(low)):
             continue  # it does not move (to rounding, at any scale)
-        if is_angle and (high - low >= 2 * np.pi - 1e-9 or _winds(values, travel)):
+        if is_angle and (high - low >= 2 * np.pi - 1e-9
+                         or (bool(motion.events) and _winds(values, travel))):
             strokes[label] = StrokeReport(turns=True)
             continue
         convert = angle if is_angle else float
