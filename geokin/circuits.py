@@ -376,10 +376,10 @@ def _limits_of_variants(compiled, name, grid, held, start, turn, varied, count):
             None if varied is None else {k: v[row] for k, v in varied.items()})
         found = [Limit(float(value), *_what_stops(beyond, i)) for i, value in enumerate(refined)]
         if not any(step.node.continued for step in compiled.steps):
-            kept = ~_rounding_gaps(compiled, name, held, held_rows, varied, grid, turn, ok,
-                                   row, change, found)
-            row, found = row[kept], [limit for limit, keep in zip(found, kept, strict=True)
-                                     if keep]
+            joined, ok = _join_rounding_gaps(compiled, name, held, held_rows, varied, grid,
+                                             turn, ok, row, change, found)
+            row, found = row[~joined], [limit for limit, gone in zip(found, joined, strict=True)
+                                        if not gone]
     declared = compiled.inputs[name]
     ends = np.searchsorted(row, np.arange(count + 1))
     result = []
@@ -395,12 +395,42 @@ def _limits_of_variants(compiled, name, grid, held, start, turn, varied, count):
 
 ROUNDING_GAP_PROBES = 17
 """Inputs evenly spaced across a gap bounded by tangent limits that must all be
-assembled to make it a meeting within rounding (see :func:`_rounding_gaps`)."""
+assembled to make it a meeting within rounding (see :func:`_join_rounding_gaps`).
+A near miss is a single dip of a node's margin below zero, no deeper than the
+tangency tolerance; a gap so probed holds no failure wider than 1/18 of it,
+and a real gap is at least as wide as the meeting tolerance allows roots to
+be told apart, far wider than rounding."""
+
+BEYOND_PROBES = 24
+"""How many inputs past an end of the searched range, at 1, 2, 4, ... times the
+width of a gap that runs to that end, are tried for where the mechanism is
+strictly assembled again (see :func:`_join_rounding_gaps`)."""
 
 
-def _rounding_gaps(compiled, name, held, held_rows, varied, grid, turn, ok, row, change,
-                   found):
-    """Mark the brackets of gaps that a sweep passes as meetings, and fill their samples.
+@dataclass
+class _Gap:
+    """A stretch of the grid not strictly assembled, bounded by tangent limits.
+
+    ``brackets`` are its limits' places in the list of limits found,
+    ``stretches`` its grid samples (a slice, or two where it runs through
+    the ends of a turn), ``low`` and ``high`` the inputs it runs between.
+    ``past`` is 0 for a gap between two limits; for one from a limit to an
+    end of the grid, the direction (-1 or 1) in which it runs on past that end.
+    """
+
+    brackets: list[int]
+    stretches: list[slice]
+    low: float
+    high: float
+    past: int = 0
+
+
+def _join_rounding_gaps(compiled: Compiled, name: str, held: Mapping[str, float],
+                        held_rows: Mapping[str, np.ndarray],
+                        varied: Mapping[str, np.ndarray] | None, grid: np.ndarray, turn: bool,
+                        ok: np.ndarray, row: np.ndarray, change: np.ndarray,
+                        found: list[Limit]) -> tuple[np.ndarray, np.ndarray]:
+    """Join the gaps that a sweep passes as meetings; return their brackets and the new ``ok``.
 
     A parallelogram written in decimals far from (0, 0) is, once rounded, a
     near miss: its roots miss by 2e-15 of its size at its change point, a
@@ -410,70 +440,83 @@ def _rounding_gaps(compiled, name, held, held_rows, varied, grid, turn, ok, row,
     limits (of one node, or of two whose near misses overlap, as in two
     parallelograms in series) where :data:`ROUNDING_GAP_PROBES` inputs
     evenly spaced across it are all so assembled is taken for such a
-    meeting: its samples in ``ok`` (variants by ``grid`` samples) are set,
-    and the mask of its brackets (the limits ``found``, bracket ``i``
-    between grid samples ``change[i]`` and ``change[i] + 1`` of variant
-    ``row[i]``) is returned. Over a whole turn a gap may straddle the ends
-    of the grid; otherwise a gap may run to an end of the grid, the end
-    itself probed.
+    meeting. Over a whole turn a gap may straddle the ends of the grid.
+    A gap from a tangent limit to an end of the grid is followed past that
+    end (:data:`BEYOND_PROBES`) to where the mechanism is strictly
+    assembled again, and probed across all its width: a real toggle just
+    inside the searched range, beyond which nothing assembles, stays a
+    limit. Closure groups are not asked (their limits come from their own
+    continuation).
+
+    ``ok`` is by variant (rows) and grid sample; bracket ``i`` of the limits
+    ``found`` lies between grid samples ``change[i]`` and ``change[i] + 1``
+    of variant ``row[i]``. Returns the mask of the brackets joined, and
+    ``ok`` with the joined gaps' samples set.
     """
     into = ok[row, change]  # the bracket leaves the assembled samples, going up
-    inside = np.linspace(0.0, 1.0, ROUNDING_GAP_PROBES + 2)[1:-1]
-    from_end = np.linspace(0.0, 1.0, ROUNDING_GAP_PROBES + 1)[:-1]
-    # (its brackets, its samples as a slice of the grid or two, where it runs, probes)
-    gaps: list[tuple[list[int], list[slice], float, float, np.ndarray]] = []
+    gaps: list[_Gap] = []
     for i in range(len(found) - 1):
         if row[i] == row[i + 1] and into[i] and not into[i + 1]:
-            gaps.append(([i, i + 1], [slice(change[i] + 1, change[i + 1] + 1)],
-                         found[i].value, found[i + 1].value, inside))
+            gaps.append(_Gap([i, i + 1], [slice(change[i] + 1, change[i + 1] + 1)],
+                             found[i].value, found[i + 1].value))
     for r in np.unique(row):
         first, last = np.searchsorted(row, r), np.searchsorted(row, r, side="right") - 1
         if turn and first < last and not into[first] and into[last]:
-            gaps.append(([last, first], [slice(change[last] + 1, None),
-                                         slice(0, change[first] + 1)],
-                         found[last].value, found[first].value + 2 * np.pi, inside))
+            gaps.append(_Gap([last, first], [slice(change[last] + 1, None),
+                                             slice(0, change[first] + 1)],
+                             found[last].value, found[first].value + 2 * np.pi))
             continue
         if not into[first]:  # not assembled from the start of the grid
-            gaps.append(([first], [slice(0, change[first] + 1)], grid[0],
-                         found[first].value, from_end))
+            gaps.append(_Gap([first], [slice(0, change[first] + 1)], float(grid[0]),
+                             found[first].value, past=-1))
         if into[last]:  # nor up to its end
-            gaps.append(([last], [slice(change[last] + 1, None)], grid[-1],
-                         found[last].value, from_end))
-    gaps = [g for g in gaps if all(found[i].kind == "tangent" for i in g[0])]
-    merged = np.zeros(len(found), dtype=bool)
+            gaps.append(_Gap([last], [slice(change[last] + 1, None)], found[last].value,
+                             float(grid[-1]), past=1))
+    gaps = [g for g in gaps if all(found[i].kind == "tangent" for i in g.brackets)]
+    joined = np.zeros(len(found), dtype=bool)
     if not gaps:
-        return merged
-    values = np.concatenate([low + (high - low) * at for _, _, low, high, at in gaps])
-    rows = np.repeat(row[[g[0][0] for g in gaps]], ROUNDING_GAP_PROBES)
-    branches = {k: v[rows] for k, v in held_rows.items()}
-    parameters = None if varied is None else {k: v[rows] for k, v in varied.items()}
-    probe = _evaluate_at(compiled, name, values, held, branches, parameters)
-    assembled = probe.valid.reshape(len(gaps), -1).all(axis=1)
-    for (brackets, stretches, *_), passed in zip(gaps, assembled, strict=True):
+        return joined, ok
+
+    def probe(values: np.ndarray, of_gaps: list[_Gap]) -> Sweep:
+        rows = np.repeat(row[[g.brackets[0] for g in of_gaps]], len(values) // len(of_gaps))
+        return _evaluate_at(compiled, name, values, held,
+                            {k: v[rows] for k, v in held_rows.items()},
+                            None if varied is None else {k: v[rows] for k, v in varied.items()})
+
+    ending = [g for g in gaps if g.past]
+    if ending:
+        # each end gap's far edge: the first input past the end found strictly assembled
+        width = [max(g.high - g.low, 1e-12 * max(1.0, abs(g.low), abs(g.high))) for g in ending]
+        steps = 2.0 ** np.arange(BEYOND_PROBES)
+        beyond = np.concatenate([
+            (g.high if g.past > 0 else g.low) + g.past * w * steps
+            for g, w in zip(ending, width, strict=True)])
+        past = probe(beyond, ending)
+        strict = _strictly_valid(past).reshape(len(ending), -1)
+        loose = past.valid.reshape(len(ending), -1)
+        limited = []
+        for g, s, v, at in zip(ending, strict, loose, beyond.reshape(len(ending), -1),
+                               strict=True):
+            k = int(np.argmax(s))
+            if not s[k] or not v[:k].all():
+                limited.append(g)  # nothing strictly assembled just past the end: a limit
+            elif g.past > 0:
+                g.high = float(at[k])
+            else:
+                g.low = float(at[k])
+        gaps = [g for g in gaps if not any(g is h for h in limited)]
+        if not gaps:
+            return joined, ok
+    inside = np.linspace(0.0, 1.0, ROUNDING_GAP_PROBES + 2)[1:-1]
+    across = probe(np.concatenate([g.low + (g.high - g.low) * inside for g in gaps]), gaps)
+    assembled = across.valid.reshape(len(gaps), -1).all(axis=1)
+    ok = ok.copy()
+    for g, passed in zip(gaps, np.atleast_1d(assembled), strict=True):
         if passed:
-            merged[brackets] = True
-            for stretch in stretches:
-                ok[row[brackets[0]], stretch] = True
-    return merged
-    leaving = np.array([g[0] for g in gaps])
-    between = np.linspace(0.0, 1.0, ROUNDING_GAP_PROBES + 2)[1:-1]
-    values = np.concatenate([low + (high - low) * between for _, _, low, high in gaps])
-    rows = np.repeat(row[leaving], ROUNDING_GAP_PROBES)
-    branches = {k: v[rows] for k, v in held_rows.items()}
-    parameters = None if varied is None else {k: v[rows] for k, v in varied.items()}
-    probe = _evaluate_at(compiled, name, values, held, branches, parameters)
-    assembled = probe.valid.reshape(len(gaps), -1).all(axis=1)
-    for (out, back, _, _), passed in zip(gaps, assembled, strict=True):
-        if not passed:
-            continue
-        merged[[out, back]] = True
-        r = row[out]
-        if change[out] < change[back]:
-            ok[r, change[out] + 1:change[back] + 1] = True
-        else:  # through the ends of the turn
-            ok[r, change[out] + 1:] = True
-            ok[r, :change[back] + 1] = True
-    return merged
+            joined[g.brackets] = True
+            for stretch in g.stretches:
+                ok[row[g.brackets[0]], stretch] = True
+    return joined, ok
 
 
 def _intervals(name, declared, grid, turn, ok, found, held_branches) -> Limits:

@@ -263,6 +263,22 @@ def test_a_grid_sample_just_inside_a_real_gap_keeps_the_gap(inside):
                                atol=1e-9)
 
 
+@pytest.mark.parametrize("past", [1e-13, 1e-12, 5e-12, 1e-9])
+def test_a_toggle_just_inside_the_searched_range_stays_a_limit(past):
+    """Seed 000's crank toggles where coupler and follower align, ``past`` short of the range end.
+
+    Beyond the toggle nothing assembles, however close to it the range ends:
+    the limit is the toggle, on the assembled side. Closed form: A to C is
+    then r3 + r4, so cos t = (r1^2 + r2^2 - (r3 + r4)^2) / (2 r1 r2).
+    """
+    toggle = np.arccos((R1 * R1 + R2 * R2 - (R3 + R4) ** 2) / (2 * R1 * R2))
+    for search in ((0.0, toggle + past), (-toggle - past, 0.0)):
+        [(lo, hi)] = limits(triple_rocker("crank"), search_range=search).intervals
+        end = hi if search[0] == 0.0 else lo
+        assert end.kind == "tangent" and end.node == "C"
+        assert 0 <= toggle - abs(end.value) <= 1e-12
+
+
 def test_a_value_where_the_input_name_goes_is_refused_with_where_it_goes():
     c = triple_rocker("crank")
     for call in (circuit, limits):
