@@ -54,3 +54,16 @@ def test_the_example_error_is_what_geokin_check_prints(tmp_path, capsys):
     assert main(["check", str(tmp_path / "sixbar.toml")]) == 2
     err = capsys.readouterr().err
     assert err.strip().endswith(example.replace("sixbar.toml", str(tmp_path / "sixbar.toml")))
+
+
+def test_the_readme_states_the_tolerances_of_limits_and_strokes_as_they_are():
+    from geokin.analysis.report import MEETING_SPREAD, ROUNDING
+    from geokin.circuits import ROUNDING_GAP_PROBES
+    from geokin.engine import MEET_RTOL
+
+    text = " ".join(README.split())
+    assert f"where {ROUNDING_GAP_PROBES} inputs evenly spaced across it" in text
+    assert f"no failure wider than 1/{ROUNDING_GAP_PROBES + 1} of the gap" in text
+    assert f"to rounding ({ROUNDING:.0e}, of 1 rad for an angle)".replace("e-0", "e-") in text
+    assert (f"to {MEETING_SPREAD:g} times the branch rules' meeting tolerance of that node "
+            f"({MEET_RTOL:.0e} of its scale".replace("e-0", "e-")) in text

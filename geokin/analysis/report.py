@@ -22,7 +22,7 @@ import numpy as np
 
 from ..circuits import circuit, describe_limit, limits
 from ..construction import Compiled, Construction, as_compiled
-from ..engine import sweep
+from ..engine import FAR_RATIO, MEET_RTOL, sweep
 from ..errors import AnalysisError
 from ..kinematics import link_angles, slider_positions
 from ..nodes import CircleCircle
@@ -833,28 +833,84 @@ def _placed_extreme(values, sign, steps: _Steps, of: Callable[[Sweep], np.ndarra
     return best
 
 
-WINDING_TOLERANCE = 1e-3
-"""How near a whole number of turns (radians) a link's angle must come back, over
-a motion whose input makes whole turns, to count as turning fully."""
+MEETING_SPREAD = 4.0
+"""How many times the meeting tolerance of a node whose roots meet the points found
+from it may be off (:func:`_known_to`): the chosen root lies within that
+tolerance of the meeting, and the nodes found from it carry the error on."""
+
+ROUNDING = 1e-9
+"""How far (relative, at least of 1) an output may be off by rounding alone: an
+output that moves less does not move, and one that ends within this of where it
+began, comes back."""
 
 
-def _winds(angle: np.ndarray, travel: float) -> bool:
-    """Whether a link turns fully: over whole turns of the input, it ends whole turns on.
+def _known_to(compiled: Compiled, motion: Sweep) -> dict[str, float]:
+    """Return how far each point may be off, through the meetings of the motion.
 
-    Its unwrapped ``angle`` then ends a nonzero whole number of turns from
-    where it began, to within :data:`WINDING_TOLERANCE`, where the input
-    ends ``travel`` from its start. Asked only of a motion through change
-    points or toggles (with branch events): there the link's angle is known
-    only to the meeting tolerance of the branch rules, and its span can
-    fall short of a whole turn by more than rounding (3e-6 rad for a
-    parallelogram's rocker), although it comes back round.
+    Where a node's roots meet (a branch event of the motion), the branch
+    rules know them only to within :data:`~geokin.engine.MEET_RTOL` of the
+    node's scale s (its largest distance to the points it is found from),
+    widened by sqrt(R / s) for points R from (0, 0), up to
+    :data:`~geokin.engine.FAR_RATIO`: near a meeting the roots are the
+    square root of a difference of squares. A point found from such a node,
+    at any remove, is known to :data:`MEETING_SPREAD` times that; any
+    other point to rounding (0 here).
+
+    Examples
+    --------
+    >>> from geokin import Construction, circuit
+    >>> c = Construction("parallelogram")
+    >>> c.input("theta")
+    >>> c.fixed("O2", 0, 0)
+    >>> c.fixed("O4", 10, 0)
+    >>> c.polar("A", "O2", 4, "theta")
+    >>> c.circle_circle("B", ("A", "O4"), (10, 4), branch="left")
+    >>> off = _known_to(c.compile(), circuit(c))
+    >>> off["A"], bool(0 < off["B"] < 1e-5)
+    (0.0, True)
     """
-    turns = travel / (2 * np.pi)
-    if not (np.isfinite(angle[0]) and np.isfinite(angle[-1])) or round(turns) == 0 or abs(
-            turns - round(turns)) > 1e-9:
-        return False
-    wound = (angle[-1] - angle[0]) / (2 * np.pi)
-    return round(wound) != 0 and abs(wound - round(wound)) * 2 * np.pi <= WINDING_TOLERANCE
+    met = {event.node for event in motion.events}
+    valid = np.asarray(motion.valid)
+    off: dict[str, float] = {}
+    for step in compiled.steps:
+        node = step.node
+        carried = max((off.get(p, 0.0) for p in node.depends_on()), default=0.0)
+        if node.name in met and valid.any():
+            found = [np.asarray(motion[p])[valid] for p in node.defines]
+            built_on = [np.asarray(motion[p])[valid] for p in node.depends_on()]
+            scale = max((float(np.max(np.hypot(*(a - b).T))) for a in found for b in built_on),
+                        default=0.0)
+            moving = [a for p, a in zip(node.depends_on(), built_on, strict=True)
+                      if p not in compiled.ground] + found
+            far = max(float(np.max(np.abs(a))) for a in moving)
+            if scale > 0:
+                ratio = min(max(far / scale, 1.0), FAR_RATIO)
+                carried = max(carried, MEETING_SPREAD * MEET_RTOL * np.sqrt(ratio) * scale)
+        for point in node.defines:
+            off[point] = carried
+    return off
+
+
+def _comes_back(values: np.ndarray, is_angle: bool, known: float) -> tuple[bool, int]:
+    """Whether an output ends where it began, to what it is known to; and the turns between.
+
+    ``known`` is how far it may be off (an angle in radians); an angle may end
+    whole turns on, and the second item gives how many (0 for any other output).
+
+    Examples
+    --------
+    >>> _comes_back(np.array([0.1, 3.0, 0.1 + 4 * np.pi]), True, 0.0)
+    (True, 2)
+    >>> _comes_back(np.array([0.0, 3.0, 2 * np.pi - 1e-4]), True, 0.0)
+    (False, 1)
+    """
+    start, end = float(values[0]), float(values[-1])
+    if not (np.isfinite(start) and np.isfinite(end)):
+        return False, 0
+    turns = round((end - start) / (2 * np.pi)) if is_angle else 0
+    apart = abs(end - start - 2 * np.pi * turns)
+    size = max(abs(start), abs(end), 1.0 if is_angle else 0.0)
+    return apart <= known + ROUNDING * size, turns
 
 
 def _strokes(compiled: Compiled, motion: Sweep,
@@ -869,19 +925,26 @@ def _strokes(compiled: Compiled, motion: Sweep,
         return {}
     name, declared = next(iter(compiled.inputs.items()))
     turns = declared.kind == "angle" and not motion.events and motion.valid.all()
-    # each output's values, whether it is an angle, and how to read it off another sweep
-    outputs: dict[str, tuple[np.ndarray, bool, Callable[[Sweep], np.ndarray]]] = {}
+    # each output's values, whether it is an angle, how to read it off another sweep,
+    # and the points it is read from
+    outputs: dict[str, tuple[np.ndarray, bool, Callable[[Sweep], np.ndarray],
+                             tuple[str, ...]]] = {}
     for point in compiled.traced:
         for axis, coordinate in enumerate("xy"):
             outputs[f"{point}.{coordinate}"] = (motion[point][:, axis], False,
-                                                partial(_coordinate, point=point, axis=axis))
-    for slider, position in slider_positions(motion).items():
-        outputs[f"{slider}.position"] = (position, False, partial(_slider, name=slider))
+                                                partial(_coordinate, point=point, axis=axis),
+                                                (point,))
+    positions = slider_positions(motion)
+    for block in compiled.sliders:
+        outputs[f"{block.name}.position"] = (positions[block.name], False,
+                                             partial(_slider, name=block.name),
+                                             (block.point, *block.along))
     angles = link_angles(motion)
     for link in compiled.links:
         if set(link.points[:2]) <= compiled.ground:
             continue
-        outputs[f"{link.name}.angle"] = (angles[link.name], True, partial(_angle, name=link.name))
+        outputs[f"{link.name}.angle"] = (angles[link.name], True, partial(_angle, name=link.name),
+                                         link.points[:2])
     # the extremes of a motion that does not turn fully are placed on the mechanism
     # evaluated again along the steps about an extreme sample (a circuit's samples
     # are too far apart near its limits for a parabola through three)
@@ -895,15 +958,24 @@ def _strokes(compiled: Compiled, motion: Sweep,
     for event in motion.events:
         smooth[max(event.index - 1, 0):event.index + 1] = False
     strokes: dict[str, StrokeReport] = {}
-    travel = motion.inputs[name][-1] - motion.inputs[name][0]
-    for label, (values, is_angle, of) in outputs.items():
+    travel = (motion.inputs[name][-1] - motion.inputs[name][0]) / (2 * np.pi)
+    whole_turns = (declared.kind == "angle" and round(travel) != 0
+                   and abs(travel - round(travel)) <= ROUNDING)
+    off = _known_to(compiled, motion)
+    for label, (values, is_angle, of, points) in outputs.items():
         if not np.isfinite(values).any():
             continue
+        known = sum(off.get(p, 0.0) for p in points)
+        if is_angle and known > 0:  # the points' errors across the link, as an angle
+            length = np.nanmax(np.hypot(*(motion[points[1]] - motion[points[0]]).T))
+            known = known / length if length > 0 else np.inf
         low, high = np.nanmin(values), np.nanmax(values)
-        if high - low <= 1e-9 * max(abs(high), abs(low)):
-            continue  # it does not move (to rounding, at any scale)
-        if is_angle and (high - low >= 2 * np.pi - 1e-9
-                         or (bool(motion.events) and _winds(values, travel))):
+        if high - low <= known + ROUNDING * max(abs(high), abs(low), 1.0 if is_angle else 0.0):
+            continue  # it does not move, to what it is known to
+        # over whole turns of the input, an output that ends where it began is periodic
+        # in it; a link that so ends whole turns on turns fully
+        periodic, wound = _comes_back(values, is_angle, known) if whole_turns else (False, 0)
+        if is_angle and (high - low >= 2 * np.pi - ROUNDING or (periodic and wound != 0)):
             strokes[label] = StrokeReport(turns=True)
             continue
         convert = angle if is_angle else float
@@ -913,7 +985,7 @@ def _strokes(compiled: Compiled, motion: Sweep,
         else:
             low, high = _extreme(values, -1, smooth), _extreme(values, 1, smooth)
         found = None
-        if turns:
+        if turns and periodic:  # a time ratio for what goes out and back in a turn
             try:
                 found = stroke(values[:-1], motion.inputs[name][:-1])
             except AnalysisError:  # too few assembled samples to locate the extremes
