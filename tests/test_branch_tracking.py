@@ -348,8 +348,9 @@ def parallelograms_in_series(x=0.0, y=0.0):
     return c
 
 
-@pytest.mark.parametrize("x, y", [(0.0, 0.0), (5000.3, -1800.7), (2500.3, -911.9)])
-def test_near_misses_of_two_nodes_overlapping_are_one_meeting(x, y):
+@pytest.mark.parametrize("x, y, samples", [(0.0, 0.0, 361), (5000.3, -1800.7, 361),
+                                           (2500.3, -911.9, 361), (5000.3, -1800.7, 121)])
+def test_near_misses_of_two_nodes_overlapping_are_one_meeting(x, y, samples):
     """B's and C's near misses at pi overlap, neither inside the other (at the origin too).
 
     A sweep passes both change points together; so does the circuit, in one
@@ -357,9 +358,14 @@ def test_near_misses_of_two_nodes_overlapping_are_one_meeting(x, y):
     """
     c = parallelograms_in_series(x, y)
     assert limits(c).full_turn
-    whole = circuit(c)
-    assert len(whole) == 361
-    assert sorted((e.node, e.index) for e in whole.events) == [("B", 181), ("C", 181)]
+    whole = circuit(c, start=0.0, samples_per_pass=samples)
+    theta = whole.inputs["theta"]
+    np.testing.assert_allclose(theta, np.linspace(0, 2 * np.pi, samples), rtol=0, atol=1e-12)
+    at_pi = int(np.argmin(np.abs(theta - np.pi)))
+    assert theta[at_pi] == pytest.approx(np.pi, abs=1e-12)  # the change point is a sample
+    # each changes branch after the sample at the change point: in the step ending next
+    assert sorted((e.node, e.index) for e in whole.events) == [("B", at_pi + 1),
+                                                                ("C", at_pi + 1)]
     theta = np.linspace(np.pi - 1e-6, np.pi + 1e-6, 2001)
     assert sweep(c, theta).valid.all()
 
