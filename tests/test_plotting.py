@@ -163,6 +163,18 @@ def test_a_guide_given_by_its_angle_is_drawn_as_ground():
     assert "H" not in texts(ax) and "G" not in texts(ax)
 
 
+def test_guide_points_in_the_frame_link_are_shown_by_the_guide_not_as_pivots():
+    """The frame declared as a link of O, G and H: still one pivot, O; G and H unmarked."""
+    c = inclined_guide()
+    c.link("frame", "O", "G", "H")
+    layout = Layout(sweep(c))
+    assert layout.pivots == ["O"]
+    ax = gp.plot_mechanism(sweep(c), 4)
+    (triangle,) = pivot_triangles(ax)
+    np.testing.assert_allclose(triangle.get_xy()[0], [0, 0])
+    assert "H" not in texts(ax) and "G" not in texts(ax)
+
+
 def pivot_triangles(ax):
     grey = matplotlib.colors.to_rgba("#d9d9d9")
     return [p for p in ax.patches if p.get_facecolor() == grey]

@@ -130,14 +130,18 @@ class Layout:
         self.sliders = list(compiled.sliders)
         linked = {p for points in self.links for p in points}
         linked |= {s.point for s in self.sliders}
+        # a ground point only giving a slider's guide its direction is shown by the guide,
+        # also where the frame is declared as a link through it
+        guides = {p for s in self.sliders for p in s.along}
+        jointed = {p for points in self.links if not set(points) <= compiled.ground
+                   for p in points} | {s.point for s in self.sliders}
         if compiled.links:
-            self.pivots = [p for p in self.ground if p in linked]
+            self.pivots = [p for p in self.ground
+                           if p in linked and (p in jointed or p not in guides)]
         else:
             self.pivots = list(self.ground)
-        # a ground point only giving a slider's guide its direction is shown by the guide
-        guides = {p for s in self.sliders for p in s.along}
         self.references = [p for p in self.ground if p not in self.pivots
-                           and (p in linked or p not in guides)]
+                           and (p in jointed or p not in guides)]
         self.shown = [p for p in self.nodes if p in self.pivots or p in self.references
                       or p not in self.ground]
         self.moving = [p for p in self.nodes if p not in self.ground]
