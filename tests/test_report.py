@@ -431,3 +431,36 @@ def test_a_link_that_falls_short_of_a_turn_over_a_turn_of_the_input_does_not_tur
                                rtol=0, atol=1e-12)
     if parallelogram:
         assert report.strokes["rocker.angle"].turns
+
+
+@pytest.mark.parametrize("start", [0.0, np.pi / 2, np.pi, 1.0])
+def test_every_output_keeps_its_time_ratio_wherever_the_turn_starts(start):
+    """A crank-rocker whose turn starts at ``start``: the same strokes and time ratios.
+
+    At pi / 2 and pi a coordinate of the crank pin begins and ends at zero,
+    to rounding; it still comes back, and is timed.
+    """
+    def report(at):
+        c = Construction("crank-rocker")
+        c.input("theta", range=(at, at + 2 * np.pi))
+        c.fixed("O2", 0, 0)
+        c.fixed("O4", 40, 0)
+        c.polar("A", "O2", 10, "theta")
+        c.circle_circle("B", ("A", "O4"), (35, 30), branch="left")
+        c.link("crank", "O2", "A")
+        c.link("rocker", "O4", "B")
+        c.trace("A", "B")
+        return analyze(c).strokes
+
+    moved, reference = report(start), report(0.0)
+    assert set(moved) == set(reference) == {"A.x", "A.y", "B.x", "B.y", "crank.angle",
+                                            "rocker.angle"}
+    for label, swing in reference.items():
+        if swing.turns:
+            assert moved[label].turns
+            continue
+        assert moved[label].time_ratio is not None
+        np.testing.assert_allclose(moved[label].time_ratio, swing.time_ratio, rtol=1e-6)
+    # the crank pin's coordinates go out and back in half a turn each way
+    assert moved["A.x"].time_ratio == pytest.approx(1, abs=1e-6)
+    assert moved["A.y"].time_ratio == pytest.approx(1, abs=1e-6)

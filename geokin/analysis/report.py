@@ -909,7 +909,8 @@ def _comes_back(values: np.ndarray, is_angle: bool, known: float) -> tuple[bool,
         return False, 0
     turns = round((end - start) / (2 * np.pi)) if is_angle else 0
     apart = abs(end - start - 2 * np.pi * turns)
-    size = max(abs(start), abs(end), 1.0 if is_angle else 0.0)
+    # rounding of the output's size, not of its ends: an end may lie at zero
+    size = max(float(np.nanmax(np.abs(values))), 1.0 if is_angle else 0.0)
     return apart <= known + ROUNDING * size, turns
 
 
