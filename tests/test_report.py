@@ -3,8 +3,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from geokin import Construction, load
+from geokin import Construction, circuit, load, sweep
 from geokin.analysis import analyze
+from geokin.kinematics import link_angles
 
 CONSTRUCTIONS = Path(__file__).parents[1] / "constructions"
 
@@ -464,3 +465,46 @@ def test_every_output_keeps_its_time_ratio_wherever_the_turn_starts(start):
     # the crank pin's coordinates go out and back in half a turn each way
     assert moved["A.x"].time_ratio == pytest.approx(1, abs=1e-6)
     assert moved["A.y"].time_ratio == pytest.approx(1, abs=1e-6)
+
+
+def test_a_turn_through_change_points_is_timed_against_a_dense_sweep():
+    """A kite (ground 10, crank 4, coupler 4, rocker 10) and a parallelogram, one turn each.
+
+    The circuit passes change points; the strokes and time ratios are those
+    of a sweep 5,000 times denser along the same turn, on the same branches.
+    """
+    for ground, crank, coupler, rocker in ((10, 4, 4, 10), (10, 4, 10, 4)):
+        c = Construction("change point")
+        c.input("theta")
+        c.fixed("O2", 0, 0)
+        c.fixed("O4", ground, 0)
+        c.polar("A", "O2", crank, "theta")
+        c.circle_circle("B", ("A", "O4"), (coupler, rocker), branch="left")
+        c.polar("P", "B", 3, 1.0)
+        c.link("rocker", "O4", "B")
+        c.trace("P")
+        whole = circuit(c)
+        assert whole.events
+        theta = whole.inputs["theta"]
+        dense = np.linspace(theta[0], theta[-1], 1_800_001)
+        start = {"B": int(np.ravel(whole.branches["B"])[0])}
+        fine = sweep(c, dense, start_branches=start)
+        assert fine.valid.all()
+        strokes = analyze(c).strokes
+        outputs = {"P.x": fine["P"][:, 0], "P.y": fine["P"][:, 1],
+                   "rocker.angle": link_angles(fine)["rocker"]}
+        for label, values in outputs.items():
+            if strokes[label].turns:
+                continue
+            low, high = int(np.argmin(values)), int(np.argmax(values))
+            rising = (dense[high] - dense[low]) % (2 * np.pi)
+            swing = strokes[label]
+            np.testing.assert_allclose([swing.minimum, swing.maximum],
+                                       [values[low], values[high]], rtol=0, atol=1e-8)
+            assert swing.strokes_per_turn is not None  # timed over the turn
+            if swing.strokes_per_turn == 1:  # out and back once: one time ratio
+                np.testing.assert_allclose(swing.time_ratio, rising / (2 * np.pi - rising),
+                                           rtol=1e-5)
+            else:
+                assert swing.time_ratio is None
+        assert strokes["rocker.angle"].turns == (rocker == crank)

@@ -925,7 +925,12 @@ def _strokes(compiled: Compiled, motion: Sweep,
     if len(compiled.inputs) != 1:
         return {}
     name, declared = next(iter(compiled.inputs.items()))
-    turns = declared.kind == "angle" and not motion.events and motion.valid.all()
+    # one turn of the input, forwards: through change points too, where the branches
+    # swap as the mechanism runs on smoothly
+    x = motion.inputs[name]
+    turns = bool(declared.kind == "angle" and motion.valid.all() and len(x) > 2
+                 and abs((x[-1] - x[0]) / (2 * np.pi) - 1) <= ROUNDING
+                 and np.all(np.diff(x) > 0))
     # each output's values, whether it is an angle, how to read it off another sweep,
     # and the points it is read from
     outputs: dict[str, tuple[np.ndarray, bool, Callable[[Sweep], np.ndarray],
