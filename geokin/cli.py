@@ -527,6 +527,15 @@ def _finite(text):
     return value
 
 
+def _step_size(text):
+    """Read the value of --step: a positive number, as the range gives the direction."""
+    value = _finite(text)
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"expected a positive number (the range gives the "
+                                         f"direction), got {shorten(text)!r}")
+    return value
+
+
 def _add_sweep_options(p, count=_sample_count):
     group = p.add_argument_group("sweep", "of the first input, in script units "
                                           "(degrees for an angle)")
@@ -536,9 +545,9 @@ def _add_sweep_options(p, count=_sample_count):
     spacing.add_argument("--samples", type=count, metavar="N",
                          help="N samples, both ends included (1: the start of the range "
                               "alone)")
-    spacing.add_argument("--step", type=_finite, metavar="S",
+    spacing.add_argument("--step", type=_step_size, metavar="S",
                          help="samples S apart from the start of the range towards its end "
-                              "(the size of S counts; the range gives the direction)")
+                              "(S > 0; the range gives the direction)")
     group.add_argument("--circuit", action="store_true",
                        help="sweep the whole circuit instead: the input runs to each limit of "
                             "its motion and the mechanism passes the toggle onto the other "
@@ -977,8 +986,9 @@ def add_tolerance(subparsers: Subparsers) -> None:
     spacing = group.add_mutually_exclusive_group()
     spacing.add_argument("--samples", type=_sample_count, metavar="N",
                          help="N samples, both ends included")
-    spacing.add_argument("--step", type=_finite, metavar="S",
-                         help="samples S apart from the start of the range towards its end")
+    spacing.add_argument("--step", type=_step_size, metavar="S",
+                         help="samples S apart from the start of the range towards its end "
+                              "(S > 0; the range gives the direction)")
     p.set_defaults(run=run_tolerance)
 
 

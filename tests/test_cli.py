@@ -277,11 +277,10 @@ def test_trace_options_select_points_and_samples(capsys):
     header, data = read_csv(out)
     assert header == ["theta", "valid", "M.x", "M.y", "B.x", "B.y"]
     np.testing.assert_array_equal(data[:, 0], [0, 90, 180, 270, 360])
-    for step in (7.5, -7.5):
-        status, out, _ = run(capsys, "trace", SIXBAR, "--points", "M", "--step", step,
-                             "--range", 30, 0)
-        header, data = read_csv(out)
-        np.testing.assert_array_equal(data[:, 0], [30, 22.5, 15, 7.5, 0])
+    status, out, _ = run(capsys, "trace", SIXBAR, "--points", "M", "--step", 7.5,
+                         "--range", 30, 0)
+    header, data = read_csv(out)
+    np.testing.assert_array_equal(data[:, 0], [30, 22.5, 15, 7.5, 0])
 
 
 def test_trace_marks_samples_that_cannot_be_assembled(capsys, tmp_path):
@@ -433,7 +432,8 @@ def test_trace_says_which_option_takes_a_name(capsys, argv, message):
     (["trace", SIXBAR, "--samples", "5", "--step", "1"], "not allowed with argument"),
     (["trace", SIXBAR, "--range", "0"], "argument --range: expected 2 arguments"),
     (["trace", SIXBAR, "--range", "0", "nan"], "expected a finite number"),
-    (["trace", SIXBAR, "--step", "0"], "--step must be a non-zero number, got 0"),
+    (["trace", SIXBAR, "--step", "0"], "argument --step: expected a positive number (the "
+                                       "range gives the direction), got '0'"),
     (["trace", SIXBAR, "--step", "1e-6"], "samples; at most 1000000"),
     (["trace"], "the following arguments are required: SCRIPT"),
     (["trace", SIXBAR, "-o", "/no/such/folder/out.csv"], "cannot write '/no/such/folder/out"
@@ -462,6 +462,17 @@ def test_errors_exit_2_without_a_traceback(capsys, argv, message):
     assert status == 2
     assert message in err, err
     assert out == ""
+
+
+@pytest.mark.parametrize("command", ["trace", "plot", "animate", "tolerance"])
+@pytest.mark.parametrize("step", ["-5", "0", "-0", "inf", "nan"])
+def test_every_sweep_refuses_a_step_that_is_not_positive(capsys, tmp_path, command, step):
+    extra = {"animate": ["-o", tmp_path / "x.gif"], "plot": ["-o", tmp_path / "x.png"],
+             "tolerance": ["--tol", "r2=0.1"]}.get(command, [])
+    status, out, err = run(capsys, command, CRANK, "--range", 0, 90, "--step", step, *extra)
+    assert (status, out) == (2, "")
+    assert err.startswith("geokin: error: argument --step: expected a ")
+    assert f"got '{step}'" in err and err.count("\n") == 1
 
 
 @pytest.mark.parametrize("argv, message", [
