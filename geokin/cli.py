@@ -843,9 +843,12 @@ def run_plot(args: argparse.Namespace) -> int:
     m, index = motion_of(args.script, args, at=args.at, assembled=False)
     if index is not None and not m.sweep.valid[index] and m.sweep.valid.any():
         s = m.sweep
+        drawn = plotting.layout.pose_drawn(s, index)
+        which = "last assembled pose before" if drawn < index else "first assembled pose after"
         print(one_line(f"geokin: warning: {_sample_text(m.construction, s, index)}: node "
                        f"{s.failed_node[index]!r} cannot be assembled: "
-                       f"{s.failure_reason[index]}; the nearest assembled pose is drawn"),
+                       f"{s.failure_reason[index]}; drawn instead, faded: the {which} it, "
+                       f"at {_sample_text(m.construction, s, drawn)}"),
               file=sys.stderr)
     from matplotlib.figure import Figure
 

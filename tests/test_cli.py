@@ -587,6 +587,47 @@ def test_plot_where_it_cannot_be_assembled_warns(capsys, tmp_path):
     assert "warning: theta2 = 140 deg: node 'C' cannot be assembled" in err
 
 
+DOUBLE_ROCKER = """\
+[construction]
+name = "double rocker"
+units = "mm"
+[inputs.theta]
+range = [0, 360]
+[points]
+O2 = { op = "fixed", at = [0, 0] }
+O4 = { op = "fixed", at = [10, 0] }
+A = { op = "polar", origin = "O2", distance = 8, angle = "theta" }
+B = { op = "circle_circle", centers = ["A", "O4"], radii = [3, 9], branch = "left" }
+[links]
+ground = ["O2", "O4"]
+crank = ["O2", "A"]
+coupler = ["A", "B"]
+rocker = ["O4", "B"]
+"""
+"""A Grashof double rocker (coupler shortest): its crank cannot reach 0 or 180 degrees."""
+
+
+@pytest.mark.parametrize("at", [0, 180])
+def test_plot_at_a_value_that_does_not_assemble_names_the_pose_drawn(capsys, tmp_path, at):
+    script = tmp_path / "double_rocker.toml"
+    script.write_text(DOUBLE_ROCKER)
+    s = geokin.sweep(geokin.load(script))
+    i = int(np.flatnonzero(np.isclose(np.degrees(s.inputs["theta"]), at))[0])
+    assert not s.valid[i]
+    before, after = np.flatnonzero(s.valid[:i]), np.flatnonzero(s.valid[i:]) + i
+    drawn = before[-1] if before.size else after[0]
+    which = "last assembled pose before" if before.size else "first assembled pose after"
+    shown = round(float(np.degrees(s.inputs["theta"][drawn])), 9)
+    status, out, err = run(capsys, "plot", script, "--at", at, "-o", tmp_path / "x.svg")
+    assert (status, out) == (0, "")
+    assert err.splitlines()[0] == (
+        f"geokin: warning: theta = {at} deg: node 'B' cannot be assembled: "
+        f"{s.failure_reason[i]}; drawn instead, faded: the {which} it, at theta = "
+        f"{shown:g} deg")
+    picture = (tmp_path / "x.svg").read_text()
+    assert f"θ = {at:.1f}°" in picture and f"drawn: the pose at θ = {shown:.1f}°" in picture
+
+
 @pytest.mark.parametrize("argv, message", [
     ([SIXBAR, "--at", 5000], "--at 5000 is outside the sweep of input 'theta': 0 to 1800 deg"),
     ([SIXBAR, "--at", -1], "--at -1 is outside the sweep of input 'theta': 0 to 1800 deg"),

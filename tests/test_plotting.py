@@ -20,7 +20,7 @@ from geokin import BudgetError, Construction, ConstructionError, GeokinError, bu
 from geokin import plotting as gp
 from geokin.analysis import cranks
 from geokin.plotting import animation as ga
-from geokin.plotting.layout import Layout
+from geokin.plotting.layout import Layout, input_text, pose_drawn
 from geokin.plotting.mechanism import Scene
 
 BAR_WIDTH = 5.0  # the line width of a two-point link
@@ -306,6 +306,8 @@ def test_invalid_samples_plot_and_animate(tmp_path, small_frames):
     ax = gp.plot_mechanism(s, bad)
     status = ax.texts[-1].get_text()
     assert "cannot be assembled at 'B'" in status
+    drawn = pose_drawn(s, bad)
+    assert s.valid[drawn] and status.endswith(f"drawn: the pose at {input_text(s, drawn)}")
     faded = [a for a in ax.patches if a.get_alpha() is not None and a.get_alpha() < 0.5]
     assert faded  # the last assembled pose, faded
     path = gp.animate(s, tmp_path / "partial.gif", dpi=25, frames=12, progress=False)

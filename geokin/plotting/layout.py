@@ -37,7 +37,7 @@ from ..kinematics import slider_positions
 from ..results import Sweep
 from ..terminal import escape, shorten
 
-__all__ = ["Layout", "distance_to_segment", "input_text", "length_unit",
+__all__ = ["Layout", "distance_to_segment", "input_text", "length_unit", "pose_drawn",
            "shown_text", "signed_turn", "symbol_covers", "symbol_outline"]
 
 _GREEK = {"theta": "θ", "phi": "φ", "psi": "ψ", "alpha": "α", "beta": "β", "gamma": "γ",
@@ -355,11 +355,7 @@ class Layout:
         """
         if self.sweep.valid[index]:
             return index
-        valid = self.valid_indices
-        if valid.size == 0:
-            return None
-        before = valid[valid < index]
-        return int(before[-1]) if before.size else int(valid[0])
+        return _assembled_near(self.valid_indices, index)
 
     def bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """Return the lower-left and upper-right corners of the whole motion with symbols."""
@@ -456,6 +452,40 @@ def _bars_from_construction(compiled):
                 seen.add(key)
                 bars.append((dep, step.node.name))
     return bars
+
+
+def pose_drawn(sweep: Sweep, index: int) -> int | None:
+    """Return the sample whose pose a drawing of sample ``index`` shows.
+
+    The sample itself if it can be assembled; otherwise the last one before
+    it that can be, or the first one after it if none before can be; None if
+    no sample can be.
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from geokin import Construction, sweep
+    >>> c = Construction()
+    >>> c.input("theta")
+    >>> c.fixed("O", 0, 0)
+    >>> c.fixed("Q", 5, 0)
+    >>> c.polar("A", "O", 2, "theta")
+    >>> c.circle_circle("B", ("A", "Q"), (2, 2), branch="left")  # only while A is near Q
+    >>> s = sweep(c, np.radians([180, 90, 0, -90]))
+    >>> s.valid.tolist(), pose_drawn(s, 0), pose_drawn(s, 3)
+    ([False, False, True, False], 2, 2)
+    """
+    if sweep.valid[index]:
+        return index
+    return _assembled_near(np.flatnonzero(sweep.valid), index)
+
+
+def _assembled_near(valid: np.ndarray, index: int) -> int | None:
+    """Return the last of the ``valid`` samples before ``index``, else the first; or None."""
+    if valid.size == 0:
+        return None
+    before = valid[valid < index]
+    return int(before[-1]) if before.size else int(valid[0])
 
 
 def input_text(sweep: Sweep, index: int) -> str:

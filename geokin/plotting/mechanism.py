@@ -26,8 +26,10 @@ What a mechanism drawing shows:
   the traced points over the whole sweep, broken where the mechanism cannot
   be assembled.
 
-A sample that cannot be assembled is shown as the nearest assembled pose,
-faded, with the reason in the corner. Where no sample can be assembled,
+A sample that cannot be assembled is shown as the last assembled pose
+before it (or the first after it), faded, with the reason and the input
+value of the pose drawn in the corner (see
+:func:`~geokin.plotting.layout.pose_drawn`). Where no sample can be assembled,
 each shows what is known there, with why nothing assembles: the ground
 pivots, and the points found before the node that fails (a crank turning
 alone), with the bars and sliders between them.
@@ -253,9 +255,10 @@ class Scene:
         pose = layout.pose_index(index)
         if pose is None and layout.unassembled:
             text += "\n" + _wrapped(layout.unassembled)
-        elif not sweep.valid[index]:
+        elif pose is not None and not sweep.valid[index]:
             text += (f"\ncannot be assembled at {sweep.failed_node[index]!r}:\n"
-                     f"{sweep.failure_reason[index]}")
+                     f"{sweep.failure_reason[index]}\n"
+                     f"drawn: the pose at {input_text(sweep, pose)}")
         self.status.set_text(text)
         box = self.status.get_bbox_patch()
         if box is not None:
@@ -550,7 +553,8 @@ def plot_mechanism(sweep: Sweep, index: int | None = None, *, ax: Axes | None = 
     index : int, optional
         The sample to draw (negative counts from the end); by default the
         first sample that can be assembled. A sample that cannot be
-        assembled shows the nearest assembled pose, faded, and the reason;
+        assembled shows the last assembled pose before it (or the first
+        after it), faded, the reason and the input value of the pose drawn;
         if none can be, what is known at this one (the ground pivots, the
         points found before the node that fails) and why none can be.
     ax : matplotlib.axes.Axes, optional
