@@ -267,6 +267,17 @@ def test_the_report_as_data_has_the_shape_and_values_of_the_closed_form():
     assert shape(data) == shape(expected)
 
 
+@pytest.mark.parametrize("lengths", [(2, 4, 4, 3), (4, 1, 4, 3), (7, 5, 6, 5), (10, 4, 10, 4)])
+def test_the_text_says_turn_of_several_links_and_turns_of_one(lengths):
+    report = analyze(fourbar(*lengths), degrees=True)
+    [bar] = report.four_bars
+    turning = ", ".join(bar.turning) or "no link"
+    verb = "turns" if len(bar.turning) <= 1 else "turn"
+    [line] = [line for line in report.to_text().splitlines()
+              if line.startswith(f"four-bar {'-'.join(bar.points)} ")]
+    assert line.endswith(f"; {turning} {verb} fully")
+
+
 def test_the_text_gives_angles_in_the_reports_unit():
     c = fourbar(7, 5, 6, 5)
     degrees, radians = analyze(c, degrees=True).to_text(), analyze(c).to_text()

@@ -517,8 +517,9 @@ class Report:
         for bar in self.four_bars:
             sides = ", ".join(f"{role} {bar.lengths[role]:g}" for role in ROLES)
             turning = ", ".join(bar.turning) or "no link"
+            verb = "turn" if len(bar.turning) > 1 else "turns"
             lines.append(f"four-bar {'-'.join(bar.points)} ({sides}): {bar.named}; "
-                         f"{turning} turns fully")
+                         f"{turning} {verb} fully")
         for node, mu in self.transmission_angles.items():
             lines.append(f"transmission angle at {node}: {mu.minimum:.2f} to "
                          f"{mu.maximum:.2f}{angles}")
