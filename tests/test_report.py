@@ -1,3 +1,4 @@
+import re
 from pathlib import Path
 
 import numpy as np
@@ -286,6 +287,28 @@ def test_the_text_gives_angles_in_the_reports_unit():
     assert "transmission angle at C: 18.19 to 180.00 deg" in degrees
     assert "transmission angle at C: 0.32 to 3.14 rad" in radians
     assert " deg" not in radians and " rad" not in degrees
+
+
+@pytest.mark.parametrize("units, squared", [("mm", "mm^2"), ("length units",
+                                                              "(length units)^2")])
+def test_the_text_gives_a_curves_area_in_the_square_of_the_length_unit(units, squared):
+    c = fourbar(7, 5, 6, 5)
+    report = analyze(c, degrees=True)
+    curve = report.curves["C"]
+    assert curve.closed and curve.area > 0
+    [line] = [line for line in report.to_text(units).splitlines()
+              if line.startswith("path of C:")]
+    found = re.fullmatch(rf"path of C: length (\S+) {units}, closed, encloses (\S+) "
+                         rf"{re.escape(squared)}, \d+ double point\(s\)", line)
+    assert found, line
+    # four decimals, or six significant digits
+    assert float(found[1]) == pytest.approx(curve.length, rel=1e-5, abs=1e-4)
+    assert float(found[2]) == pytest.approx(curve.area, rel=1e-5, abs=1e-4)
+    # without a unit, neither has one
+    [line] = [line for line in report.to_text().splitlines() if line.startswith("path of C:")]
+    assert re.fullmatch(r"path of C: length \S+, closed, encloses \S+, \d+ double point\(s\)",
+                        line)
+    assert report.to_dict()["curves"]["C"]["area"] == curve.area  # the data: a number alone
 
 
 def test_a_circuits_extremes_are_those_of_a_dense_sweep_of_the_same_circuit():

@@ -500,6 +500,7 @@ class Report:
         (min->max slower)
         """
         lengths = f" {one_line(units, 1000)}" if units else ""
+        areas = f" {_squared(one_line(units, 1000))}" if units else ""
         angles = " deg" if self.angle_unit == "deg" else " rad"
         lines = [one_line(self.construction, 1000),
                  f"degrees of freedom: {self.mobility}"]
@@ -538,11 +539,20 @@ class Report:
             lines.append(f"{label}: {_figure(s.minimum)} to {_figure(s.maximum)}{unit}, stroke "
                          f"{_figure(s.stroke)}{unit}{ratio}")
         for point, curve in self.curves.items():
-            area = "" if curve.area is None else f", encloses {_figure(curve.area)}"
+            area = "" if curve.area is None else f", encloses {_figure(curve.area)}{areas}"
             lines.append(f"path of {point}: length {_figure(curve.length)}{lengths}"
                          f"{', closed' if curve.closed else ', open'}{area}, "
                          f"{len(curve.double_points)} double point(s)")
         return "\n".join(lines) + "\n"
+
+
+def _squared(unit: str) -> str:
+    """Return the square of a length unit as the terminal text writes it, in ASCII.
+
+    >>> _squared("mm"), _squared("length units")
+    ('mm^2', '(length units)^2')
+    """
+    return f"{unit}^2" if unit.isalnum() else f"({unit})^2"
 
 
 def _range_end(entry: InputReport, value: float) -> str:
