@@ -344,6 +344,18 @@ ERRORS = [
     ('range = [0, 360]', 'range = "0..360"',
      ["sixbar.toml:12: [inputs] theta.range: expected two numbers [start, end], "
       "got the string '0..360'"]),
+    ('range = [0, 360]', 'range = [0, "2*pi"]',
+     ["sixbar.toml:12: [inputs] theta.range[1]: expected a number, got the string '2*pi'; an "
+      "input's range, step and speed are plain numbers, not expressions (in degrees: 360 for "
+      "a turn)"]),
+    ('range = [0, 360]', 'range = [false, 360]',
+     ["sixbar.toml:12: [inputs] theta.range[0]: expected a number, got the boolean false"]),
+    ('range = [0, 360]', 'range = [0, 180, 360]',
+     ["sixbar.toml:12: [inputs] theta.range: expected two numbers [start, end], got an array "
+      "of 3"]),
+    ('samples = 37', 'step = "360 / 36"',
+     ["sixbar.toml:13: [inputs] theta.step: expected a number, got the string '360 / 36'; an "
+      "input's range, step and speed are plain numbers"]),
     ('samples = 37', 'samples = 1.5', ["[inputs] theta.samples: expected an integer"]),
     ('samples = 37', 'samples = 1', ["[inputs] theta.samples: samples must be an integer of "
                                      "at least 2"]),

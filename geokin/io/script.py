@@ -600,11 +600,18 @@ class _Reader:
                             f"{_kind_of(kind)}", sub="kind")
         scale = math.radians if kind == "angle" else float
         options = {}
+        plain = ("; an input's range, step and speed are plain numbers, not expressions"
+                 + (" (in degrees: 360 for a turn)" if kind == "angle" else ""))
         if "range" in spec:
             lo_hi = spec["range"]
-            if not (isinstance(lo_hi, list) and len(lo_hi) == 2 and all(map(_is_number, lo_hi))):
+            if not (isinstance(lo_hi, list) and len(lo_hi) == 2):
                 raise self.fail("inputs", name, f"expected two numbers [start, end], got "
                                 f"{_kind_of(lo_hi)}", sub="range")
+            for i, end in enumerate(lo_hi):
+                if not _is_number(end):
+                    raise self.fail("inputs", name, f"expected a number, got {_kind_of(end)}"
+                                    + (plain if isinstance(end, str) else ""),
+                                    sub=f"range[{i}]")
             options["range"] = tuple(scale(v) for v in lo_hi)
         if "samples" in spec and "step" in spec:
             raise self.fail("inputs", name, "give either samples or step, not both", sub="step")
@@ -618,7 +625,8 @@ class _Reader:
             if key in spec:
                 if not _is_number(spec[key]):
                     raise self.fail("inputs", name, f"expected a number, got "
-                                    f"{_kind_of(spec[key])}", sub=key)
+                                    f"{_kind_of(spec[key])}"
+                                    + (plain if isinstance(spec[key], str) else ""), sub=key)
                 options[key] = scale(spec[key])
         step = options.get("step")
         if step and math.isfinite(step):
