@@ -1298,6 +1298,8 @@ class _Parser(argparse.ArgumentParser):
         args = sys.argv[1:] if args is None else list(args)
         for arg in args:  # options before the command are the program's own
             if not arg.startswith("-") or self._negative_number_matcher.match(arg):
+                if self.commands and arg not in self.commands:
+                    self.refuse_command(arg)
                 break
             name = arg.split("=", 1)[0]
             if name not in self._option_string_actions:
@@ -1307,6 +1309,12 @@ class _Parser(argparse.ArgumentParser):
             name = getattr(parsed, "command", None)
             (self.commands.get(name) or self).refuse(extra, name)
         return parsed
+
+    def refuse_command(self, name: str) -> None:
+        """Exit naming a command that does not exist, with the closest one or else all."""
+        close = did_you_mean(name, self.commands)
+        listed = "" if close else f" (commands: {', '.join(self.commands)})"
+        self.error(f"{self.prog} has no command {quote(name)}{close}{listed}")
 
     def refuse(self, extra: list[str], command: str | None) -> None:
         """Exit naming the first argument in ``extra``, an option before a value."""

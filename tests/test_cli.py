@@ -439,7 +439,8 @@ def test_trace_says_which_option_takes_a_name(capsys, argv, message):
     (["trace", SIXBAR, "-o", "/no/such/folder/out.csv"], "cannot write '/no/such/folder/out"
                                                         ".csv': the folder '/no/such/folder' "
                                                         "does not exist"),
-    (["frobnicate"], "invalid choice: 'frobnicate'"),
+    (["xyzzy"], "geokin has no command 'xyzzy' (commands: check, trace, plot, "
+                "animate, analyze, tolerance)"),
     ([], "the following arguments are required: COMMAND"),
     (["plot", SIXBAR, "-o", "out.jpg"], "cannot write a picture to 'out.jpg': use a .png or "
                                         ".svg file"),
@@ -490,6 +491,12 @@ def test_every_sweep_refuses_a_step_that_is_not_positive(capsys, tmp_path, comma
                                       "(see 'geokin trace --help')"),
     (["--verison"], "geokin has no option '--verison'; did you mean '--version'? "
                     "(see 'geokin --help')"),
+    (["animat", SIXBAR, "-o", "x.gif"], "geokin has no command 'animat'; did you mean "
+                                         "'animate'? (see 'geokin --help')"),
+    (["analyse", SIXBAR], "geokin has no command 'analyse'; did you mean 'analyze'? "
+                          "(see 'geokin --help')"),
+    (["--version", "plto"], "geokin has no command 'plto'; did you mean 'plot'? "
+                            "(see 'geokin --help')"),
     # an option the given one starts with, before one closer by letters (--range)
     (["tolerance", SIXBAR, "--tolerance", "l3=1"], "tolerance has no option '--tolerance'; "
                                                    "did you mean '--tol'? "
