@@ -39,14 +39,16 @@ construction holds radians (``repr`` of a step, the values):
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
+import functools
 import heapq
 import keyword
 import math
 import unicodedata
-from collections.abc import Iterable, Iterator, Mapping, Sequence
+from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import ClassVar, Concatenate, ParamSpec, TypeVar
 
 import numpy as np
 
@@ -397,7 +399,7 @@ class Compiled(Frozen):
                                     f"{name!r}; values are given by keyword")
         if name not in self.inputs:
             raise ConstructionError(f"unknown input {name!r}{did_you_mean(name, names)}",
-                                    node=name)
+                                    node=name, kind="input")
         return name
 
     def with_parameters(self, values: Mapping[str, float]) -> Compiled:
@@ -432,7 +434,7 @@ class Compiled(Frozen):
         >>> c.compile().with_parameters({"R": 12})  # doctest: +ELLIPSIS
         Traceback (most recent call last):
         ...
-        geokin.errors.ConstructionError: node 'R': no parameter 'R'; did you mean 'r'? ...
+        geokin.errors.ConstructionError: parameter 'R': no parameter 'R'; did you mean 'r'? ...
         """
         names = list(self.parameters)
         new = dict(self.parameters)
@@ -442,15 +444,17 @@ class Compiled(Frozen):
                 if name in self.inputs:  # an input is swept, not set
                     listed = f"{quote(name)} is an input, swept over its range; {listed}"
                 raise ConstructionError(f"no parameter {quote(name)}{did_you_mean(name, names)} "
-                                        f"({listed})", node=name)
+                                        f"({listed})", node=name, kind="parameter")
             try:
                 number = float(value)
             except (TypeError, ValueError):
                 raise ConstructionError(f"the value of parameter {quote(name)} must be a "
-                                        f"number, got {show(value)}", node=name) from None
+                                        f"number, got {show(value)}", node=name,
+                                        kind="parameter") from None
             if not math.isfinite(number):
                 raise ConstructionError(f"the value of parameter {quote(name)} must be a "
-                                        f"finite number, got {number}", node=name)
+                                        f"finite number, got {number}", node=name,
+                                        kind="parameter")
             new[name] = number
         with np.errstate(all="ignore"):
             for step in self.steps:
@@ -508,6 +512,38 @@ def as_compiled(construction: Construction | Compiled) -> Compiled:
     if isinstance(construction, Compiled):
         return construction
     raise TypeError(f"expected a Construction, got {type(construction).__name__}")
+
+
+_P = ParamSpec("_P")
+_R = TypeVar("_R")
+
+
+@contextlib.contextmanager
+def _declaring(kind: str) -> Iterator[None]:
+    """Call the node of a ConstructionError raised in the block a ``kind`` ("link", ...).
+
+    Every check of a declaration names what is declared as its node; this
+    says what that is, so that an error about a link says "link 'rocker'".
+    """
+    try:
+        yield
+    except ConstructionError as err:
+        if type(err) is not ConstructionError or err.node is None or err.kind != "node":
+            raise
+        raise err.naming(kind).with_traceback(err.__traceback__) from None
+
+
+def _declares(kind: str) -> Callable[[Callable[Concatenate[Construction, _P], _R]],
+                                     Callable[Concatenate[Construction, _P], _R]]:
+    """Decorate a method that declares a ``kind``: its errors call the name a ``kind``."""
+    def decorate(method: Callable[Concatenate[Construction, _P], _R]
+                 ) -> Callable[Concatenate[Construction, _P], _R]:
+        @functools.wraps(method)
+        def declare(self: Construction, *args: _P.args, **kwargs: _P.kwargs) -> _R:
+            with _declaring(kind):
+                return method(self, *args, **kwargs)
+        return declare
+    return decorate
 
 
 class Construction:
@@ -642,6 +678,7 @@ class Construction:
 
     # -- declarations ------------------------------------------------------
 
+    @_declares("parameter")
     def parameter(self, name: str, value: float, description: str = "") -> None:
         """Declare a named constant, usable in any value by its name.
 
@@ -675,6 +712,7 @@ class Construction:
         self.parameters[name] = Parameter(name, value, description)
 
     # ``range`` is the script's key and the Input's field; the builtin is not used here
+    @_declares("input")
     def input(self, name: str, kind: str = "angle",
               range: Sequence[float] | None = None,  # noqa: A002
               samples: int = 361, speed: float | None = None,
@@ -985,6 +1023,19 @@ class Construction:
         >>> print(c.compile().steps[3].node.describe())
         closure dyad(B): |A-B| = 35, |O4-B| = 30  [near B (30, 30)]
         """
+        with _declaring("group"):
+            group, names, found, on_lines, sketch = self._group(group, points, distances, near,
+                                                                lines)
+        for p in names:
+            self._claim(p, "point")
+        for p in names:
+            self.nodes[p] = Closure(p, group=group, points=names, near=sketch,
+                                    distances=tuple(found), lines=tuple(on_lines))
+        self.groups[group] = names
+        self._compiled = None
+
+    def _group(self, group, points, distances, near, lines):
+        """Check a closure group's declaration; return its name, points, equations, sketch."""
         group = self._claim(group, "group")
         if isinstance(points, str) or not isinstance(points, Iterable):
             raise ConstructionError(f"expected a list of point names, got {show(points)}",
@@ -1053,13 +1104,7 @@ class Construction:
                                         node=group, field="near")
         sketch = tuple(_pair_of_numbers(v, node=group, field=f"near.{p}")
                        for p, v in zip(names, sketches, strict=True))
-        for p in names:
-            self._claim(p, "point")
-        for p in names:
-            self.nodes[p] = Closure(p, group=group, points=names, near=sketch,
-                                    distances=tuple(found), lines=tuple(on_lines))
-        self.groups[group] = names
-        self._compiled = None
+        return group, names, found, on_lines, sketch
 
     def _key_fields(self, key: Key, given: object, node: str) -> dict[str, object]:
         """Check one key's value and return the node fields it fills."""
@@ -1075,6 +1120,7 @@ class Construction:
             return dict(zip(key.attributes, pair, strict=True)) if others else {attribute: pair}
         return {attribute: given}  # a branch or sketch: checked with the node's choice
 
+    @_declares("link")
     def link(self, name: str, *points: str) -> None:
         """Declare a rigid link joining two or more points (for drawing and analysis).
 
@@ -1093,6 +1139,7 @@ class Construction:
         name = self._claim(name, "link")
         self.links[name] = Link(name, self._points(points, name, "points", None))
 
+    @_declares("slider")
     def slider(self, name: str, point: str, along: Sequence[str]) -> None:
         """Declare a slider block at ``point`` sliding on the line ``along``.
 
@@ -1211,13 +1258,13 @@ class Construction:
                             node=node.name, field=field_name)
         for link in self.links.values():
             for i, p in enumerate(link.points):
-                self._check_point_name(p, link.name, f"points[{i}]")
+                self._check_point_name(p, link.name, f"points[{i}]", "link")
         for i, p in enumerate(self.traced):
             self._check_point_name(p, "trace", f"points[{i}]")
         for slider in self.sliders.values():
-            self._check_point_name(slider.point, slider.name, "point")
+            self._check_point_name(slider.point, slider.name, "point", "slider")
             for i, p in enumerate(slider.along):
-                self._check_point_name(p, slider.name, f"along[{i}]")
+                self._check_point_name(p, slider.name, f"along[{i}]", "slider")
         self._check_constant_values()
         order = self._ordered()
         steps = tuple(Step(i + 1, self.nodes[name]) for i, name in enumerate(order))
@@ -1237,7 +1284,7 @@ class Construction:
         size, largest = 0.0, None
         for inp in self.inputs.values():
             if inp.kind == "length" and max(map(abs, inp.range)) > size:
-                size, largest = max(map(abs, inp.range)), (inp.name, "range")
+                size, largest = max(map(abs, inp.range)), (inp.name, "range", "input")
         high = prim.SCALE_RANGE[1]
         with np.errstate(all="ignore"):
             for node in self.nodes.values():
@@ -1260,15 +1307,15 @@ class Construction:
                     if field_name not in angles and abs(value) > size:
                         if abs(value) > high:
                             _check_length(value, node=node.name, field=field_name)
-                        size, largest = abs(value), (node.name, field_name)
+                        size, largest = abs(value), (node.name, field_name, "node")
         low = prim.SCALE_RANGE[0]
         if 0 < size < low:
             raise ConstructionError(
                 f"the mechanism's largest length is {size:g}, smaller than the {low:g} geokin "
                 "computes with; express the mechanism in another unit of length",
-                node=largest[0], field=largest[1])
+                node=largest[0], field=largest[1], kind=largest[2])
 
-    def _check_point_name(self, point, node, field_name):
+    def _check_point_name(self, point, node, field_name, kind="node"):
         if point in self.nodes:
             return
         hint = _hint(point, self.nodes)
@@ -1276,7 +1323,7 @@ class Construction:
         if other is not None:
             hint = f"; {quote(point)} is a {other}, not a point" + hint
         raise ConstructionError(f"unknown point {quote(point)}{hint}", node=node,
-                                field=field_name)
+                                field=field_name, kind=kind)
 
     def _ordered(self) -> list[str]:
         """Topological order, declaration order breaking ties."""

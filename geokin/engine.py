@@ -159,7 +159,7 @@ def input_arrays(compiled: Compiled, values: ArrayLike | Mapping[str, ArrayLike]
     for name in values:
         if name not in compiled.inputs:
             raise ConstructionError(f"unknown input {name!r}{did_you_mean(name, names)}",
-                                    node=name)
+                                    node=name, kind="input")
     arrays = {name: np.asarray(values[name], dtype=float) for name in names if name in values}
     # inputs left to their defaults share one number of samples: that of the given
     # values, else the first defaulted input's own sampling
@@ -1004,21 +1004,24 @@ def variant_values(compiled: Compiled,
         if name not in compiled.parameters:
             what = " (it is an input: give its values as the sweep's)" \
                 if name in compiled.inputs else did_you_mean(name, names)
-            raise ConstructionError(f"no parameter {name!r} to vary{what}", node=name)
+            raise ConstructionError(f"no parameter {name!r} to vary{what}", node=name,
+                                    kind="parameter")
         try:
             array = np.asarray(value, dtype=float)
         except (TypeError, ValueError):
             raise ConstructionError(f"the values of parameter {name!r} are not numbers",
-                                    node=name) from None
+                                    node=name, kind="parameter") from None
         if array.ndim > 1:
             raise ConstructionError(f"the values of parameter {name!r} must be a number or "
-                                    f"one-dimensional, got shape {array.shape}", node=name)
+                                    f"one-dimensional, got shape {array.shape}", node=name,
+                                    kind="parameter")
         if not np.isfinite(array).all():
             # as with_parameters refuses: a variant of NaN size is no design
             first = int(np.flatnonzero(~np.isfinite(array.reshape(-1)))[0])
             which = f"variant {first} is" if array.ndim else "it is"
             raise ConstructionError(f"the values of parameter {name!r} must be finite numbers; "
-                                    f"{which} {array.reshape(-1)[first]}", node=name)
+                                    f"{which} {array.reshape(-1)[first]}", node=name,
+                                    kind="parameter")
         arrays[name] = array
     try:
         shape = np.broadcast_shapes(*(a.shape for a in arrays.values()))

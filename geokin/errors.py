@@ -25,9 +25,14 @@ class ConstructionError(GeokinError, ValueError):
     message : str
         What is wrong.
     node : str, optional
-        The node (point, parameter, input, link) the error is about.
+        The name of what the error is about: a point (a node of the
+        construction), a parameter, an input, a link, a slider or a group.
     field : str, optional
         The field of that node.
+    kind : str
+        What ``node`` names, as the error's text calls it: ``"node"`` for a
+        point, else ``"parameter"``, ``"input"``, ``"link"``, ``"slider"``
+        or ``"group"``.
 
     Attributes
     ----------
@@ -36,6 +41,8 @@ class ConstructionError(GeokinError, ValueError):
     node, field : str or None
         As given, whole; the text of the error shows them shortened by
         :func:`quote`.
+    kind : str
+        As given.
 
     Examples
     --------
@@ -44,19 +51,33 @@ class ConstructionError(GeokinError, ValueError):
     "node 'C', field 'centers[0]': unknown point 'B'"
     >>> err.message
     "unknown point 'B'"
+    >>> str(ConstructionError("must be positive", node="theta", field="speed", kind="input"))
+    "input 'theta', field 'speed': must be positive"
     """
 
-    def __init__(self, message: str, *, node: str | None = None, field: str | None = None):
+    def __init__(self, message: str, *, node: str | None = None, field: str | None = None,
+                 kind: str = "node"):
         self.node = node
         self.field = field
+        self.kind = kind
         self.message = message
         where = ""
         if node is not None:
-            where = f"node {quote(node)}"
+            where = f"{kind} {quote(node)}"
             if field is not None:
                 where += f", field {quote(field)}"
             where += ": "
         super().__init__(where + message)
+
+    def naming(self, kind: str) -> ConstructionError:
+        """Return this error with its node called a ``kind`` ("link", "input", ...).
+
+        Examples
+        --------
+        >>> str(ConstructionError("duplicate name", node="rocker", field="name").naming("link"))
+        "link 'rocker', field 'name': duplicate name"
+        """
+        return ConstructionError(self.message, node=self.node, field=self.field, kind=kind)
 
 
 class ScriptError(ConstructionError):

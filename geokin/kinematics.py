@@ -286,7 +286,8 @@ def _step_for(sweep: Sweep, name: str, step: float | None) -> float:
     if step is not None:
         if not (np.isfinite(step) and step > 0):
             raise ConstructionError(f"the finite-difference step must be a positive number, "
-                                    f"got {step!r}", node=name, field="step")
+                                    f"got {step!r}", node=name, field="step",
+                                    kind="input")
         return float(step)
     if sweep.construction.inputs[name].kind == "angle":
         return RELATIVE_STEP
@@ -1001,7 +1002,7 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
     if not (np.isfinite(size) & (size > 0)).all():
         raise ConstructionError("the input's speed must be a positive number (how fast it "
                                 "moves; the sweep's direction sets its sign), got "
-                                f"{speed!r}", node=driver, field="speed")
+                                f"{speed!r}", node=driver, field="speed", kind="input")
     rate = size * direction
     rate_change = np.broadcast_to(np.asarray(acceleration, dtype=float), (n,)) * direction
     with np.errstate(divide="ignore", invalid="ignore"):

@@ -25,11 +25,11 @@ def base():
     return c
 
 
-def check(error_info, node, field):
+def check(error_info, node, field, kind="node"):
     err = error_info.value
     assert isinstance(err, GeokinError)
-    assert err.node == node and err.field == field
-    assert f"node {node!r}" in str(err)
+    assert err.node == node and err.field == field and err.kind == kind
+    assert str(err).startswith(f"{kind} {node!r}")
     if field is not None:
         assert f"field {field!r}" in str(err)
 
@@ -132,22 +132,25 @@ def test_duplicate_names_are_refused(declare):
     (lambda c: c.fixed("pi", 0, 0), "pi", "name", "reserved"),
 ])
 def test_declaration_errors_name_node_and_field(declare, node, field, match):
+    # a point is a node of the construction; the link, input and parameters above are
+    # called what they are
+    kind = {"bar": "link", "s": "input", "k": "parameter"}.get(node, "node")
     with pytest.raises(ConstructionError, match=match) as info:
         declare(base())
-    check(info, node, field)
+    check(info, node, field, kind)
 
 
 def test_links_sliders_and_traces_must_name_points():
-    for declare, node, field in [
-        (lambda c: c.link("bar", "A0", "Aa"), "bar", "points[1]"),
-        (lambda c: c.slider("block", "A", ("A0", "Bo")), "block", "along[1]"),
-        (lambda c: c.trace("AA"), "trace", "points[0]"),
+    for declare, kind, node, field in [
+        (lambda c: c.link("bar", "A0", "Aa"), "link", "bar", "points[1]"),
+        (lambda c: c.slider("block", "A", ("A0", "Bo")), "slider", "block", "along[1]"),
+        (lambda c: c.trace("AA"), "node", "trace", "points[0]"),
     ]:
         c = base()
         declare(c)
         with pytest.raises(ConstructionError, match="unknown point") as info:
             c.compile()
-        check(info, node, field)
+        check(info, node, field, kind)
 
 
 def test_compile_orders_by_dependency_then_declaration():
@@ -283,7 +286,7 @@ def test_names_that_differ_only_by_look_alike_letters_are_refused(first, second,
     with pytest.raises(ConstructionError, match="looks like the point") as info:
         c.parameter(second, 1)
     assert letters in str(info.value)
-    check(info, second, "name")
+    check(info, second, "name", "parameter")
     c.parameter("other", 1)  # a refused name leaves no trace
     assert list(c.nodes) == [first] and list(c.parameters) == ["other"]
 
@@ -442,7 +445,7 @@ HUGE_INT = 10**400  # a TOML integer may be this large; float() of it overflows
 def test_integers_beyond_floats_are_errors_naming_node_and_field(declare, node, field):
     with pytest.raises(ConstructionError) as info:
         declare(base())
-    check(info, node, field)
+    check(info, node, field, {"s": "input", "k": "parameter"}.get(node, "node"))
     assert len(str(info.value)) < 300
 
 
@@ -479,7 +482,7 @@ def test_lengths_beyond_the_scale_range_are_refused(declare, node, field, match)
     with pytest.raises(ConstructionError, match=match) as info:
         declare(c)
         c.compile()
-    check(info, node, field)
+    check(info, node, field, "input" if node == "s" else "node")
 
 
 def test_a_mechanism_smaller_than_the_scale_range_is_refused_but_a_tiny_offset_is_not():
@@ -627,3 +630,55 @@ def test_with_parameters_changes_the_values_the_sweep_uses_and_nothing_else():
             compiled.with_parameters({"b": bad})
     with pytest.raises(ConstructionError, match="radius cannot be negative"):
         compiled.with_parameters({"b": -1})
+
+
+# -- what an error calls the thing it is about ------------------------------------------
+
+
+@pytest.mark.parametrize(("declare", "kind", "name", "field"), [
+    (lambda c: c.link("rocker", "A0", "A"), "link", "rocker", "name"),
+    (lambda c: c.slider("rocker", "A", ("A0", "B0")), "slider", "rocker", "name"),
+    (lambda c: c.input("rocker"), "input", "rocker", "name"),
+    (lambda c: c.parameter("rocker", 1), "parameter", "rocker", "name"),
+    (lambda c: c.closure("rocker", ["Q"], [("A", "Q", 1), ("B0", "Q", 1)], near={"Q": (0, 1)}),
+     "group", "rocker", "name"),
+    (lambda c: c.fixed("rocker", 0, 0), "node", "rocker", "name"),
+    (lambda c: c.input("phi", speed=-1), "input", "phi", "speed"),
+    (lambda c: c.slider("block", "A", ("A0",)), "slider", "block", "along"),
+    (lambda c: c.closure("g", ["Q"], [("A", "Q", 1)], near={"Q": (0, 1)}), "group", "g",
+     "distances"),
+])
+def test_an_error_about_a_declaration_calls_it_what_it_is(declare, kind, name, field):
+    """A second 'rocker' is called what it is declared as, whatever the first one is."""
+    c = base()
+    c.link("rocker", "A0", "A")
+    with pytest.raises(ConstructionError) as info:
+        declare(c)
+    check(info, name, field, kind)
+
+
+def test_a_closure_groups_point_that_is_declared_already_is_a_node():
+    c = base()
+    with pytest.raises(ConstructionError, match="duplicate name") as info:
+        c.closure("g", ["A"], [("A0", "A", 1), ("B0", "A", 1)], near={"A": (0, 1)})
+    check(info, "A", "name", "node")
+
+
+def test_errors_of_a_motion_and_a_sweep_call_inputs_and_parameters_so():
+    from geokin import motion
+
+    c = base()
+    c.link("crank", "A0", "A")
+    s = sweep(c, np.linspace(0, 1, 5))
+    with pytest.raises(ConstructionError) as info:
+        motion(s, speed=-1)
+    check(info, "theta", "speed", "input")
+    with pytest.raises(ConstructionError) as info:
+        sweep(c, {"thta": [0.0]})
+    check(info, "thta", None, "input")
+    with pytest.raises(ConstructionError) as info:
+        sweep(c, [0.0], parameters={"l3": [1.0, np.nan]})
+    check(info, "l3", None, "parameter")
+    with pytest.raises(ConstructionError) as info:
+        c.compile().with_parameters({"l33": 1})
+    check(info, "l33", None, "parameter")

@@ -819,7 +819,8 @@ def _check_tolerances(compiled: Compiled, tolerances: Mapping[str, float]) -> di
             listed = f"parameters: {', '.join(names)}" if names else \
                 "the construction has no parameters: give its lengths names in [parameters]"
             raise ConstructionError(f"cannot tolerance {quote(name)}{where}: no such parameter"
-                                    f"{did_you_mean(name, names)} ({listed})", node=name)
+                                    f"{did_you_mean(name, names)} ({listed})", node=name,
+                                    kind="parameter")
         try:
             # text and truth values convert to numbers, but are not tolerances
             if isinstance(value, str | bytes | bool | np.bool_):

@@ -335,19 +335,6 @@ def _overflowing(data):
                 yield path, value
 
 
-def _strip_where(err: ConstructionError) -> str:
-    """Return a ConstructionError's message without its ``node ..., field ...:`` prefix."""
-    message = str(err)
-    if err.node is not None:
-        prefix = f"node {err.node!r}"
-        if err.field is not None:
-            prefix += f", field {err.field!r}"
-        prefix += ": "
-        if message.startswith(prefix):
-            return message[len(prefix):]
-    return message
-
-
 class _Reader:
     """Turns the parsed TOML of one script into a Construction, naming places in errors."""
 
@@ -429,7 +416,7 @@ class _Reader:
     def construction_error(self, err: ConstructionError, table: str, entry: str | None,
                            construction: Construction | None = None) -> ScriptError:
         """Map an engine error to a ScriptError at its table and key."""
-        message = _strip_where(err)
+        message = err.message  # the place is the script's: file, line, table and key
         field = err.field
         if construction is not None and err.node is not None:
             table, entry = self.table_of(construction, err.node, field)
