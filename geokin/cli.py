@@ -95,7 +95,14 @@ from .circuits import circuit
 from .construction import MAX_SAMPLES, Compiled, Construction, whole_steps
 from .engine import STREAM_BLOCK_SAMPLES, evaluate, sweep_in_blocks
 from .engine import sweep as run_sweep
-from .errors import AssemblyError, ConstructionError, GeokinError, did_you_mean, quote
+from .errors import (
+    AssemblyError,
+    ConstructionError,
+    GeokinError,
+    ScriptError,
+    did_you_mean,
+    quote,
+)
 from .expressions import BinOp, Call, Expr, Name, Neg
 from .io import (
     EXPORT_FORMATS,
@@ -107,7 +114,7 @@ from .io import (
     shortest_text,
     write_csv,
 )
-from .kinematics import motion
+from .kinematics import motion, sliders_off_guide
 from .results import Sweep, failure_causes, unassembled_error
 from .terminal import escape, one_line, shorten
 from .units import from_script, to_script, to_script_array
@@ -407,7 +414,9 @@ def run_check(args: argparse.Namespace) -> int:
             _print_error(err, path)
             status = max(status, 1)
         except (GeokinError, OSError) as err:
-            _print_error(err)
+            # a script that reads but describes no mechanism: named by its file here
+            about = isinstance(err, ConstructionError) and not isinstance(err, ScriptError)
+            _print_error(err, path if about else None)
             status = 2
     return status
 
@@ -466,6 +475,26 @@ def _check_one(path):
         _print_lines(f"  at {_inputs_text(c, s.event_inputs(event), event.index)}: node "
                      f"{event.node!r} changes branch from {event.before} to {event.after}")
     s.require_assembled()
+    for name, (i, offset) in sliders_off_guide(s).items():
+        raise ConstructionError(_off_guide(c, s, name, i, offset), node=name, field="point",
+                                kind="slider")
+
+
+def _off_guide(c: Construction, s: Sweep, name: str, i: int, offset: float) -> str:
+    """Say how far a slider's point is off its guide's line, and where it is farthest."""
+    slider = c.sliders[name]
+    first, second = slider.along
+    unit = f" {one_line(c.units, 100)}" if c.units else ""
+    return (f"its point {quote(slider.point)} is {abs(offset):.4g}{unit} off its guide, the "
+            f"line through {quote(first)} and {quote(second)} (farthest at "
+            f"{_sample_text(c, s, i)}); a slider's point must lie on the line of its guide")
+
+
+def _warn_off_guide(c: Construction, s: Sweep) -> None:
+    """Warn of every slider whose point is off its guide's line (see geokin check)."""
+    for name, (i, offset) in sliders_off_guide(s).items():
+        print(one_line(f"geokin: warning: slider {quote(name)}: "
+                       f"{_off_guide(c, s, name, i, offset)}"), file=sys.stderr)
 
 
 def _sample_text(c, s, i) -> str:
@@ -841,6 +870,7 @@ def run_plot(args: argparse.Namespace) -> int:
         return 0
     # where nothing assembles, the ground pivots are still known: draw them, then say so
     m, index = motion_of(args.script, args, at=args.at, assembled=False)
+    _warn_off_guide(m.construction, m.sweep)
     if index is not None and not m.sweep.valid[index] and m.sweep.valid.any():
         s = m.sweep
         drawn = plotting.layout.pose_drawn(s, index)
@@ -895,6 +925,7 @@ def run_animate(args: argparse.Namespace) -> int:
         raise UsageError(f"--dpi must be from 1 to 1000, got {args.dpi:g}")
     # as plot: the pivots (and a crank turning alone) where nothing assembles, then exit 1
     m, _ = motion_of(args.script, args, assembled=False)
+    _warn_off_guide(m.construction, m.sweep)
     frames = plotting.DEFAULT_FRAMES if args.frames is None else args.frames
     dpi = plotting.DEFAULT_DPI if args.dpi is None else args.dpi
     path = plotting.animate(m.sweep, args.output, fps=args.fps, frames=frames, dpi=dpi,

@@ -82,8 +82,8 @@ from .frozen import Frozen, read_only
 from .primitives import nearby_rows
 from .results import Sweep, short_name
 
-__all__ = ["Derivatives", "Motion", "input_derivatives", "link_angles", "motion",
-           "slider_positions", "unwrap_valid"]
+__all__ = ["GUIDE_RTOL", "Derivatives", "Motion", "input_derivatives", "link_angles", "motion",
+           "slider_offsets", "slider_positions", "sliders_off_guide", "unwrap_valid"]
 
 RELATIVE_STEP = 2e-4
 """The perturbation h: this many radians for an angle input, and this
@@ -1250,6 +1250,106 @@ def slider_positions(sweep: Sweep) -> dict[str, np.ndarray]:
             result[slider.name] = _dot(sweep.points[slider.point] - sweep.points[first],
                                        guide) / np.hypot(guide[..., 0], guide[..., 1])
     return result
+
+
+GUIDE_RTOL = 1e-9
+"""How far a slider's point may lie off its guide line, as a fraction of the
+mechanism's size (beside 1e-12 of the coordinates' own size, for a
+mechanism far from the origin): a point put on the line by the construction
+lies on it to rounding, far below this."""
+
+
+def slider_offsets(sweep: Sweep) -> dict[str, np.ndarray]:
+    """Return how far every declared slider's point lies off its guide line, over a sweep.
+
+    A slider ``Slider(name, point, along=(P, Q))`` is a block at ``point``
+    on the line through P and Q: the point lies on that line wherever the
+    construction puts it there (an ``along``, ``line_circle`` or
+    ``line_line`` point on it). The offset is the signed distance from the
+    line to the point, positive on the left of P->Q.
+
+    Returns
+    -------
+    dict of str to ndarray, shape (N,)
+        By slider name, in length units; NaN at invalid samples and where
+        the guide's two points coincide.
+
+    See Also
+    --------
+    sliders_off_guide, slider_positions
+
+    Examples
+    --------
+    A block meant for a horizontal guide, but put on a vertical one:
+
+    >>> from geokin import Construction, sweep
+    >>> c = Construction("block off its guide")
+    >>> c.input("theta")
+    >>> c.fixed("O", 0, 0)
+    >>> c.fixed("G", 0, 5)
+    >>> c.polar("A", "O", 1, "theta")
+    >>> c.along("B", ("O", "A"), 3)
+    >>> c.slider("on", "B", ("O", "A"))
+    >>> c.slider("off", "B", ("G", "O"))
+    >>> offsets = slider_offsets(sweep(c, [0.0, 1.0]))
+    >>> bool(abs(offsets["on"]).max() < 1e-12), offsets["off"].round(6).tolist()
+    (True, [3.0, 1.620907])
+    """
+    result = {}
+    for slider in sweep.construction.sliders:
+        first, second = slider.along
+        guide = sweep.points[second] - sweep.points[first]
+        relative = sweep.points[slider.point] - sweep.points[first]
+        with np.errstate(all="ignore"):
+            result[slider.name] = ((guide[..., 0] * relative[..., 1]
+                                    - guide[..., 1] * relative[..., 0])
+                                   / np.hypot(guide[..., 0], guide[..., 1]))
+    return result
+
+
+def sliders_off_guide(sweep: Sweep) -> dict[str, tuple[int, float]]:
+    """Return the sliders whose point leaves its guide line, where it is farthest and how far.
+
+    A slider's point that lies off the line of its guide by more than
+    :data:`GUIDE_RTOL` of the mechanism's size is a construction that
+    does not put the block on its guide: its position along the guide, the
+    projection of the point, and a drawing of the block mean nothing.
+
+    Returns
+    -------
+    dict of str to (int, float)
+        By slider name, for the sliders off their guide only: the sample
+        where the point is farthest from the line (of :meth:`Sweep.flat`
+        for a sweep of variants) and its signed offset there (see
+        :func:`slider_offsets`).
+
+    Examples
+    --------
+    >>> from geokin import Construction, sweep
+    >>> c = Construction("block off its guide")
+    >>> c.input("theta")
+    >>> c.fixed("O", 0, 0)
+    >>> c.fixed("G", 0, 5)
+    >>> c.polar("A", "O", 1, "theta")
+    >>> c.along("B", ("O", "A"), 3)
+    >>> c.slider("on", "B", ("O", "A"))
+    >>> c.slider("off", "B", ("G", "O"))
+    >>> sliders_off_guide(sweep(c, [0.0, 1.0]))
+    {'off': (0, 3.0)}
+    """
+    sizes = _sizes(sweep)
+    flat = sweep.flat()
+    found = {}
+    for slider in sweep.construction.sliders:
+        offset = slider_offsets(flat)[slider.name]
+        points = [flat.points[p] for p in (slider.point, *slider.along)]
+        with np.errstate(invalid="ignore"):
+            largest = np.max([np.abs(xy).max(axis=-1) for xy in points], axis=0)
+            off = np.abs(offset) > GUIDE_RTOL * sizes + 1e-12 * largest
+        if off.any():
+            i = int(np.nanargmax(np.where(off, np.abs(offset), np.nan)))
+            found[slider.name] = (i, float(offset[i]))
+    return found
 
 
 def link_angles(sweep: Sweep) -> dict[str, np.ndarray]:

@@ -397,6 +397,32 @@ def test_trace_slider_positions_along_the_guide(capsys):
     np.testing.assert_allclose(table["crank.omega"], 360, rtol=1e-9)
 
 
+def test_a_slider_off_its_guide_is_refused_by_check_and_warned_of_elsewhere(capsys, tmp_path):
+    """The quick return's ram B runs on the horizontal line C-G; C-O1 is vertical."""
+    text = (CONSTRUCTIONS / "quick_return.toml").read_text()
+    wrong = text.replace('ram = { point = "B", along = ["C", "G"] }',
+                         'ram = { point = "B", along = ["C", "O1"] }')
+    assert wrong != text
+    script = tmp_path / "quick_return.toml"
+    script.write_text(wrong)
+    s = geokin.sweep(geokin.load(script))
+    x = s["B"][:, 0] - s["C"][:, 0]  # the distance from the vertical line through C and O1
+    i = int(np.argmax(np.abs(x)))
+    where = f"theta2 = {round(float(np.degrees(s.inputs['theta2'][i])), 9):g} deg"
+    off = (f"its point 'B' is {abs(x[i]):.4g} mm off its guide, the line through 'C' and "
+           f"'O1' (farthest at {where}); a slider's point must lie on the line of its guide")
+    status, out, err = run(capsys, "check", script)
+    assert status == 2 and "sweep: 361 samples, all assembled" in out
+    assert err == f"geokin: error: {script}: slider 'ram', field 'point': {off}\n"
+    status, _, err = run(capsys, "plot", script, "-o", tmp_path / "x.png")
+    assert status == 0 and err.startswith(f"geokin: warning: slider 'ram': {off}\n")
+    status, out, _ = run(capsys, "analyze", script)  # over its circuit, sampled its own way
+    assert status == 0 and (f"\nwarning: slider 'ram': its point 'B' is {abs(x[i]):.4g} mm "
+                            "off its guide, the line through 'C' and 'O1' (farthest at ") in out
+    status, _, err = run(capsys, "check", CONSTRUCTIONS / "quick_return.toml")
+    assert (status, err) == (0, "")
+
+
 @pytest.mark.parametrize("argv, message", [
     (["--points", "ram"], "--points: 'ram' is a slider, not a point; use --sliders ram"),
     (["--points", "B,lever"], "--points: 'lever' is a link, not a point; use --links lever"),

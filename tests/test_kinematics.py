@@ -3,7 +3,15 @@ import pytest
 from mechanisms import R1, R2, R3, R4, coupler_fourbar, slider_crank_closed_form, triple_rocker
 
 from geokin import Construction, sweep
-from geokin.kinematics import RELATIVE_STEP, input_derivatives, motion, slider_positions
+from geokin.kinematics import (
+    GUIDE_RTOL,
+    RELATIVE_STEP,
+    input_derivatives,
+    motion,
+    slider_offsets,
+    slider_positions,
+    sliders_off_guide,
+)
 
 
 def loop_rates(theta, omega_driver, alpha_driver, driver):
@@ -572,3 +580,39 @@ def test_time_one_way_at_one_speed_is_the_distance_over_the_speed():
     theta = np.linspace(hi, lo, 20_001)  # backwards: time still runs forwards
     m = motion(sweep(c, theta), speed=3.0)
     np.testing.assert_array_equal(m.time, (theta[0] - theta) / 3.0)
+
+
+def slider_crank_with_guides(offset):
+    """A slider-crank whose block B runs on the line y = 10; guides on it and across it."""
+    c = Construction("slider-crank")
+    c.input("theta")
+    c.fixed("O", 0, 0)
+    c.fixed("G1", 0, 10)
+    c.fixed("G2", 1, 10)
+    c.fixed("V", 0, 30)
+    c.polar("A", "O", 20, "theta")
+    c.line_circle("B", ("G1", "G2"), "A", 70, branch="second")
+    c.slider("block", "B", ("G1", "G2"))
+    c.slider("across", "B", ("V", "O"))  # a vertical line the block crosses once
+    c.fixed("H1", 0, 10 + offset)
+    c.fixed("H2", 1, 10 + offset)
+    c.slider("beside", "B", ("H1", "H2"))  # a parallel line ``offset`` above the block
+    return c
+
+
+@pytest.mark.parametrize("offset", [1e-3, 1e-9, 0.0])
+def test_a_sliders_point_off_its_guide_line_is_found_where_it_is_farthest(offset):
+    s = sweep(slider_crank_with_guides(offset), np.linspace(0, 2 * np.pi, 73))
+    x, y = s["B"].T
+    offsets = slider_offsets(s)
+    # the guide V->O points down: its left is +x; the line above the block is ``offset`` away
+    np.testing.assert_allclose(offsets["across"], x, rtol=1e-15)
+    np.testing.assert_allclose(offsets["beside"], -offset, rtol=0, atol=1e-12)
+    assert np.abs(offsets["block"]).max() <= 1e-15 * 90
+    found = sliders_off_guide(s)
+    farthest = int(np.argmax(np.abs(x)))
+    assert found["across"] == (farthest, pytest.approx(x[farthest], rel=1e-15))
+    # off by more than GUIDE_RTOL of the mechanism's size, the extent of all its points
+    size = np.ptp(np.concatenate([s[p] for p in s.construction.point_names]), axis=0).max()
+    assert ("beside" in found) == (offset > GUIDE_RTOL * size)
+    assert "block" not in found

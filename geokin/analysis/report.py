@@ -24,7 +24,7 @@ from ..circuits import circuit, describe_limit, limits
 from ..construction import Compiled, Construction, as_compiled
 from ..engine import FAR_RATIO, MEET_RTOL, sweep
 from ..errors import AnalysisError
-from ..kinematics import link_angles, slider_positions
+from ..kinematics import link_angles, slider_positions, sliders_off_guide
 from ..nodes import CircleCircle
 from ..results import Sweep, short_name
 from ..terminal import one_line
@@ -682,6 +682,17 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False) -> 
             f"{'circuit' if len(compiled.inputs) == 1 else 'sweep'} cannot be assembled "
             f"(first at sample {i}: node {motion.failed_node[i]!r}: "
             f"{motion.failure_reason[i]}); the figures below come from the others")
+    for block, (i, offset) in sliders_off_guide(motion).items():
+        slider = next(each for each in compiled.sliders if each.name == block)
+        at = ", ".join(f"{k} = {value_of(k)(v[i]):g}"
+                       + (f" {'deg' if degrees else 'rad'}"
+                          if compiled.inputs[k].kind == "angle" else "")
+                       for k, v in motion.inputs.items())
+        warnings.append(
+            f"slider {block!r}: its point {slider.point!r} is {abs(offset):.4g}"
+            f"{' ' + compiled.units if compiled.units else ''} off its guide, the line "
+            f"through {slider.along[0]!r} and {slider.along[1]!r} (farthest at {at}); a "
+            "slider's point must lie on the line of its guide")
     unit = "deg" if degrees else "rad"
     if not motion.valid.any():
         return Report(compiled.name, unit, mobility, inputs, tuple(warnings), assembled=False,
