@@ -616,8 +616,12 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
             start = 0.5 * (lo.value + hi.value)
     interval = _containing(found, start, declared.kind == "angle")
     if interval is None:
-        raise AssemblyError(f"input {name!r} = {start:g} is outside every assemblable "
-                            f"interval: {found.as_values()}")
+        unit = " rad" if declared.kind == "angle" else ""
+        intervals = ", ".join(f"{lo:.6g} to {hi:.6g}{unit}" for lo, hi in found.as_values())
+        hint = ("; angles are in radians here (np.radians converts degrees)"
+                if declared.kind == "angle" and abs(start) > 2 * np.pi else "")
+        raise AssemblyError(f"input {name!r} = {start:g}{unit} is outside every assemblable "
+                            f"interval: {intervals or 'none'}{hint}")
     lo, hi, shift = interval
     start = start + shift
     labels = dict(found.held_branches)

@@ -96,9 +96,15 @@ def test_a_circuit_of_a_crank_that_turns_fully_is_one_turn():
     np.testing.assert_allclose(s["P"][0], s["P"][-1], atol=1e-9)
 
 
-def test_a_circuit_start_outside_every_interval_is_an_error():
-    with pytest.raises(AssemblyError, match="outside every assemblable interval"):
+def test_a_circuit_start_outside_every_interval_is_an_error_in_radians():
+    toggle = np.arccos((R1 * R1 + R2 * R2 - (R3 + R4) ** 2) / (2 * R1 * R2))
+    interval = f"{-toggle:.6g} to {toggle:.6g} rad"
+    with pytest.raises(AssemblyError, match=rf"= 3.14159 rad is outside every assemblable "
+                                            rf"interval: {interval}$"):
         circuit(triple_rocker("crank"), start=np.pi)
+    # degrees passed for radians: said so
+    with pytest.raises(AssemblyError, match=r"= 150 rad is outside .*; angles are in radians"):
+        circuit(triple_rocker("crank"), start=150)
 
 
 def test_limits_and_circuit_for_a_line_circle_toggle():
