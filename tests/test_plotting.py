@@ -175,6 +175,27 @@ def test_guide_points_in_the_frame_link_are_shown_by_the_guide_not_as_pivots():
     assert "H" not in texts(ax) and "G" not in texts(ax)
 
 
+def test_the_ground_point_of_a_turning_guide_is_a_pivot():
+    """Blocks in a slot through the lever's pivot O1 and the moving pin A: O1 is a pivot.
+
+    The ram's guide C-G is fixed: C, named in the frame link, is shown by it.
+    """
+    c = Construction("quick return, slotted lever by its slot")
+    c.input("theta")
+    c.fixed("O1", 0, 0)
+    c.fixed("O2", 0, 60)
+    c.fixed("C", 0, 120)
+    c.fixed("G", 1, 120)
+    c.polar("A", "O2", 40, "theta")
+    c.line_line("B", ("O1", "A"), ("C", "G"))
+    c.link("frame", "O1", "O2", "C")
+    c.link("crank", "O2", "A")
+    c.slider("pin_block", "A", ("O1", "A"))
+    c.slider("ram_block", "B", ("O1", "A"))
+    c.slider("ram", "B", ("C", "G"))
+    assert Layout(sweep(c)).pivots == ["O1", "O2"]
+
+
 def pivot_triangles(ax):
     grey = matplotlib.colors.to_rgba("#d9d9d9")
     return [p for p in ax.patches if p.get_facecolor() == grey]

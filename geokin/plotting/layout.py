@@ -130,14 +130,17 @@ class Layout:
         self.sliders = list(compiled.sliders)
         linked = {p for points in self.links for p in points}
         linked |= {s.point for s in self.sliders}
-        # a ground point only giving a slider's guide its direction is shown by the guide,
-        # also where the frame is declared as a link through it
+        # a ground point only giving a fixed guide its direction is shown by the guide,
+        # also where the frame is declared as a link through it (a guide through a moving
+        # point turns about its ground point: a pivot)
         guides = {p for s in self.sliders for p in s.along}
+        fixed_guides = {p for s in self.sliders if set(s.along) <= compiled.ground
+                        for p in s.along}
         jointed = {p for points in self.links if not set(points) <= compiled.ground
                    for p in points} | {s.point for s in self.sliders}
         if compiled.links:
             self.pivots = [p for p in self.ground
-                           if p in linked and (p in jointed or p not in guides)]
+                           if p in linked and (p in jointed or p not in fixed_guides)]
         else:
             self.pivots = list(self.ground)
         self.references = [p for p in self.ground if p not in self.pivots
