@@ -60,8 +60,8 @@ from .errors import AssemblyError, ConstructionError, did_you_mean
 from .nodes import Candidates, Node, failure_reasons
 from .results import BranchEvent, PointTable, Sweep
 
-__all__ = ["assembly_guesses", "evaluate", "input_arrays", "start_labels", "sweep",
-           "sweep_in_blocks", "variant_values"]
+__all__ = ["assembly_guesses", "evaluate", "input_arrays", "meeting_rtol", "start_labels",
+           "sweep", "sweep_in_blocks", "variant_values"]
 
 MEET_RTOL = 1e-7
 """Roots closer than this times the node's scale meet (a graze or a toggle).
@@ -2069,9 +2069,24 @@ def _meet_tolerance(coordinates, scale, n: int) -> float | np.ndarray:
         return MEET_RTOL
     with np.errstate(all="ignore"):
         largest = np.fmax.reduce([np.abs(np.broadcast_to(c, (n,))) for c in coordinates])
-        ratio = np.where(scale == 0, 1.0, largest / scale)
-        tolerance = MEET_RTOL * np.sqrt(np.clip(ratio, 1.0, FAR_RATIO))
-    return tolerance
+        return meeting_rtol(np.where(scale == 0, 1.0, largest / scale))
+
+
+def meeting_rtol(ratio: ArrayLike) -> np.ndarray:
+    """Return how close two roots meet, relative to their node's scale, R times it from (0, 0).
+
+    The branch rules take roots this close (over the node's scale) as
+    meeting: :data:`MEET_RTOL`, widened by ``sqrt(R)`` for a node found
+    from moving points R times its scale from the origin of its frame (their
+    rounding is R times coarser, and the roots' distance its square root),
+    R taken from 1 to :data:`FAR_RATIO`.
+
+    Examples
+    --------
+    >>> meeting_rtol([0.5, 100.0]).tolist()
+    [1e-07, 1e-06]
+    """
+    return MEET_RTOL * np.sqrt(np.clip(np.asarray(ratio, dtype=float), 1.0, FAR_RATIO))
 
 
 def _tolerance_at(node, coords, values, rows, ground, samples, path, origin=None):

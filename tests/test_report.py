@@ -542,3 +542,95 @@ def test_a_turn_through_change_points_is_timed_against_a_dense_sweep():
             else:
                 assert swing.time_ratio is None
         assert strokes["rocker.angle"].turns == (rocker == crank)
+
+
+def parallelograms_in_series(at=(0.0, 0.0)):
+    """O2-A-B-O4 and O4-B-C-O6, parallelograms of 52.6 and 30.25, from ``at``."""
+    x, y = at
+    c = Construction("two parallelograms in series")
+    c.input("theta")
+    c.fixed("O2", x, y)
+    c.fixed("O4", x + 52.6, y)
+    c.fixed("O6", x + 93.9, y)
+    c.polar("A", "O2", 30.25, "theta")
+    c.circle_circle("B", ("A", "O4"), (52.6, 30.25), branch="left")
+    c.circle_circle("C", ("B", "O6"), (41.3, 30.25), branch="left")
+    return c
+
+
+@pytest.mark.parametrize("at", [(0.0, 0.0), (5000.3, -1800.7)])
+@pytest.mark.parametrize("arm", [500.0, 2000.0, 5000.0])
+def test_every_link_of_a_rigid_body_that_does_not_turn_is_left_out(at, arm):
+    """The second coupler carries a point ``arm`` out along it: B, C and P are one body.
+
+    It stays parallel to the ground through the change points; its noise,
+    carried out to P, is no stroke of any of its links.
+    """
+    c = parallelograms_in_series(at)
+    c.local("P", "B", "C", (arm, 0))
+    c.link("coupler", "B", "C")
+    c.link("arm", "B", "P")
+    c.link("tip", "C", "P")
+    c.link("rocker", "O6", "C")
+    strokes = analyze(c).strokes
+    assert set(strokes) == {"rocker.angle"} and strokes["rocker.angle"].turns
+
+
+def change_point_fourbar():
+    """Ground 10, crank 4, coupler 9, rocker 5: back on the first branch after two turns."""
+    c = Construction("change point, two turns")
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 10, 0)
+    c.polar("A", "O2", 4, "theta")
+    c.circle_circle("B", ("A", "O4"), (9, 5), branch="left")
+    c.local("P", "A", "B", (-9, 0))
+    c.link("crank", "O2", "A")
+    c.link("coupler", "A", "B", "P")
+    c.link("rocker", "O4", "B")
+    c.trace("B", "P")
+    return c
+
+
+def test_a_turn_that_does_not_bring_the_mechanism_back_is_not_timed():
+    """After one turn B is on its other branch: nothing it moves repeats, and it is said.
+
+    The strokes are those of the circuit's turn, checked on a sweep of it
+    1,000 times denser on the same branches.
+    """
+    c = change_point_fourbar()
+    report = analyze(c)
+    whole = circuit(c)
+    assert whole.events
+    np.testing.assert_allclose(np.ptp(whole.inputs["theta"]), 2 * np.pi)
+    np.testing.assert_allclose(whole["B"][-1], whole["B"][0] * [1, -1], atol=1e-9)
+    assert any("not back where it began ('B', 'P' end elsewhere)" in w for w in report.warnings)
+    assert report.strokes["crank.angle"].turns
+    theta = whole.inputs["theta"]
+    dense = sweep(c, np.linspace(theta[0], theta[-1], 360_001),
+                  start_branches={"B": int(np.ravel(whole.branches["B"])[0])})
+    for label in ("B.x", "B.y", "P.x", "P.y"):
+        swing = report.strokes[label]
+        assert swing.time_ratio is None and swing.strokes_per_turn is None
+        values = dense[label[0]][:, "xy".index(label[-1])]
+        np.testing.assert_allclose([swing.minimum, swing.maximum], [values.min(), values.max()],
+                                   rtol=0, atol=1e-7)
+
+
+@pytest.mark.parametrize("gearing, turns", [("theta / 2", False), ("theta * 1.5", True)])
+def test_a_geared_pointer_is_not_timed(gearing, turns):
+    """A pointer geared to the crank does not repeat every turn: no time ratio for its tip."""
+    c = Construction("geared pointer")
+    c.input("theta")
+    c.fixed("O", 0, 0)
+    c.polar("A", "O", 3, "theta")
+    c.polar("P", "O", 1, gearing)
+    c.link("crank", "O", "A")
+    c.link("pointer", "O", "P")
+    c.trace("A", "P")
+    report = analyze(c)
+    assert report.strokes["pointer.angle"].turns == turns
+    assert report.strokes["A.y"].time_ratio == pytest.approx(1)  # the crank pin repeats
+    for label in ("P.x", "P.y"):
+        assert report.strokes[label].time_ratio is None
+    assert any("('P' end elsewhere)" in w for w in report.warnings)

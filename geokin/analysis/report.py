@@ -22,7 +22,7 @@ import numpy as np
 
 from ..circuits import circuit, describe_limit, limits
 from ..construction import Compiled, Construction, as_compiled
-from ..engine import FAR_RATIO, MEET_RTOL, sweep
+from ..engine import meeting_rtol, sweep
 from ..errors import AnalysisError
 from ..kinematics import link_angles, slider_positions, sliders_off_guide
 from ..nodes import CircleCircle
@@ -693,6 +693,17 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False) -> 
             f"{' ' + compiled.units if compiled.units else ''} off its guide, the line "
             f"through {slider.along[0]!r} and {slider.along[1]!r} (farthest at {at}); a "
             "slider's point must lie on the line of its guide")
+    off = _known_to(compiled, motion)
+    back = _returning(compiled, motion, off)
+    if _whole_turns(compiled, motion) and motion.valid[[0, -1]].all() and not all(back.values()):
+        name = next(iter(compiled.inputs))
+        turns = round((motion.inputs[name][-1] - motion.inputs[name][0]) / (2 * np.pi))
+        away = [p for p, returns in back.items() if not returns]
+        warnings.append(
+            f"after {turns} turn{'s' if turns > 1 else ''} of {name!r} the mechanism is not "
+            f"back where it began ({', '.join(map(repr, away[:4]))}"
+            f"{', ...' if len(away) > 4 else ''} end elsewhere): what moves with these "
+            "points is given over this motion, without time ratios")
     unit = "deg" if degrees else "rad"
     if not motion.valid.any():
         return Report(compiled.name, unit, mobility, inputs, tuple(warnings), assembled=False,
@@ -732,7 +743,7 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False) -> 
             curve.bounds, tuple((x, y) for x, y in curve.double_points.tolist()))
     return Report(compiled.name, unit, mobility, inputs, tuple(warnings), assembled=True,
                   four_bars=tuple(four_bars), transmission_angles=transmission,
-                  strokes=_strokes(compiled, motion, angle), curves=curves)
+                  strokes=_strokes(compiled, motion, angle, off, back), curves=curves)
 
 
 def _peaks(values, span) -> int:
@@ -861,22 +872,29 @@ from it may be off (:func:`_known_to`): the chosen root lies within that
 tolerance of the meeting, and the nodes found from it carry the error on."""
 
 ROUNDING = 1e-9
-"""How far (relative, at least of 1) an output may be off by rounding alone: an
-output that moves less does not move, and one that ends within this of where it
-began, comes back."""
+"""How far an output may be off by rounding alone, relative to its size (of at
+least 1 rad for an angle, of the mechanism's coordinates for a point's
+position): an output that moves less does not move."""
+
+
+def _positions(motion: Sweep, point: str) -> np.ndarray:
+    """Return a point's positions at the assembled samples of a motion, shape (M, 2)."""
+    return np.asarray(motion[point])[np.asarray(motion.valid)]
 
 
 def _known_to(compiled: Compiled, motion: Sweep) -> dict[str, float]:
     """Return how far each point may be off, through the meetings of the motion.
 
     Where a node's roots meet (a branch event of the motion), the branch
-    rules know them only to within :data:`~geokin.engine.MEET_RTOL` of the
-    node's scale s (its largest distance to the points it is found from),
-    widened by sqrt(R / s) for points R from (0, 0), up to
-    :data:`~geokin.engine.FAR_RATIO`: near a meeting the roots are the
-    square root of a difference of squares. A point found from such a node,
-    at any remove, is known to :data:`MEETING_SPREAD` times that; any
-    other point to rounding (0 here).
+    rules know them only to :func:`~geokin.engine.meeting_rtol` of the
+    node's scale s (taken as its largest distance from the points it is
+    found from), for points R from (0, 0): near a meeting the roots are the
+    square root of a difference of squares. Such a node's points are known
+    to :data:`MEETING_SPREAD` times that. Every point carries on the errors
+    of the points it is found from, times its lever: 1 + 2 L / b, L its
+    largest distance from them and b their least distance apart (a point
+    of a rigid body far out on its frame turns with the frame's error).
+    A point found from no meeting is known to rounding (0 here).
 
     Examples
     --------
@@ -887,57 +905,86 @@ def _known_to(compiled: Compiled, motion: Sweep) -> dict[str, float]:
     >>> c.fixed("O4", 10, 0)
     >>> c.polar("A", "O2", 4, "theta")
     >>> c.circle_circle("B", ("A", "O4"), (10, 4), branch="left")
+    >>> c.local("P", "A", "B", (100, 0))
     >>> off = _known_to(c.compile(), circuit(c))
-    >>> off["A"], bool(0 < off["B"] < 1e-5)
-    (0.0, True)
+    >>> off["A"], bool(0 < off["B"] < 1e-5), bool(off["P"] > 10 * off["B"])
+    (0.0, True, True)
     """
     met = {event.node for event in motion.events}
-    valid = np.asarray(motion.valid)
     off: dict[str, float] = {}
+    if not np.any(motion.valid):
+        return dict.fromkeys(motion.points, 0.0)
     for step in compiled.steps:
         node = step.node
-        carried = max((off.get(p, 0.0) for p in node.depends_on()), default=0.0)
-        if node.name in met and valid.any():
-            found = [np.asarray(motion[p])[valid] for p in node.defines]
-            built_on = [np.asarray(motion[p])[valid] for p in node.depends_on()]
-            scale = max((float(np.max(np.hypot(*(a - b).T))) for a in found for b in built_on),
-                        default=0.0)
-            moving = [a for p, a in zip(node.depends_on(), built_on, strict=True)
-                      if p not in compiled.ground] + found
-            far = max(float(np.max(np.abs(a))) for a in moving)
-            if scale > 0:
-                ratio = min(max(far / scale, 1.0), FAR_RATIO)
-                carried = max(carried, MEETING_SPREAD * MEET_RTOL * np.sqrt(ratio) * scale)
+        built_on = {p: _positions(motion, p) for p in node.depends_on()}
+        found = [_positions(motion, p) for p in node.defines]
+        reach = max((float(np.nanmax(np.hypot(*(a - b).T))) for a in found
+                     for b in built_on.values()), default=0.0)
+        carried = max((off[p] for p in built_on), default=0.0)
+        if carried > 0:
+            apart = [float(np.nanmin(np.hypot(*(a - b).T)))
+                     for i, a in enumerate(built_on.values())
+                     for b in list(built_on.values())[i + 1:]]
+            apart = [d for d in apart if d > 0]
+            carried *= 1 + 2 * reach / min(apart) if apart else 1.0
+        if node.name in met and reach > 0:
+            moving = [a for p, a in built_on.items() if p not in compiled.ground] + found
+            far = max(float(np.nanmax(np.abs(a))) for a in moving)
+            rtol = float(meeting_rtol(far / reach))
+            carried = max(carried, MEETING_SPREAD * rtol * reach)
         for point in node.defines:
             off[point] = carried
     return off
 
 
-def _comes_back(values: np.ndarray, is_angle: bool, known: float) -> tuple[bool, int]:
-    """Whether an output ends where it began, to what it is known to; and the turns between.
+def _whole_turns(compiled: Compiled, motion: Sweep) -> bool:
+    """Whether the motion's one input is an angle that ends whole turns (not 0) on."""
+    if len(compiled.inputs) != 1:
+        return False
+    name, declared = next(iter(compiled.inputs.items()))
+    x = motion.inputs[name]
+    travel = (x[-1] - x[0]) / (2 * np.pi)
+    return bool(declared.kind == "angle" and round(travel) != 0
+                and abs(travel - round(travel)) <= ROUNDING)
 
-    ``known`` is how far it may be off (an angle in radians); an angle may end
-    whole turns on, and the second item gives how many (0 for any other output).
+
+def _returning(compiled: Compiled, motion: Sweep, off: Mapping[str, float]) -> dict[str, bool]:
+    """Whether each point, and every point it is found from, ends where it began.
+
+    To what each is known to (``off``, see :func:`_known_to`) and the
+    rounding of the mechanism's coordinates. Over whole turns of the input,
+    what is read off such points only is periodic in it: the part of the
+    mechanism it depends on is back in its first configuration.
 
     Examples
     --------
-    >>> _comes_back(np.array([0.1, 3.0, 0.1 + 4 * np.pi]), True, 0.0)
-    (True, 2)
-    >>> _comes_back(np.array([0.0, 3.0, 2 * np.pi - 1e-4]), True, 0.0)
-    (False, 1)
+    >>> from geokin import Construction, sweep
+    >>> c = Construction("crank and a pointer at half its speed")
+    >>> c.input("theta")
+    >>> c.fixed("O", 0, 0)
+    >>> c.polar("A", "O", 3, "theta")
+    >>> c.polar("P", "A", 1, "theta / 2")
+    >>> c.polar("Q", "P", 1, 0.0)
+    >>> _returning(c.compile(), sweep(c, np.linspace(0, 2 * np.pi, 9)), {})
+    {'O': True, 'A': True, 'P': False, 'Q': False}
     """
-    start, end = float(values[0]), float(values[-1])
-    if not (np.isfinite(start) and np.isfinite(end)):
-        return False, 0
-    turns = round((end - start) / (2 * np.pi)) if is_angle else 0
-    apart = abs(end - start - 2 * np.pi * turns)
-    # rounding of the output's size, not of its ends: an end may lie at zero
-    size = max(float(np.nanmax(np.abs(values))), 1.0 if is_angle else 0.0)
-    return apart <= known + ROUNDING * size, turns
+    first, last = np.asarray(motion.valid)[[0, -1]]
+    size = max((float(np.nanmax(np.abs(motion[p]))) for p in motion.points), default=0.0)
+    back: dict[str, bool] = {}
+    for step in compiled.steps:
+        node = step.node
+        ends = [np.asarray(motion[p])[[0, -1]] for p in node.defines]
+        here = bool(first and last) and all(
+            np.hypot(*(b - a)) <= off.get(p, 0.0) + ROUNDING * size
+            for p, (a, b) in zip(node.defines, ends, strict=True))
+        here = here and all(back[p] for p in node.depends_on())
+        for point in node.defines:
+            back[point] = here
+    return back
 
 
-def _strokes(compiled: Compiled, motion: Sweep,
-             angle: Callable[[Any], float]) -> dict[str, StrokeReport]:
+def _strokes(compiled: Compiled, motion: Sweep, angle: Callable[[Any], float],
+             off: Mapping[str, float], back: Mapping[str, bool]) -> dict[str, StrokeReport]:
     """Extremes and time ratios of traced coordinates and link angles.
 
     Over one turn of an input that turns fully the time ratio is given too.
@@ -975,10 +1022,11 @@ def _strokes(compiled: Compiled, motion: Sweep,
                                          link.points[:2])
     # the extremes of a motion that does not turn fully are placed on the mechanism
     # evaluated again along the steps about an extreme sample (a circuit's samples
-    # are too far apart near its limits for a parabola through three)
+    # are too far apart near its limits for a parabola through three), and so are those
+    # of a turn through change points, where an output may have a corner
     steps = (_Steps(compiled, motion, name)
-             if not turns and not any(step.node.continued for step in compiled.steps)
-             else None)
+             if (not turns or motion.events)
+             and not any(step.node.continued for step in compiled.steps) else None)
     # where the input runs on through a sample, on the same branches
     step = np.diff(motion.inputs[name])
     smooth = np.zeros(len(motion), dtype=bool)
@@ -986,24 +1034,22 @@ def _strokes(compiled: Compiled, motion: Sweep,
     for event in motion.events:
         smooth[max(event.index - 1, 0):event.index + 1] = False
     strokes: dict[str, StrokeReport] = {}
-    travel = (motion.inputs[name][-1] - motion.inputs[name][0]) / (2 * np.pi)
-    whole_turns = (declared.kind == "angle" and round(travel) != 0
-                   and abs(travel - round(travel)) <= ROUNDING)
-    off = _known_to(compiled, motion)
+    whole_turns = _whole_turns(compiled, motion)
     for label, (values, is_angle, of, points) in outputs.items():
         if not np.isfinite(values).any():
             continue
         known = sum(off.get(p, 0.0) for p in points)
         if is_angle and known > 0:  # the points' errors across the link, as an angle
             length = np.nanmax(np.hypot(*(motion[points[1]] - motion[points[0]]).T))
-            known = known / length if length > 0 else np.inf
+            known = known / length if length > 0 else known
         low, high = np.nanmin(values), np.nanmax(values)
         if high - low <= known + ROUNDING * max(abs(high), abs(low), 1.0 if is_angle else 0.0):
             continue  # it does not move, to what it is known to
-        # over whole turns of the input, an output that ends where it began is periodic
-        # in it; a link that so ends whole turns on turns fully
-        periodic, wound = _comes_back(values, is_angle, known) if whole_turns else (False, 0)
-        if is_angle and (high - low >= 2 * np.pi - ROUNDING or (periodic and wound != 0)):
+        # over whole turns of the input, an output read off points that all come back is
+        # periodic in it; a link that so ends whole turns on turns fully
+        periodic = whole_turns and all(back.get(p, False) for p in points)
+        wound = round((values[-1] - values[0]) / (2 * np.pi)) if periodic and is_angle else 0
+        if is_angle and (high - low >= 2 * np.pi - ROUNDING or wound != 0):
             strokes[label] = StrokeReport(turns=True)
             continue
         convert = angle if is_angle else float
@@ -1022,8 +1068,10 @@ def _strokes(compiled: Compiled, motion: Sweep,
             strokes[label] = StrokeReport(False, convert(low), convert(high), convert(high - low))
             continue
         per_turn = _peaks(values[:-1], high - low)
+        if steps is None:
+            low, high = found.minimum, found.maximum
         strokes[label] = StrokeReport(
-            False, convert(found.minimum), convert(found.maximum), convert(found.stroke),
+            False, convert(low), convert(high), convert(high - low),
             # out and back more than once a turn: no one forward and return stroke
             float(found.time_ratio) if per_turn == 1 else None, per_turn)
     return strokes
