@@ -633,4 +633,32 @@ def test_a_geared_pointer_is_not_timed(gearing, turns):
     assert report.strokes["A.y"].time_ratio == pytest.approx(1)  # the crank pin repeats
     for label in ("P.x", "P.y"):
         assert report.strokes[label].time_ratio is None
-    assert any("('P' end elsewhere)" in w for w in report.warnings)
+    assert any("('P' ends elsewhere)" in w for w in report.warnings)
+
+
+@pytest.mark.parametrize("guide_at", [(10.0, 4.0), (6.0, 0.0), (12.0, 2 * np.sqrt(3))])
+def test_a_guide_point_the_rocker_passes_over_does_not_hide_the_slider(guide_at):
+    """A slider Q on a guide through a point of the rocker's circle, driven by a rod from B.
+
+    B passes over the guide's first point to rounding, which fixes nothing
+    of Q together with B: the block still strokes, checked on the circuit's
+    own positions.
+    """
+    c = Construction("parallelogram and a slider")
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 10, 0)
+    c.polar("A", "O2", 4, "theta")
+    c.circle_circle("B", ("A", "O4"), (10, 4), branch="left")
+    c.fixed("G1", *guide_at)
+    c.polar("G2", "G1", 10, 0.0)
+    c.line_circle("Q", ("G1", "G2"), "B", 9, branch="second")
+    c.link("crank", "O2", "A")
+    c.link("rocker", "O4", "B")
+    c.link("rod", "B", "Q")
+    c.slider("block", "Q", ("G1", "G2"))
+    c.trace("Q")
+    strokes = analyze(c).strokes
+    x = circuit(c)["Q"][:, 0]
+    assert {"Q.x", "block.position", "rod.angle"} <= set(strokes)
+    assert strokes["Q.x"].stroke == pytest.approx(np.ptp(x), rel=1e-3)

@@ -702,8 +702,9 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False) -> 
         warnings.append(
             f"after {turns} turn{'s' if turns > 1 else ''} of {name!r} the mechanism is not "
             f"back where it began ({', '.join(map(repr, away[:4]))}"
-            f"{', ...' if len(away) > 4 else ''} end elsewhere): what moves with these "
-            "points is given over this motion, without time ratios")
+            f"{', ...' if len(away) > 4 else ''} {'end' if len(away) > 1 else 'ends'} "
+            "elsewhere): what moves with these points is given over this motion, without "
+            "time ratios")
     unit = "deg" if degrees else "rad"
     if not motion.valid.any():
         return Report(compiled.name, unit, mobility, inputs, tuple(warnings), assembled=False,
@@ -892,7 +893,7 @@ def _known_to(compiled: Compiled, motion: Sweep) -> dict[str, float]:
     square root of a difference of squares. Such a node's points are known
     to :data:`MEETING_SPREAD` times that. Every point carries on the errors
     of the points it is found from, times its lever: 1 + 2 L / b, L its
-    largest distance from them and b their least distance apart (a point
+    largest distance from them and b their widest spread (a point
     of a rigid body far out on its frame turns with the frame's error).
     A point found from no meeting is known to rounding (0 here).
 
@@ -922,11 +923,12 @@ def _known_to(compiled: Compiled, motion: Sweep) -> dict[str, float]:
                      for b in built_on.values()), default=0.0)
         carried = max((off[p] for p in built_on), default=0.0)
         if carried > 0:
-            apart = [float(np.nanmin(np.hypot(*(a - b).T)))
-                     for i, a in enumerate(built_on.values())
-                     for b in list(built_on.values())[i + 1:]]
-            apart = [d for d in apart if d > 0]
-            carried *= 1 + 2 * reach / min(apart) if apart else 1.0
+            # the frame the node is built on: its points' widest spread, never a
+            # passing near-coincidence of points that do not fix it together
+            spread = max((float(np.nanmax(np.hypot(*(a - b).T)))
+                          for i, a in enumerate(built_on.values())
+                          for b in list(built_on.values())[i + 1:]), default=0.0)
+            carried *= 1 + 2 * reach / spread if spread > 0 else 1.0
         if node.name in met and reach > 0:
             moving = [a for p, a in built_on.items() if p not in compiled.ground] + found
             far = max(float(np.nanmax(np.abs(a))) for a in moving)
