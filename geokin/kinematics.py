@@ -76,6 +76,7 @@ from numpy.typing import ArrayLike
 from . import display
 from .budgets import check_sweep_memory
 from .compat import renamed_attribute, renamed_keywords
+from .construction import Slider
 from .engine import BLOCKED_ABOVE, assembly_guesses, evaluate, kept_memory
 from .errors import ConstructionError
 from .frozen import Frozen, read_only
@@ -1244,12 +1245,18 @@ def slider_positions(sweep: Sweep) -> dict[str, np.ndarray]:
     """
     result = {}
     for slider in sweep.construction.sliders:
-        first, second = slider.along
-        guide = sweep.points[second] - sweep.points[first]
+        relative, guide, length = _from_guide(sweep, slider)
         with np.errstate(all="ignore"):
-            result[slider.name] = _dot(sweep.points[slider.point] - sweep.points[first],
-                                       guide) / np.hypot(guide[..., 0], guide[..., 1])
+            result[slider.name] = _dot(relative, guide) / length
     return result
+
+
+def _from_guide(sweep: Sweep, slider: Slider) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Return a slider's point from its guide's first point, the guide, and its length."""
+    first, second = slider.along
+    guide = sweep.points[second] - sweep.points[first]
+    return (sweep.points[slider.point] - sweep.points[first], guide,
+            np.hypot(guide[..., 0], guide[..., 1]))
 
 
 GUIDE_RTOL = 1e-9
@@ -1297,13 +1304,10 @@ def slider_offsets(sweep: Sweep) -> dict[str, np.ndarray]:
     """
     result = {}
     for slider in sweep.construction.sliders:
-        first, second = slider.along
-        guide = sweep.points[second] - sweep.points[first]
-        relative = sweep.points[slider.point] - sweep.points[first]
+        relative, guide, length = _from_guide(sweep, slider)
         with np.errstate(all="ignore"):
-            result[slider.name] = ((guide[..., 0] * relative[..., 1]
-                                    - guide[..., 1] * relative[..., 0])
-                                   / np.hypot(guide[..., 0], guide[..., 1]))
+            result[slider.name] = (guide[..., 0] * relative[..., 1]
+                                   - guide[..., 1] * relative[..., 0]) / length
     return result
 
 
@@ -1339,9 +1343,10 @@ def sliders_off_guide(sweep: Sweep) -> dict[str, tuple[int, float]]:
     """
     sizes = _sizes(sweep)
     flat = sweep.flat()
+    offsets = slider_offsets(flat)
     found = {}
     for slider in sweep.construction.sliders:
-        offset = slider_offsets(flat)[slider.name]
+        offset = offsets[slider.name]
         points = [flat.points[p] for p in (slider.point, *slider.along)]
         with np.errstate(invalid="ignore"):
             largest = np.max([np.abs(xy).max(axis=-1) for xy in points], axis=0)
