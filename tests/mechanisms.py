@@ -84,6 +84,19 @@ def triple_rocker(driver, branch="left", input_range=None):
     return c
 
 
+def parallelograms_in_series(x=0.0, y=0.0):
+    """O2-A-B-O4 and O4-B-C-O6, both parallelograms: B and C meet together at pi."""
+    c = Construction("two parallelograms in series")
+    c.input("theta")
+    c.fixed("O2", x, y)
+    c.fixed("O4", x + 52.6, y)
+    c.fixed("O6", x + 93.9, y)
+    c.polar("A", "O2", 30.25, "theta")
+    c.circle_circle("B", ("A", "O4"), (52.6, 30.25), branch="left")
+    c.circle_circle("C", ("B", "O6"), (41.3, 30.25), branch="left")
+    return c
+
+
 def fourbar_closed_form(theta2, a, b, c, d, omega2=1.0, sign=-1):
     """Coupler and rocker angles and rates of a four-bar, by Freudenstein and Norton.
 

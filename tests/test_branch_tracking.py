@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from hypothesis import assume, given
 from hypothesis import strategies as st
-from mechanisms import fourbar, sixbar
+from mechanisms import fourbar, parallelograms_in_series, sixbar
 
 import geokin
 from geokin import Construction, sweep
@@ -333,19 +333,6 @@ def test_limits_and_circuits_see_the_change_points_a_sweep_sees_far_from_the_ori
     for point in ("A", "B"):
         np.testing.assert_allclose(far_circuit[point] - [x, y], near_circuit[point],
                                    rtol=0, atol=1e-6 * np.sqrt(x))
-
-
-def parallelograms_in_series(x=0.0, y=0.0):
-    """O2-A-B-O4 and O4-B-C-O6, both parallelograms: B and C meet together at pi."""
-    c = Construction("two parallelograms in series")
-    c.input("theta")
-    c.fixed("O2", x, y)
-    c.fixed("O4", x + 52.6, y)
-    c.fixed("O6", x + 93.9, y)
-    c.polar("A", "O2", 30.25, "theta")
-    c.circle_circle("B", ("A", "O4"), (52.6, 30.25), branch="left")
-    c.circle_circle("C", ("B", "O6"), (41.3, 30.25), branch="left")
-    return c
 
 
 @pytest.mark.parametrize("x, y, samples", [(0.0, 0.0, 361), (5000.3, -1800.7, 361),

@@ -3,6 +3,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from mechanisms import parallelograms_in_series
 
 from geokin import Construction, circuit, load, sweep
 from geokin.analysis import analyze
@@ -544,20 +545,6 @@ def test_a_turn_through_change_points_is_timed_against_a_dense_sweep():
         assert strokes["rocker.angle"].turns == (rocker == crank)
 
 
-def parallelograms_in_series(at=(0.0, 0.0)):
-    """O2-A-B-O4 and O4-B-C-O6, parallelograms of 52.6 and 30.25, from ``at``."""
-    x, y = at
-    c = Construction("two parallelograms in series")
-    c.input("theta")
-    c.fixed("O2", x, y)
-    c.fixed("O4", x + 52.6, y)
-    c.fixed("O6", x + 93.9, y)
-    c.polar("A", "O2", 30.25, "theta")
-    c.circle_circle("B", ("A", "O4"), (52.6, 30.25), branch="left")
-    c.circle_circle("C", ("B", "O6"), (41.3, 30.25), branch="left")
-    return c
-
-
 @pytest.mark.parametrize("at", [(0.0, 0.0), (5000.3, -1800.7)])
 @pytest.mark.parametrize("arm", [500.0, 2000.0, 5000.0])
 def test_every_link_of_a_rigid_body_that_does_not_turn_is_left_out(at, arm):
@@ -566,7 +553,7 @@ def test_every_link_of_a_rigid_body_that_does_not_turn_is_left_out(at, arm):
     It stays parallel to the ground through the change points; its noise,
     carried out to P, is no stroke of any of its links.
     """
-    c = parallelograms_in_series(at)
+    c = parallelograms_in_series(*at)
     c.local("P", "B", "C", (arm, 0))
     c.link("coupler", "B", "C")
     c.link("arm", "B", "P")
