@@ -407,7 +407,7 @@ width of a gap that runs to that end, are tried for where the mechanism is
 strictly assembled again (see :func:`_join_rounding_gaps`)."""
 
 
-@dataclass
+@dataclass(eq=False)
 class _Gap:
     """A stretch of the grid not strictly assembled, bounded by tangent limits.
 
@@ -494,17 +494,15 @@ def _join_rounding_gaps(compiled: Compiled, name: str, held: Mapping[str, float]
         past = probe(beyond, ending)
         strict = _strictly_valid(past).reshape(len(ending), -1)
         loose = past.valid.reshape(len(ending), -1)
-        limited = []
         for g, s, v, at in zip(ending, strict, loose, beyond.reshape(len(ending), -1),
                                strict=True):
             k = int(np.argmax(s))
             if not s[k] or not v[:k].all():
-                limited.append(g)  # nothing strictly assembled just past the end: a limit
+                gaps.remove(g)  # nothing strictly assembled just past the end: a limit
             elif g.past > 0:
                 g.high = float(at[k])
             else:
                 g.low = float(at[k])
-        gaps = [g for g in gaps if not any(g is h for h in limited)]
         if not gaps:
             return joined, ok
     inside = np.linspace(0.0, 1.0, ROUNDING_GAP_PROBES + 2)[1:-1]

@@ -16,6 +16,7 @@ import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from functools import partial
+from itertools import combinations
 from typing import Any
 
 import numpy as np
@@ -926,8 +927,7 @@ def _known_to(compiled: Compiled, motion: Sweep) -> dict[str, float]:
             # the frame the node is built on: its points' widest spread, never a
             # passing near-coincidence of points that do not fix it together
             spread = max((float(np.nanmax(np.hypot(*(a - b).T)))
-                          for i, a in enumerate(built_on.values())
-                          for b in list(built_on.values())[i + 1:]), default=0.0)
+                          for a, b in combinations(built_on.values(), 2)), default=0.0)
             carried *= 1 + 2 * reach / spread if spread > 0 else 1.0
         if node.name in met and reach > 0:
             moving = [a for p, a in built_on.items() if p not in compiled.ground] + found
