@@ -82,6 +82,7 @@ import numpy as np
 
 from . import __version__
 from .analysis import analyze, degrees_of_freedom
+from .analysis.report import off_guide_text
 from .analysis.tolerance import (
     DISTRIBUTIONS,
     SENSITIVITY_STEP,
@@ -482,12 +483,7 @@ def _check_one(path):
 
 def _off_guide(c: Construction, s: Sweep, name: str, i: int, offset: float) -> str:
     """Say how far a slider's point is off its guide's line, and where it is farthest."""
-    slider = c.sliders[name]
-    first, second = slider.along
-    unit = f" {one_line(c.units, 100)}" if c.units else ""
-    return (f"its point {quote(slider.point)} is {abs(offset):.4g}{unit} off its guide, the "
-            f"line through {quote(first)} and {quote(second)} (farthest at "
-            f"{_sample_text(c, s, i)}); a slider's point must lie on the line of its guide")
+    return off_guide_text(c.sliders[name], offset, c.units, _sample_text(c, s, i))
 
 
 def _warn_off_guide(c: Construction, s: Sweep) -> None:

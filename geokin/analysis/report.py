@@ -22,9 +22,9 @@ from typing import Any
 import numpy as np
 
 from ..circuits import circuit, describe_limit, limits
-from ..construction import Compiled, Construction, as_compiled
+from ..construction import Compiled, Construction, Slider, as_compiled
 from ..engine import meeting_rtol, sweep
-from ..errors import AnalysisError
+from ..errors import AnalysisError, quote
 from ..kinematics import link_angles, slider_positions, sliders_off_guide
 from ..nodes import CircleCircle
 from ..results import Sweep, short_name
@@ -44,6 +44,25 @@ __all__ = [
     "TransmissionReport",
     "analyze",
 ]
+
+def off_guide_text(slider: Slider, offset: float, units: str, where: str) -> str:
+    """Say how far a slider's point is off its guide's line, and where it is farthest.
+
+    ``where`` names that sample (its input values, in the caller's units).
+
+    Examples
+    --------
+    >>> from geokin.construction import Slider
+    >>> print(off_guide_text(Slider("ram", "B", ("C", "G")), -0.5, "mm", "theta = 90 deg"))
+    its point 'B' is 0.5 mm off its guide, the line through 'C' and 'G' (farthest at
+    theta = 90 deg); a slider's point must lie on the line of its guide
+    """
+    unit = f" {one_line(units, 100)}" if units else ""
+    first, second = slider.along
+    return (f"its point {quote(slider.point)} is {abs(offset):.4g}{unit} off its guide, the "
+            f"line through {quote(first)} and {quote(second)} (farthest at {where}); a "
+            "slider's point must lie on the line of its guide")
+
 
 # -- the report ---------------------------------------------------------------------
 
@@ -689,11 +708,8 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False) -> 
                        + (f" {'deg' if degrees else 'rad'}"
                           if compiled.inputs[k].kind == "angle" else "")
                        for k, v in motion.inputs.items())
-        warnings.append(
-            f"slider {block!r}: its point {slider.point!r} is {abs(offset):.4g}"
-            f"{' ' + compiled.units if compiled.units else ''} off its guide, the line "
-            f"through {slider.along[0]!r} and {slider.along[1]!r} (farthest at {at}); a "
-            "slider's point must lie on the line of its guide")
+        warnings.append(f"slider {quote(block)}: "
+                        f"{off_guide_text(slider, offset, compiled.units, at)}")
     off = _known_to(compiled, motion)
     back = _returning(compiled, motion, off)
     if _whole_turns(compiled, motion) and motion.valid[[0, -1]].all() and not all(back.values()):
