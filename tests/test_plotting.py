@@ -196,6 +196,41 @@ def test_the_ground_point_of_a_turning_guide_is_a_pivot():
     assert Layout(sweep(c)).pivots == ["O1", "O2"]
 
 
+@pytest.mark.parametrize("frame, follower", [
+    (("O2", "C"), False),   # the frame link leaves the lever's pivot out
+    (("O2", "C"), True),    # and a fixed guide starts at the lever's pivot
+    (("O1", "O2"), True),   # that guide, with the pivot in the frame link
+])
+def test_a_turning_guide_pivots_on_its_ground_point_whatever_else_uses_it(frame, follower):
+    """O1 carries the slotted lever, a guide through the moving pin A: always a pivot.
+
+    With ``follower``, a second block D runs on the fixed line from O1 through H.
+    """
+    c = Construction("slotted lever")
+    c.input("theta")
+    c.fixed("O1", 0, 0)
+    c.fixed("O2", 0, 60)
+    c.fixed("C", 0, 120)
+    c.fixed("G", 1, 120)
+    c.polar("A", "O2", 40, "theta")
+    c.line_line("B", ("O1", "A"), ("C", "G"))
+    c.link("frame", *frame)
+    c.link("crank", "O2", "A")
+    c.slider("pin_block", "A", ("O1", "A"))
+    c.slider("ram", "B", ("C", "G"))
+    if follower:
+        c.fixed("H", 1, 0)
+        c.line_circle("D", ("O1", "H"), "A", 120, branch="second")
+        c.link("rod", "A", "D")
+        c.slider("follower", "D", ("O1", "H"))
+    s = sweep(c)
+    assert s.valid.all()
+    assert "O1" in Layout(s).pivots
+    ax = gp.plot_mechanism(s, 10)
+    tips = [tuple(np.round(t.get_xy()[0], 9)) for t in pivot_triangles(ax)]
+    assert (0.0, 0.0) in tips and (0.0, 60.0) in tips
+
+
 def pivot_triangles(ax):
     grey = matplotlib.colors.to_rgba("#d9d9d9")
     return [p for p in ax.patches if p.get_facecolor() == grey]

@@ -138,9 +138,13 @@ class Layout:
                         for p in s.along}
         jointed = {p for points in self.links if not set(points) <= compiled.ground
                    for p in points} | {s.point for s in self.sliders}
+        # whatever the links say, a guide through a moving point turns about its
+        # ground point
+        turning = {p for s in self.sliders if not set(s.along) <= compiled.ground
+                   for p in s.along if p in compiled.ground}
         if compiled.links:
-            self.pivots = [p for p in self.ground
-                           if p in linked and (p in jointed or p not in fixed_guides)]
+            self.pivots = [p for p in self.ground if p in turning or (
+                p in linked and (p in jointed or p not in fixed_guides))]
         else:
             self.pivots = list(self.ground)
         self.references = [p for p in self.ground if p not in self.pivots
