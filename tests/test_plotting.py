@@ -175,10 +175,10 @@ def test_guide_points_in_the_frame_link_are_shown_by_the_guide_not_as_pivots():
     assert "H" not in texts(ax) and "G" not in texts(ax)
 
 
-def test_the_ground_point_of_a_turning_guide_is_a_pivot():
-    """Blocks in a slot through the lever's pivot O1 and the moving pin A: O1 is a pivot.
+def slotted_lever(*frame):
+    """A quick return whose lever is its slot, the line from its pivot O1 through the pin A.
 
-    The ram's guide C-G is fixed: C, named in the frame link, is shown by it.
+    The ram B runs on the fixed guide C-G; ``frame`` is the frame link's points.
     """
     c = Construction("quick return, slotted lever by its slot")
     c.input("theta")
@@ -188,11 +188,20 @@ def test_the_ground_point_of_a_turning_guide_is_a_pivot():
     c.fixed("G", 1, 120)
     c.polar("A", "O2", 40, "theta")
     c.line_line("B", ("O1", "A"), ("C", "G"))
-    c.link("frame", "O1", "O2", "C")
+    c.link("frame", *frame)
     c.link("crank", "O2", "A")
     c.slider("pin_block", "A", ("O1", "A"))
-    c.slider("ram_block", "B", ("O1", "A"))
     c.slider("ram", "B", ("C", "G"))
+    return c
+
+
+def test_the_ground_point_of_a_turning_guide_is_a_pivot():
+    """Blocks in a slot through the lever's pivot O1 and the moving pin A: O1 is a pivot.
+
+    The ram's guide C-G is fixed: C, named in the frame link, is shown by it.
+    """
+    c = slotted_lever("O1", "O2", "C")
+    c.slider("ram_block", "B", ("O1", "A"))
     assert Layout(sweep(c)).pivots == ["O1", "O2"]
 
 
@@ -206,18 +215,7 @@ def test_a_turning_guide_pivots_on_its_ground_point_whatever_else_uses_it(frame,
 
     With ``follower``, a second block D runs on the fixed line from O1 through H.
     """
-    c = Construction("slotted lever")
-    c.input("theta")
-    c.fixed("O1", 0, 0)
-    c.fixed("O2", 0, 60)
-    c.fixed("C", 0, 120)
-    c.fixed("G", 1, 120)
-    c.polar("A", "O2", 40, "theta")
-    c.line_line("B", ("O1", "A"), ("C", "G"))
-    c.link("frame", *frame)
-    c.link("crank", "O2", "A")
-    c.slider("pin_block", "A", ("O1", "A"))
-    c.slider("ram", "B", ("C", "G"))
+    c = slotted_lever(*frame)
     if follower:
         c.fixed("H", 1, 0)
         c.line_circle("D", ("O1", "H"), "A", 120, branch="second")
