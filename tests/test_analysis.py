@@ -366,6 +366,32 @@ def test_curve_measures_circle():
     assert curve_measures(circle[::-1]).signed_area == pytest.approx(-m.signed_area)
 
 
+@pytest.mark.parametrize("n", [25, 100, 1000])
+def test_the_area_tolerance_is_what_an_inscribed_polygon_misses_of_its_circle(n):
+    t = np.linspace(0, 2 * np.pi, n + 1)
+    r = 3.0
+    m = curve_measures(np.c_[5 + r * np.cos(t), r * np.sin(t)])
+    missed = np.pi * r * r - 0.5 * n * r * r * np.sin(2 * np.pi / n)
+    assert m.area == pytest.approx(np.pi * r * r - missed, rel=1e-9)
+    assert m.area_tolerance == pytest.approx(missed, rel=0.02)
+
+
+@given(out=st.integers(8, 400), back=st.integers(8, 400), span=st.floats(0.2, 6.0),
+       radius=st.floats(1e-3, 1e3), shift=st.just(0.0) | st.floats(0.05, 0.95))
+def test_an_arc_run_out_and_back_encloses_no_more_than_its_area_tolerance(out, back, span,
+                                                                          radius, shift):
+    """Out and back along one arc, sampled differently each way: slivers only."""
+    there = np.linspace(0, span, out + 1)
+    back_at = np.concatenate([[span], np.sort(shift * span / back
+                                               + np.linspace(0, span, back + 1)[:-1])[::-1],
+                              [0.0]])
+    angle = np.concatenate([there, back_at[1:]])
+    m = curve_measures(np.c_[radius * np.cos(angle), radius * np.sin(angle)])
+    assert m.closed
+    assert m.area <= m.area_tolerance
+    assert m.area_tolerance <= 0.5 * span * radius * radius  # far below the arc's sector
+
+
 def test_curve_measures_square_and_open_curve():
     m = curve_measures([(0, 0), (0, 1), (1, 1), (1, 0), (0, 0)])
     assert (m.length, m.signed_area, m.area, m.closed) == (4.0, -1.0, 1.0, True)

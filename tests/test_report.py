@@ -293,23 +293,40 @@ def test_the_text_gives_angles_in_the_reports_unit():
 @pytest.mark.parametrize("units, squared", [("mm", "mm^2"), ("length units",
                                                               "(length units)^2")])
 def test_the_text_gives_a_curves_area_in_the_square_of_the_length_unit(units, squared):
-    c = fourbar(7, 5, 6, 5)
+    c = fourbar(40, 10, 35, 30)
+    c.polar("P", "B", 20, np.radians(30), reference=("B", "C"))
+    c.trace("P")
     report = analyze(c, degrees=True)
-    curve = report.curves["C"]
-    assert curve.closed and curve.area > 0
+    curve = report.curves["P"]
+    assert curve.closed and curve.area > 100
     [line] = [line for line in report.to_text(units).splitlines()
-              if line.startswith("path of C:")]
-    found = re.fullmatch(rf"path of C: length (\S+) {units}, closed, encloses (\S+) "
+              if line.startswith("path of P:")]
+    found = re.fullmatch(rf"path of P: length (\S+) {units}, closed, encloses (\S+) "
                          rf"{re.escape(squared)}, \d+ double point\(s\)", line)
     assert found, line
     # four decimals, or six significant digits
     assert float(found[1]) == pytest.approx(curve.length, rel=1e-5, abs=1e-4)
     assert float(found[2]) == pytest.approx(curve.area, rel=1e-5, abs=1e-4)
     # without a unit, neither has one
-    [line] = [line for line in report.to_text().splitlines() if line.startswith("path of C:")]
-    assert re.fullmatch(r"path of C: length \S+, closed, encloses \S+, \d+ double point\(s\)",
+    [line] = [line for line in report.to_text().splitlines() if line.startswith("path of P:")]
+    assert re.fullmatch(r"path of P: length \S+, closed, encloses \S+, \d+ double point\(s\)",
                         line)
-    assert report.to_dict()["curves"]["C"]["area"] == curve.area  # the data: a number alone
+    assert report.to_dict()["curves"]["P"]["area"] == curve.area  # the data: a number alone
+
+
+def test_a_joint_swinging_out_and_back_encloses_no_area():
+    """The triple rocker's C runs along an arc of its follower and back: no area.
+
+    Sampled differently on the way out and back, the path's two polylines
+    leave slivers between them; within what the sampling can resolve, they
+    are none.
+    """
+    report = analyze(fourbar(7, 5, 6, 5), degrees=True)
+    curve = report.curves["C"]
+    assert curve.closed and curve.area == 0.0
+    assert report.to_dict()["curves"]["C"]["area"] == 0.0
+    [line] = [line for line in report.to_text("mm").splitlines() if line.startswith("path of C")]
+    assert ", closed, encloses no area, 0 double point(s)" in line
 
 
 def test_a_circuits_extremes_are_those_of_a_dense_sweep_of_the_same_circuit():

@@ -329,8 +329,11 @@ class CurveReport:
     closed : bool
         Whether it ends where it starts.
     area : float or None
-        The area it encloses, each region once; None where it is open, or
-        where the area lies beyond the range of floats.
+        The area it encloses, each region once; zero where that is within
+        what sampling the path can make of none (:attr:`Curve.area_tolerance
+        <geokin.analysis.measures.Curve.area_tolerance>`), as for a joint
+        that swings out and back; None where it is open, or where the area
+        lies beyond the range of floats.
     bounds : (float, float, float, float)
         ``(xmin, ymin, xmax, ymax)``.
     double_points : tuple of (float, float)
@@ -559,7 +562,8 @@ class Report:
             lines.append(f"{label}: {_figure(s.minimum)} to {_figure(s.maximum)}{unit}, stroke "
                          f"{_figure(s.stroke)}{unit}{ratio}")
         for point, curve in self.curves.items():
-            area = "" if curve.area is None else f", encloses {_figure(curve.area)}{areas}"
+            area = ("" if curve.area is None else ", encloses no area" if curve.area == 0
+                    else f", encloses {_figure(curve.area)}{areas}")
             lines.append(f"path of {point}: length {_figure(curve.length)}{lengths}"
                          f"{', closed' if curve.closed else ', open'}{area}, "
                          f"{len(curve.double_points)} double point(s)")
@@ -754,10 +758,13 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False) -> 
             curve = curve_measures(motion[point])
         except AnalysisError:  # fewer than two assembled samples in a row
             continue
+        area: float | None = curve.area
+        if not np.isfinite(curve.area):
+            area = None  # the curve is open, or its area is beyond the range of floats
+        elif curve.area <= curve.area_tolerance:
+            area = 0.0  # slivers between the samples of a path run out and back
         curves[point] = CurveReport(
-            curve.length, curve.closed,
-            # none where the curve is open, or its area is beyond the range of floats
-            curve.area if np.isfinite(curve.area) else None,
+            curve.length, curve.closed, area,
             curve.bounds, tuple((x, y) for x, y in curve.double_points.tolist()))
     return Report(compiled.name, unit, mobility, inputs, tuple(warnings), assembled=True,
                   four_bars=tuple(four_bars), transmission_angles=transmission,
