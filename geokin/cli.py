@@ -92,7 +92,7 @@ from .analysis.tolerance import (
     tolerance,
 )
 from .atomic import require_folder
-from .circuits import circuit
+from .circuits import circuit, limits
 from .construction import MAX_SAMPLES, Compiled, Construction, whole_steps
 from .engine import STREAM_BLOCK_SAMPLES, evaluate, sweep_in_blocks
 from .engine import sweep as run_sweep
@@ -214,6 +214,9 @@ def sweep_sampling(construction: Construction, args: argparse.Namespace, *,
     ``between(i, j)`` gives the input values of samples i to j - 1, in
     script units: the values :func:`sweep_values` gives all at once.
     """
+    if getattr(args, "start", None) is not None:
+        raise UsageError("--start picks where a circuit starts: use it with --circuit "
+                         "(--range sets where a sweep runs)")
     inputs = list(construction.inputs.values())
     given = any(getattr(args, k, None) is not None for k in ("samples", "step", "range"))
     if not inputs:
@@ -328,7 +331,8 @@ def _circuit_of(construction, compiled, args, at):
         raise UsageError("--circuit --samples counts the samples of each pass between two "
                          "limits: at least 2")
     first = next(iter(construction.inputs))
-    result = circuit(compiled, first, samples_per_pass=args.samples or 361)
+    start = None if args.start is None else _circuit_start(construction, compiled, args.start)
+    result = circuit(compiled, first, start=start, samples_per_pass=args.samples or 361)
     index = None
     if at is not None:
         inp = construction.inputs[next(iter(result.inputs))]
@@ -340,6 +344,22 @@ def _circuit_of(construction, compiled, args, at):
     values = {name: to_script_array(construction.inputs[name], v)
               for name, v in result.inputs.items()}
     return ScriptSweep(construction, result, values), index
+
+
+def _circuit_start(construction: Construction, compiled: Compiled, value: float) -> float:
+    """Return --start in geokin's units, refused where the first input cannot be assembled."""
+    inp = next(iter(construction.inputs.values()))
+    found = limits(compiled, inp.name)
+    start = float(from_script(inp, value))
+    turn = 2 * np.pi if inp.kind == "angle" else 0.0
+    if found.full_turn or any(lo <= start + k * turn <= hi for lo, hi in found.as_values()
+                              for k in (-1, 0, 1)):
+        return start
+    unit = " deg" if inp.kind == "angle" else ""
+    spans = ", ".join(f"{round(to_script(inp, lo), 6):.12g} to "
+                      f"{round(to_script(inp, hi), 6):.12g}{unit}" for lo, hi in found.as_values())
+    raise UsageError(f"--start {value:g}: input {quote(inp.name)} cannot be assembled there "
+                     f"(it can from {spans or 'nowhere'})")
 
 
 def _circuit_at(result, at):
@@ -561,6 +581,10 @@ def _step_size(text):
     return value
 
 
+_START_HELP = ("start the circuit at VALUE of the first input: the circuit through VALUE "
+               "(an input that can be assembled in several intervals has a circuit in each)")
+
+
 def _add_sweep_options(p, count=_sample_count):
     group = p.add_argument_group("sweep", "of the first input, in script units "
                                           "(degrees for an angle)")
@@ -577,6 +601,8 @@ def _add_sweep_options(p, count=_sample_count):
                        help="sweep the whole circuit instead: the input runs to each limit of "
                             "its motion and the mechanism passes the toggle onto the other "
                             "branch, until it returns (--samples then counts per pass)")
+    group.add_argument("--start", type=_finite, metavar="VALUE",
+                       help=_START_HELP + " (with --circuit)")
 
 
 def add_trace(subparsers: Subparsers) -> None:
@@ -950,13 +976,22 @@ def add_analyze(subparsers: Subparsers) -> None:
                     "ratios, and measures of the traced curves. Angles in degrees.")
     p.add_argument("script", metavar="SCRIPT", help="construction script (.toml)")
     p.add_argument("--json", action="store_true", help="print the report as JSON")
+    p.add_argument("--start", type=_finite, metavar="VALUE",
+                   help=_START_HELP + ", in script units (degrees for an angle)")
     _add_set_option(p)
     p.set_defaults(run=run_analyze)
 
 
 def run_analyze(args: argparse.Namespace) -> int:
     construction, compiled = script_of(args.script, args)
-    report = analyze(compiled, degrees=True)
+    start = None
+    if args.start is not None:
+        if len(construction.inputs) != 1:
+            raise UsageError(f"--start picks a circuit of the input; this construction has "
+                             f"{len(construction.inputs)} inputs, swept together")
+        _circuit_start(construction, compiled, args.start)  # refused where it cannot start
+        start = args.start
+    report = analyze(compiled, degrees=True, start=start)
     if args.json:
         json.dump(report.to_dict(), sys.stdout, indent=2, allow_nan=False,
                   default=lambda value: None)

@@ -796,6 +796,55 @@ def test_analyze_json_has_dof_and_intervals_in_script_units(capsys):
     assert (round(lo, 4), round(hi, 4)) == (47.8226, 312.1774)
 
 
+DOUBLE_ROCKER = """
+[construction]
+name = "double rocker"
+units = "mm"
+
+[inputs.theta]
+range = [0, 360]
+
+[points]
+O2 = { op = "fixed", at = [0, 0] }
+O4 = { op = "fixed", at = [100, 0] }
+A = { op = "polar", origin = "O2", distance = 60, angle = "theta" }
+B = { op = "circle_circle", centers = ["A", "O4"], radii = [30, 80], branch = "left" }
+
+[links]
+input = ["O2", "A"]
+output = ["O4", "B"]
+"""
+
+
+def test_start_picks_the_circuit_of_an_input_assembled_in_two_intervals(capsys, tmp_path):
+    """The double rocker's input can be assembled in 22.33 to 82.82 and 277.18 to 337.67 deg."""
+    script = tmp_path / "double_rocker.toml"
+    script.write_text(DOUBLE_ROCKER)
+    spans = ["from 22.331645 to 82.819244 deg", "from 277.180756 to 337.668355 deg"]
+    for start, span in ((50, spans[0]), (300, spans[1])):
+        status, out, err = run(capsys, "analyze", script, "--start", start)
+        assert (status, err) == (0, "")
+        assert (f"warning: input 'theta' can be assembled in 2 intervals, each a circuit of "
+                f"its own: the figures below are of the one {span}") in out
+        status, out, _ = run(capsys, "trace", script, "--circuit", "--start", start,
+                             "--links", "input")
+        header, data = read_csv(out)
+        assert status == 0
+        low, high = (float(v) for v in span.split()[1::2])
+        angle = dict(zip(header, data.T, strict=True))["theta"]
+        assert angle.min() == pytest.approx(low, abs=1e-5)
+        assert angle.max() == pytest.approx(high, abs=1e-5)
+    status, _, err = run(capsys, "plot", script, "--circuit", "--start", 300, "--at", 300,
+                         "-o", tmp_path / "other.png")
+    assert (status, err) == (0, f"wrote {tmp_path / 'other.png'}\n")
+    status, _, err = run(capsys, "analyze", script, "--start", 200)
+    assert status == 2 and err == (
+        f"geokin: error: --start 200: input 'theta' cannot be assembled there (it can "
+        f"{spans[0]}, {spans[1].removeprefix('from ')})\n")
+    status, _, err = run(capsys, "plot", script, "--start", 300, "-o", tmp_path / "x.png")
+    assert status == 2 and "--start picks where a circuit starts: use it with --circuit" in err
+
+
 @pytest.mark.parametrize("script", sorted(CONSTRUCTIONS.glob("*.toml")), ids=lambda p: p.stem)
 def test_analyze_prints_the_report_as_text_and_as_data(capsys, script):
     construction = geokin.load(script)

@@ -7,6 +7,7 @@ from mechanisms import parallelograms_in_series
 
 from geokin import Construction, circuit, load, sweep
 from geokin.analysis import analyze
+from geokin.errors import AnalysisError
 from geokin.kinematics import link_angles
 
 CONSTRUCTIONS = Path(__file__).parents[1] / "constructions"
@@ -408,8 +409,11 @@ def test_an_extreme_at_a_closed_circuits_seam_is_placed_between_samples(tmp_path
     script.write_text(text.replace("range = [-132, 132]", "range = [-20, 20]"))
     c = load(script)
     swing = analyze(c, degrees=True).strokes["follower.angle"]
-    np.testing.assert_allclose([swing.minimum, swing.maximum],
-                               dense_extremes(c, "follower.angle"), rtol=0, atol=1e-6)
+    low, high = dense_extremes(c, "follower.angle")
+    turns = 360 * round((swing.minimum - low) / 360)  # a swing is told centred on (-180, 180]
+    assert -180 < 0.5 * (swing.minimum + swing.maximum) <= 180
+    np.testing.assert_allclose([swing.minimum, swing.maximum], [low + turns, high + turns],
+                               rtol=0, atol=1e-6)
 
 
 @pytest.mark.parametrize("at, ground, crank, reference", [
@@ -666,3 +670,101 @@ def test_a_guide_point_the_rocker_passes_over_does_not_hide_the_slider(guide_at)
     x = circuit(c)["Q"][:, 0]
     assert {"Q.x", "block.position", "rod.angle"} <= set(strokes)
     assert strokes["Q.x"].stroke == pytest.approx(np.ptp(x), rel=1e-3)
+
+
+def five_bar(second_turns=1):
+    """Two cranks of 20 on pivots 50 apart, driven together, and links of 60 meeting at C."""
+    c = Construction("five-bar")
+    c.input("t1")
+    c.input("t2", range=(0.0, second_turns * 2 * np.pi))
+    c.fixed("O1", 0, 0)
+    c.fixed("O2", 50, 0)
+    c.polar("A", "O1", 20, "t1")
+    c.polar("B", "O2", 20, "t2")
+    c.circle_circle("C", ("A", "B"), (60, 60), branch="left")
+    c.link("left", "A", "C")
+    c.link("right", "B", "C")
+    c.trace("C")
+    return c
+
+
+def test_two_inputs_swept_together_get_strokes_over_their_path_and_say_so():
+    """Cranks turning together keep A-B level: C runs on a circle of 20 about (25, h)."""
+    report = analyze(five_bar(), degrees=True)
+    assert any("2 inputs swept together over 361 samples" in w
+               and "not over every combination" in w for w in report.warnings)
+    h = np.sqrt(60**2 - 25**2)
+    assert report.strokes["C.x"].minimum == pytest.approx(5, abs=1e-9)
+    assert report.strokes["C.x"].maximum == pytest.approx(45, abs=1e-9)
+    assert report.strokes["C.y"].minimum == pytest.approx(h - 20, abs=1e-9)
+    assert report.strokes["C.y"].maximum == pytest.approx(h + 20, abs=1e-9)
+    # the links translate: their angles do not move
+    assert "left.angle" not in report.strokes and "right.angle" not in report.strokes
+    assert all(s.quick_return_ratio is None for s in report.strokes.values())
+    with pytest.raises(AnalysisError, match="2 inputs, swept together"):
+        analyze(five_bar(), start=1.0)
+
+
+def test_two_inputs_at_different_speeds_get_the_extremes_of_a_dense_sweep_of_the_path():
+    c = five_bar(second_turns=2)
+    report = analyze(c)
+    dense = sweep(c, {"t1": np.linspace(0, 2 * np.pi, 200_001),
+                      "t2": np.linspace(0, 4 * np.pi, 200_001)})
+    for axis, coordinate in enumerate("xy"):
+        values = dense["C"][:, axis]
+        found = report.strokes[f"C.{coordinate}"]
+        assert found.minimum == pytest.approx(values.min(), abs=1e-6)
+        assert found.maximum == pytest.approx(values.max(), abs=1e-6)
+
+
+def double_rocker():
+    """A Grashof double rocker (ground 100, input 60, coupler 30, output 80): two circuits."""
+    c = Construction("double rocker")
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 100, 0)
+    c.polar("A", "O2", 60, "theta")
+    c.circle_circle("B", ("A", "O4"), (30, 80), branch="left")
+    c.link("input", "O2", "A")
+    c.link("coupler", "A", "B")
+    c.link("output", "O4", "B")
+    return c
+
+
+def test_an_input_of_two_intervals_names_the_circuit_analysed_and_start_picks_the_other():
+    c = double_rocker()
+    # the cosine rule: the input's toggles, where A-B-O4 folds out or in
+    edges = [np.degrees(np.arccos((60**2 + 100**2 - r**2) / (2 * 60 * 100))) for r in (50, 110)]
+    first = analyze(c, degrees=True)
+    [(lo1, hi1), (lo2, hi2)] = first.inputs["theta"].intervals
+    assert (lo1, hi1) == pytest.approx(edges, abs=1e-6)
+    assert (lo2, hi2) == pytest.approx([360 - edges[1], 360 - edges[0]], abs=1e-6)
+    [note] = [w for w in first.warnings if "2 intervals" in w]
+    other = analyze(c, degrees=True, start=300.0)
+    [other_note] = [w for w in other.warnings if "2 intervals" in w]
+    spans = {f"from {lo1:.6f} to {hi1:.6f} deg", f"from {lo2:.6f} to {hi2:.6f} deg"}
+    assert {span for span in spans if span in note} != {span for span in spans
+                                                          if span in other_note}
+    assert f"from {lo2:.6f} to {hi2:.6f} deg" in other_note
+    # the input link's swing is that circuit's interval
+    swing = other.strokes["input.angle"]
+    assert (swing.minimum % 360, swing.maximum % 360) == pytest.approx((lo2, hi2), abs=1e-6)
+    assert other.strokes["input.angle"].stroke == pytest.approx(hi2 - lo2, abs=1e-6)
+
+
+def test_a_swing_reads_the_same_whichever_link_drives():
+    """Seed 000's follower swings 47.82 to 312.18 deg whether the crank or it drives."""
+    crank = analyze(fourbar(7, 5, 6, 5), degrees=True).strokes["follower.angle"]
+    c = Construction("follower driving")
+    c.input("theta4", range=(np.radians(60), np.radians(300)))
+    c.fixed("A", 0, 0)
+    c.fixed("D", 7, 0)
+    c.polar("C", "D", 5, "theta4")
+    c.circle_circle("B", ("A", "C"), (5, 6), branch="right")
+    c.link("crank", "A", "B")
+    c.link("follower", "D", "C")
+    follower = analyze(c, degrees=True).strokes["follower.angle"]
+    # at the toggles crank and coupler lie in line, 11 from A: C is 180 - angle ADC off +x
+    edge = 180 - np.degrees(np.arccos((7**2 + 5**2 - 11**2) / (2 * 7 * 5)))
+    for swing in (crank, follower):
+        assert (swing.minimum, swing.maximum) == pytest.approx((edge, 360 - edge), abs=1e-6)

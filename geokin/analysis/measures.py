@@ -340,6 +340,8 @@ def _chord_areas(runs, closed: bool) -> float:
         chords = np.hypot(steps[:, 0], steps[:, 1])
         steps = steps[chords > 0]
         chords = chords[chords > 0]
+        if not len(steps):  # a point that never moves
+            continue
         if closed and len(steps) >= 2:  # the path turns at its joined ends too
             ahead = np.roll(steps, -1, axis=0)
         else:

@@ -12,6 +12,7 @@ curves, in a :class:`Report`. ``geokin analyze`` prints it;
 from __future__ import annotations
 
 import html
+import math
 import warnings
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
@@ -637,13 +638,17 @@ def _four_bars(compiled: Compiled, motion: Sweep):
     return found
 
 
-def analyze(construction: Construction | Compiled, *, degrees: bool = False) -> Report:
+def analyze(construction: Construction | Compiled, *, degrees: bool = False,
+            start: float | None = None) -> Report:
     """Analyse a construction: mobility, limits, four-bars, transmission, strokes, curves.
 
-    The motion analysed is the whole circuit of the first input (one turn if
-    it turns fully; otherwise from limit to limit on both sides of each
+    The motion analysed is the whole circuit of the input (one turn if it
+    turns fully; otherwise from limit to limit on both sides of each
     toggle, see :func:`geokin.circuit`); with several inputs, the sweep of
-    them all over their declared ranges.
+    them all together over their declared ranges, sample by sample, which
+    is one path through their combinations (the report says so). An input
+    that can be assembled in several intervals has a circuit in each: the
+    report names the one it analyses.
 
     Parameters
     ----------
@@ -651,6 +656,11 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False) -> 
     degrees : bool
         Give angles (input values of angle inputs, transmission angles, link
         angles) in degrees instead of radians.
+    start : float, optional
+        For a construction with one input, the value (radians or length
+        units, whatever ``degrees`` says) to start its circuit at: the
+        circuit through it is analysed. By default that of
+        :func:`geokin.circuit`.
 
     Returns
     -------
@@ -694,11 +704,21 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False) -> 
             intervals=tuple((convert(lo), convert(hi)) for lo, hi in found.as_values()),
             limits=tuple(LimitReport(convert(end.value), end.node, end.kind, describe_limit(end))
                          for pair in found.intervals for end in pair if end.kind != "range"))
-    if len(compiled.inputs) == 1:
-        motion = circuit(compiled)
-    else:
-        motion = sweep(compiled)
     warnings = []
+    if len(compiled.inputs) == 1:
+        name = next(iter(compiled.inputs))
+        if start is not None and degrees and compiled.inputs[name].kind == "angle":
+            start = math.radians(start)
+        motion = circuit(compiled, start=start)
+        if len(inputs[name].intervals) > 1:
+            warnings.append(_which_circuit(name, compiled.inputs[name].kind, inputs[name],
+                                           motion.inputs[name], value_of(name), degrees))
+    else:
+        if start is not None:
+            raise AnalysisError(f"start= picks a circuit of the input; this construction "
+                                f"has {len(compiled.inputs)} inputs, swept together")
+        motion = sweep(compiled)
+        warnings.append(_swept_together(compiled, motion, value_of, degrees))
     if not motion.valid.all():
         i = int(np.flatnonzero(~motion.valid)[0])
         warnings.append(
@@ -794,6 +814,46 @@ REFINE_SAMPLES = 129
 step next to an extreme sample, to place the extreme inside it."""
 
 
+def _about_zero(low: float, high: float) -> tuple[float, float]:
+    """Return the extremes of an angle, turned by whole turns to centre in (-pi, pi].
+
+    An angle's extremes are known up to whole turns: so the same swing reads
+    the same whichever way the sweep unwound it. A swing centred on a half
+    turn, to rounding, is centred on +pi.
+
+    >>> [round(float(np.degrees(v)), 4) for v in _about_zero(*np.radians([-312.0, -48.0]))]
+    [48.0, 312.0]
+    """
+    middle = 0.5 * (low + high)
+    turns = math.floor((middle + math.pi - ROUNDING) / (2 * math.pi))
+    return low - 2 * math.pi * turns, high - 2 * math.pi * turns
+
+
+def _running_on(motion: Sweep) -> np.ndarray:
+    """Whether the path runs on evenly through each sample, on the same branches.
+
+    One input runs on through a sample where it keeps its direction. Several
+    inputs do where each takes the same step on both sides of the sample (to
+    rounding), so that the samples lie evenly along a straight stretch of
+    the path and a parabola through three of them may place an extreme.
+    """
+    smooth = np.zeros(len(motion), dtype=bool)
+    steps = [np.diff(values) for values in motion.inputs.values()]
+    if len(steps) == 1:
+        smooth[1:-1] = steps[0][:-1] * steps[0][1:] > 0
+    elif steps and len(motion) > 2:
+        even = np.ones(len(motion) - 2, dtype=bool)
+        moving = np.zeros(len(motion) - 2, dtype=bool)
+        for step in steps:
+            size = np.fmax(np.abs(step[:-1]), np.abs(step[1:]))
+            even &= np.abs(step[1:] - step[:-1]) <= 1e-9 * size
+            moving |= size > 0
+        smooth[1:-1] = even & moving
+    for event in motion.events:
+        smooth[max(event.index - 1, 0):event.index + 1] = False
+    return smooth
+
+
 def _extreme(values, sign, smooth) -> float:
     """Return the largest (sign 1) or smallest (sign -1) value, refined between samples.
 
@@ -825,20 +885,23 @@ def _angle(s: Sweep, name: str) -> np.ndarray:
 
 
 class _Steps:
-    """The steps of a one-input motion, each evaluated again densely when first asked.
+    """The steps of a motion, each evaluated again densely when first asked.
 
     Step ``a`` runs from sample a to a + 1 along the straight segment of
-    the input. Over a closed circuit (it ends where it began, on the same
-    branches) the step before the first sample is the last step.
+    the inputs, parametrized by the input (one input) or by the sample
+    index (several). Over a closed circuit (it ends where it began, on the
+    same branches) the step before the first sample is the last step.
     """
 
-    def __init__(self, compiled: Compiled, motion: Sweep, name: str):
+    def __init__(self, compiled: Compiled, motion: Sweep):
         self.compiled = compiled
-        self.x = motion.inputs[name]
+        self.inputs = motion.inputs
         n = self.n = len(motion)
+        self.x = (next(iter(motion.inputs.values())) if len(motion.inputs) == 1
+                  else np.arange(n, dtype=float))
         self.labels = {k: np.broadcast_to(b, (n,)) for k, b in motion.branches.items()}
         self.changes = {event.index for event in motion.events}  # in the step ending there
-        self.closed = (n > 2 and self.x[0] == self.x[-1]
+        self.closed = (n > 2 and all(v[0] == v[-1] for v in self.inputs.values())
                        and all(b[0] == b[-1] for b in self.labels.values()))
         self.dense: dict[int, tuple[np.ndarray, Sweep]] = {}
 
@@ -846,10 +909,10 @@ class _Steps:
         """Return the steps that sample ``i`` ends or begins (not those of no length)."""
         found = [i - 1] if i >= 1 else [self.n - 2] if self.closed else []
         found += [i] if i <= self.n - 2 else [0] if self.closed else []
-        return [a for a in found if self.x[a] != self.x[a + 1]]
+        return [a for a in found if any(v[a] != v[a + 1] for v in self.inputs.values())]
 
     def evaluated(self, a: int) -> tuple[np.ndarray, Sweep]:
-        """Return step ``a``'s inputs at :data:`REFINE_SAMPLES` samples, and its sweep.
+        """Return step ``a``'s parameter at :data:`REFINE_SAMPLES` samples, and its sweep.
 
         Swept from its end after a change of branch in it, if there is one:
         that end's branches hold back to the change, which the sweep follows
@@ -857,9 +920,11 @@ class _Steps:
         """
         if a not in self.dense:
             start, end = (a + 1, a) if a + 1 in self.changes else (a, a + 1)
-            x = np.linspace(self.x[start], self.x[end], REFINE_SAMPLES)
+            values = {k: np.linspace(v[start], v[end], REFINE_SAMPLES)
+                      for k, v in self.inputs.items()}
             branches = {k: int(v[start]) for k, v in self.labels.items()}
-            self.dense[a] = (x, sweep(self.compiled, x, start_branches=branches))
+            self.dense[a] = (np.linspace(self.x[start], self.x[end], REFINE_SAMPLES),
+                             sweep(self.compiled, values, start_branches=branches))
         return self.dense[a]
 
 
@@ -962,6 +1027,29 @@ def _known_to(compiled: Compiled, motion: Sweep) -> dict[str, float]:
     return off
 
 
+def _which_circuit(name: str, kind: str, entry: InputReport, path: np.ndarray,
+                   convert: Callable[[Any], float], degrees: bool) -> str:
+    """Say which of an input's intervals the analysed circuit runs in."""
+    unit = (" deg" if degrees else " rad") if kind == "angle" else ""
+    low, high = convert(np.min(path)), convert(np.max(path))
+    return (f"input {name!r} can be assembled in {len(entry.intervals)} intervals, each a "
+            f"circuit of its own: the figures below are of the one from {low:.6f} to "
+            f"{high:.6f}{unit} (--start, or start= in Python, picks another)")
+
+
+def _swept_together(compiled: Compiled, motion: Sweep, value_of: Callable[[str], Callable],
+                    degrees: bool) -> str:
+    """Say that several inputs were swept together along one path, and how."""
+    spans = []
+    for name, values in motion.inputs.items():
+        unit = (" deg" if degrees else " rad") if compiled.inputs[name].kind == "angle" else ""
+        convert = value_of(name)
+        spans.append(f"{name!r} from {convert(values[0]):g} to {convert(values[-1]):g}{unit}")
+    return (f"{len(spans)} inputs swept together over {len(motion)} samples "
+            f"({', '.join(spans)}): the figures below are over this path, not over every "
+            "combination of their values")
+
+
 def _whole_turns(compiled: Compiled, motion: Sweep) -> bool:
     """Whether the motion's one input is an angle that ends whole turns (not 0) on."""
     if len(compiled.inputs) != 1:
@@ -1014,15 +1102,15 @@ def _strokes(compiled: Compiled, motion: Sweep, angle: Callable[[Any], float],
 
     Over one turn of an input that turns fully the time ratio is given too.
     Constant outputs (a ground link's angle) are left out, and a link that
-    turns fully is reported as turning rather than with extremes.
+    turns fully is reported as turning rather than with extremes. With
+    several inputs, over the path of the sweep: extremes only.
     """
-    if len(compiled.inputs) != 1:
-        return {}
     name, declared = next(iter(compiled.inputs.items()))
+    single = len(compiled.inputs) == 1
     # one turn of the input, forwards: through change points too, where the branches
     # swap as the mechanism runs on smoothly
     x = motion.inputs[name]
-    turns = bool(declared.kind == "angle" and motion.valid.all() and len(x) > 2
+    turns = bool(single and declared.kind == "angle" and motion.valid.all() and len(x) > 2
                  and abs((x[-1] - x[0]) / (2 * np.pi) - 1) <= ROUNDING
                  and np.all(np.diff(x) > 0))
     # each output's values, whether it is an angle, how to read it off another sweep,
@@ -1049,15 +1137,9 @@ def _strokes(compiled: Compiled, motion: Sweep, angle: Callable[[Any], float],
     # evaluated again along the steps about an extreme sample (a circuit's samples
     # are too far apart near its limits for a parabola through three), and so are those
     # of a turn through change points, where an output may have a corner
-    steps = (_Steps(compiled, motion, name)
-             if (not turns or motion.events)
+    steps = (_Steps(compiled, motion) if (not turns or motion.events)
              and not any(step.node.continued for step in compiled.steps) else None)
-    # where the input runs on through a sample, on the same branches
-    step = np.diff(motion.inputs[name])
-    smooth = np.zeros(len(motion), dtype=bool)
-    smooth[1:-1] = step[:-1] * step[1:] > 0
-    for event in motion.events:
-        smooth[max(event.index - 1, 0):event.index + 1] = False
+    smooth = _running_on(motion)
     strokes: dict[str, StrokeReport] = {}
     whole_turns = _whole_turns(compiled, motion)
     for label, (values, is_angle, of, points) in outputs.items():
@@ -1090,11 +1172,15 @@ def _strokes(compiled: Compiled, motion: Sweep, angle: Callable[[Any], float],
             except AnalysisError:  # too few assembled samples to locate the extremes
                 pass
         if found is None:
+            if is_angle:
+                low, high = _about_zero(low, high)
             strokes[label] = StrokeReport(False, convert(low), convert(high), convert(high - low))
             continue
         per_turn = _peaks(values[:-1], high - low)
         if steps is None:
             low, high = found.minimum, found.maximum
+        if is_angle:
+            low, high = _about_zero(low, high)
         strokes[label] = StrokeReport(
             False, convert(low), convert(high), convert(high - low),
             # out and back more than once a turn: no one forward and return stroke
