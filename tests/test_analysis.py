@@ -6,7 +6,7 @@ from hypothesis import assume, given
 from hypothesis import strategies as st
 from mechanisms import sixbar
 
-from geokin import Construction, sweep
+from geokin import Construction, circuit, sweep
 from geokin.analysis import (
     KINDS,
     curve_measures,
@@ -456,3 +456,29 @@ def test_a_traced_point_that_never_moves_has_a_path_of_no_length():
 
     curve = curve_measures(np.zeros((5, 2)))
     assert curve.length == 0 and len(curve.double_points) == 0
+
+
+def test_a_joint_run_out_and_back_unevenly_has_no_double_point():
+    """A crank pin found from a block driven along a line swings out and back on its circle.
+
+    The block's even steps move the pin in steps that grow tenfold towards
+    the end of the stroke, and the way back is sampled differently: its
+    chords cross the way out's at the turn of the circle over a step,
+    which is no crossing of the path.
+    """
+    c = Construction("slider-driven crank")
+    c.input("s", kind="length", range=(80, 158), samples=101)
+    c.fixed("O", 0, 0)
+    c.fixed("B", "s", 20)
+    c.circle_circle("A", ("O", "B"), (40, 120), branch="left")
+    s = circuit(c)
+    assert np.allclose(np.hypot(*s["A"].T), 40)
+    m = curve_measures(s["A"])
+    assert m.closed and m.simple and m.area <= m.area_tolerance
+    # a true crossing at a shallow angle on the same scale is still one
+    t = np.linspace(-1, 1, 201)
+    x = np.concatenate([t, t[::-1]])
+    y = np.concatenate([0.2 * t, -0.2 * t[::-1]])
+    crossing = curve_measures(np.c_[x, y] * 40)
+    assert crossing.double_points.shape == (1, 2)
+    np.testing.assert_allclose(crossing.double_points[0], (0, 0), atol=1e-9)

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import cast
 
 import numpy as np
 import shapely
@@ -312,9 +313,10 @@ def curve_measures(points: ArrayLike, *, tol: float | None = None) -> Curve:
     if closed:
         faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(noded)))
         area = float(sum(f.area for f in faces))
-    least_angle = min(max(GRAZING_ANGLE, 3 * _turn_per_sample(runs)), np.radians(20))
+    least_angle = min(max(GRAZING_ANGLE, 3 * _turn_per_sample(runs)), MOST_ANGLE)
     return Curve(length / unit, closed, _unscaled_area(signed, unit),
-                 _unscaled_area(area, unit), bounds, _double_points(noded, least_angle) / unit,
+                 _unscaled_area(area, unit), bounds,
+                 _double_points(noded, runs, closed, least_angle) / unit,
                  _unscaled_area(_chord_areas(runs, closed), unit) if closed else np.nan)
 
 
@@ -336,26 +338,33 @@ def _chord_areas(runs, closed: bool) -> float:
     """
     total = 0.0
     for run in runs:
-        steps = np.diff(run, axis=0)
+        _, steps, turns = _segments(run, closed)
         chords = np.hypot(steps[:, 0], steps[:, 1])
-        steps = steps[chords > 0]
-        chords = chords[chords > 0]
-        if not len(steps):  # a point that never moves
-            continue
-        if closed and len(steps) >= 2:  # the path turns at its joined ends too
-            ahead = np.roll(steps, -1, axis=0)
-        else:
-            ahead = steps[1:]
-        a, b = steps[:len(ahead)], ahead
-        turns = np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0],
-                                  a[:, 0] * b[:, 0] + a[:, 1] * b[:, 1]))
-        # the turn at each segment's two ends, none beyond an open run's ends
-        at_ends = np.zeros(len(steps) + 1)
-        at_ends[1:len(turns) + 1] = turns
-        if closed and len(turns) == len(steps):
-            at_ends[0] = turns[-1]
-        total += float(np.sum(0.5 * (at_ends[:-1] + at_ends[1:]) * chords * chords)) / 12
+        total += float(np.sum(0.5 * turns.sum(axis=1) * chords * chords)) / 12
     return total
+
+
+def _segments(run: np.ndarray, closed: bool) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Return a run's segments of nonzero length: starts, steps and the turns at their ends.
+
+    The turn at an end is the angle between the segment and the next one
+    there (radians, 0 to pi); none at an open run's ends.
+    """
+    steps = np.diff(run, axis=0)
+    moving = np.hypot(steps[:, 0], steps[:, 1]) > 0
+    starts, steps = run[:-1][moving], steps[moving]
+    turns = np.zeros((len(steps), 2))
+    if len(steps) < 2:
+        return starts, steps, turns
+    ahead = np.roll(steps, -1, axis=0) if closed else steps[1:]
+    a = steps[:len(ahead)]
+    at_end = np.abs(np.arctan2(a[:, 0] * ahead[:, 1] - a[:, 1] * ahead[:, 0],
+                               a[:, 0] * ahead[:, 0] + a[:, 1] * ahead[:, 1]))
+    turns[:len(at_end), 1] = at_end
+    turns[1:, 0] = at_end[:len(steps) - 1]
+    if closed:  # the path turns at its joined ends too
+        turns[0, 0] = at_end[-1]
+    return starts, steps, turns
 
 
 def _unscaled_area(area: float, unit: float) -> float:
@@ -375,8 +384,13 @@ GRAZING_ANGLE = np.radians(2.0)
 
 Where a path runs back over itself, as a rocker's joint does, two polylines
 of the same arc sampled differently cross each other at angles up to about
-the turn of the path between samples; so the angle used is the larger of
-this and three times the path's median turn per sample."""
+the turn of the path between samples; so the angle used is the largest of
+this, three times the path's median turn per sample and 1.5 times its turn
+at the ends of the segments crossing (:data:`MOST_ANGLE` at most)."""
+
+
+MOST_ANGLE = np.radians(20.0)
+"""The largest angle a crossing needs, however much the path turns between samples."""
 
 
 def _turn_per_sample(runs) -> float:
@@ -392,28 +406,52 @@ def _turn_per_sample(runs) -> float:
     return float(np.median(np.concatenate(turns))) if turns else 0.0
 
 
-def _double_points(noded, least_angle=GRAZING_ANGLE) -> np.ndarray:
+def _double_points(noded, runs, closed: bool, least_angle=GRAZING_ANGLE) -> np.ndarray:
     """Nodes where three or more pieces of the noded curve end, crossing each other.
 
     A crossing ends four pieces; an end of an open curve ends one, the
-    joined ends of a closed curve two. Nodes where every piece runs along the
-    same line (a path retraced) are not crossings.
+    joined ends of a closed curve two. How steeply the curve crosses itself
+    at a node is told by the segments of ``runs`` through it (the pieces
+    noding leaves there may be too short to have a direction): more than
+    ``least_angle``, and more than 1.5 times the turn of the path at the
+    ends of those segments, for two chords of one arc, as where a path runs
+    back over itself sampled differently, cross at up to the arc's turn
+    over a segment.
     """
-    directions: dict[tuple[float, float], list] = {}
+    ends: dict[tuple[float, float], int] = {}
     for part in shapely.get_parts(noded):
         coords = shapely.get_coordinates(part)
         if len(coords) < 2:  # a path that never moves has no pieces to cross
             continue
-        for end, toward in ((coords[0], coords[1]), (coords[-1], coords[-2])):
+        for end in (coords[0], coords[-1]):
             key = (float(end[0]), float(end[1]))
-            step = toward - end
-            directions.setdefault(key, []).append(step / max(np.hypot(*step), 1e-300))
-    found = []
-    for key, units in directions.items():
-        if len(units) < 3:
-            continue
-        u = np.array(units)
-        sines = np.abs(u[:, None, 0] * u[None, :, 1] - u[:, None, 1] * u[None, :, 0])
-        if sines.max() > np.sin(least_angle):
-            found.append(key)
-    return np.array(sorted(found), dtype=float).reshape(-1, 2)
+            ends[key] = ends.get(key, 0) + 1
+    nodes = [key for key, count in ends.items() if count >= 3]
+    if not nodes:
+        return np.empty((0, 2))
+    parts = [_segments(run, closed) for run in runs]
+    starts = np.concatenate([part[0] for part in parts])
+    steps = np.concatenate([part[1] for part in parts])
+    turns = np.concatenate([part[2] for part in parts]).max(axis=1)
+    units = steps / np.hypot(steps[:, 0], steps[:, 1])[:, None]
+    # shapely gives an array of lines for an array of coordinates
+    lines = cast(np.ndarray, shapely.linestrings(np.stack([starts, starts + steps], axis=1)))
+    tree = shapely.STRtree(lines)
+    # the curve is about unit size here: a node lies on its segments to rounding
+    at, through = tree.query(shapely.points(nodes), predicate="dwithin", distance=1e-9)
+    # every two segments through a node, and the steepest crossing at each node
+    order = np.argsort(at, kind="stable")
+    at, through = at[order], through[order]
+    size = np.bincount(at, minlength=len(nodes))
+    first = np.cumsum(size) - size
+    count = size[at]  # the segments through the node of each pair, for each pair
+    one = np.repeat(np.arange(len(at)), count)
+    other = first[at[one]] + np.arange(len(one)) - np.repeat(np.cumsum(count) - count, count)
+    u, v = units[through[one]], units[through[other]]
+    steepest = np.zeros(len(nodes))
+    np.maximum.at(steepest, at[one], np.abs(u[:, 0] * v[:, 1] - u[:, 1] * v[:, 0]))
+    turning = np.zeros(len(nodes))
+    np.maximum.at(turning, at, turns[through])
+    least = np.minimum(np.maximum(least_angle, 1.5 * turning), MOST_ANGLE)
+    found = np.array(nodes, dtype=float).reshape(-1, 2)[steepest > np.sin(least)]
+    return found[np.lexsort((found[:, 1], found[:, 0]))]
