@@ -13,6 +13,7 @@ import matplotlib.figure
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
+import shapely
 from matplotlib import animation
 from PIL import Image
 
@@ -1146,3 +1147,30 @@ def test_a_link_is_wrapped_only_if_it_turns_fully_within_one_run():
     labels = {line.get_label() for line in axes[0].get_lines()}
     assert labels == {"crank", "coupler", "rocker"}
     plt.close(fig)
+
+
+@pytest.mark.parametrize("offset", [30.0, -30.0])
+def test_a_fixed_guides_ground_lies_away_from_the_mechanism(offset):
+    """A slider-crank's guide clear above or below the crank: no bar crosses its ground."""
+    c = Construction("offset slider-crank")
+    c.input("theta", samples=73)
+    c.fixed("O", 0, 0)
+    c.fixed("G1", 0, offset)
+    c.fixed("G2", 1, offset)
+    c.polar("A", "O", 20, "theta")
+    c.line_circle("B", ("G1", "G2"), "A", 70, branch="second")
+    c.link("crank", "O", "A")
+    c.link("rod", "A", "B")
+    c.slider("block", "B", ("G1", "G2"))
+    s = sweep(c)
+    # the crank's circle, of radius 20, stays on one side: the ground goes on the other
+    assert Layout(s).guide_sides["block"] == (1 if offset > 0 else -1)
+    for i in range(0, 73, 6):
+        ax = gp.plot_mechanism(s, i)
+        # the guide's hatched strip: the one far longer than a pivot's
+        [ground] = [p for p in ax.patches if p.get_hatch() and np.ptp(p.get_xy()[:, 0]) > 20]
+        band = shapely.Polygon(ground.get_xy())
+        for a, b in (("O", "A"), ("A", "B")):
+            bar = shapely.LineString([s[a][i], s[b][i]])
+            assert not bar.intersects(band.buffer(-1e-9)), (i, a, b)
+        plt.close(ax.figure)

@@ -92,6 +92,12 @@ class Layout:
         reaches its first point, and a moving one stays on the link that
         carries it (the lever of a slotted lever), unless the block goes
         further.
+    guide_sides : dict of str to int
+        For every slider on a fixed guide, by name, the side of the guide
+        its block rides on the hatched ground of: -1 to the right of the
+        guide's direction (from its first point to its second), +1 to the
+        left; the ground lies on the side away from the mechanism's other
+        moving points, taken over the sweep, so that no bar crosses it.
     traces : list of str
     crank : Crank or None
         The crank the input turns, where the arc arrow is drawn: the first
@@ -185,6 +191,7 @@ class Layout:
         extent = float(np.max(hi - lo))
         self.size = 0.035 * extent if extent > 0 else 1.0
         self.guide_spans = self._guide_spans()
+        self.guide_sides = self._guide_sides()
         self.ground_sizes = self._ground_sizes()
         self.ground_directions = self._ground_directions()
 
@@ -219,6 +226,27 @@ class Layout:
             except KeyError as err:
                 raise ConstructionError(f"cannot trace: {err.args[0]}") from None
         return names
+
+    def _guide_sides(self) -> dict[str, int]:
+        """Choose the side of each fixed guide its hatched ground is drawn on."""
+        sides = {}
+        sampled = self.valid_indices[:: max(1, self.valid_indices.size // 90)]
+        for slider in self.sliders:
+            first, second = slider.along
+            if first not in self.ground or second not in self.ground:
+                continue
+            p, q = self.ground_at(first), self.ground_at(second)
+            u = q - p
+            length = float(np.hypot(*u))
+            sides[slider.name] = -1
+            if length == 0 or not sampled.size:
+                continue
+            n = np.array([-u[1], u[0]]) / length
+            # how far the other moving points lie to the left of the guide, all together
+            left = sum(float(np.nansum((self.sweep.points[m][sampled] - p) @ n))
+                       for m in self.moving if m != slider.point)
+            sides[slider.name] = -1 if left >= 0 else 1
+        return sides
 
     def _guide_spans(self) -> dict[str, tuple[float, float]]:
         sweep, margin = self.sweep, 2.5 * self.size
@@ -297,10 +325,10 @@ class Layout:
                 if length == 0:
                     continue
                 u = u / length
-                n = np.array([-u[1], u[0]])
+                out = self.guide_sides[slider.name] * np.array([-u[1], u[0]])
                 lo, hi = self.guide_spans[slider.name]
                 start, end = at[a] + lo * u, at[a] + hi * u
-                lines += [(start, end), (start - 1.7 * s * n, end - 1.7 * s * n)]
+                lines += [(start, end), (start + 1.7 * s * out, end + 1.7 * s * out)]
         # the directions of the moving bars about each pivot, over (some of) the motion
         sampled = self.valid_indices[:: max(1, self.valid_indices.size // 90)]
         placed: dict[str, float] = {}

@@ -447,11 +447,12 @@ class Scene:
         a, b = p + t_lo * u, p + t_hi * u
         guide.set_data([a[0], b[0]], [a[1], b[1]])
         if surface is not None:
-            a, b = a - half_h * n, b - half_h * n
+            out = self.layout.guide_sides[slider.name] * n  # towards the ground
+            a, b = a + half_h * out, b + half_h * out
             surface.set_data([a[0], b[0]], [a[1], b[1]])
-            depth = 0.7 * s * n
-            hatch.set_xy([a, b, b - depth, a - depth])
-            self._grounds.append((a - 0.5 * depth, b - 0.5 * depth))
+            depth = 0.7 * s * out
+            hatch.set_xy([a, b, b + depth, a + depth])
+            self._grounds.append((a + 0.5 * depth, b + 0.5 * depth))
 
     def _draw_crank(self, at, pose):
         crank = self.layout.crank
