@@ -701,8 +701,12 @@ class Construction:
         name = self._claim(name, "parameter")
         number = as_expr(value, node=name, field="value")
         if number.names():
-            raise ConstructionError("a parameter's value must be a number", node=name,
-                                    field="value")
+            names = ", ".join(map(quote, sorted(number.names())))
+            raise ConstructionError(
+                f"a parameter's value must be a number or arithmetic of numbers, not of "
+                f"names ({names} in {quote(str(number), 60)}): give each parameter its own "
+                "value, and write the arithmetic where the parameter is used", node=name,
+                field="value")
         with np.errstate(all="ignore"):
             value = float(number.evaluate({}))
         if not np.isfinite(value):

@@ -366,7 +366,8 @@ ERRORS = [
                                                 "did you mean 'speed'?"]),
     ('samples = 37', 'samples = 37\nspeed = "fast"', ["[inputs] theta.speed: expected a number"]),
     ("l3 = 100", "l3 = [100]", ["sixbar.toml:7: [parameters] l3: expected a number, got an array"]),
-    ("l3 = 100", 'l3 = "l2 * 5"', ["[parameters] l3: a parameter's value must be a number"]),
+    ("l3 = 100", 'l3 = "l2 * 5"', ["[parameters] l3: a parameter's value must be a number or "
+                                   "arithmetic of numbers, not of names ('l2' in 'l2 * 5')"]),
     ("l3 = 100", 'l3 = { value = 100, descr = "x" }',
      ["[parameters] l3.descr: unknown key 'descr'; did you mean 'description'?"]),
     ("l3 = 100", "3l = 100", ["[parameters] 3l: a parameter name must be an identifier"]),
