@@ -768,3 +768,34 @@ def test_a_swing_reads_the_same_whichever_link_drives():
     edge = 180 - np.degrees(np.arccos((7**2 + 5**2 - 11**2) / (2 * 7 * 5)))
     for swing in (crank, follower):
         assert (swing.minimum, swing.maximum) == pytest.approx((edge, 360 - edge), abs=1e-6)
+
+
+def test_transmission_extremes_are_placed_between_samples_where_the_closed_form_has_them():
+    """cos mu = (b^2 + c^2 - d^2 - a^2 + 2 a d cos theta) / (2 b c): extremes at 0 and 180 deg.
+
+    The crank is sampled every 10 degrees from 7: no sample falls on either.
+    """
+    d, a, b, c = 40.0, 10.0, 35.0, 30.0
+    four = Construction("crank-rocker, sampled off its extremes")
+    four.input("theta", range=(np.radians(7), np.radians(367)), samples=37)
+    four.fixed("O2", 0, 0)
+    four.fixed("O4", d, 0)
+    four.polar("A", "O2", a, "theta")
+    four.circle_circle("B", ("A", "O4"), (b, c), branch="left")
+    four.link("crank", "O2", "A")
+    four.link("coupler", "A", "B")
+    four.link("rocker", "O4", "B")
+    report = analyze(four, degrees=True)
+    mu = report.transmission_angles["B"]
+
+    def closed_form(theta):
+        return np.degrees(np.arccos((b * b + c * c - d * d - a * a + 2 * a * d * np.cos(theta))
+                                    / (2 * b * c)))
+
+    assert mu.minimum == pytest.approx(closed_form(0.0), abs=1e-6)
+    assert mu.maximum == pytest.approx(closed_form(np.pi), abs=1e-6)
+    assert (mu.at_minimum["theta"] + 180) % 360 - 180 == pytest.approx(0.0, abs=1e-3)
+    assert mu.at_maximum["theta"] % 360 == pytest.approx(180.0, abs=1e-3)
+    [line] = [line for line in report.to_text().splitlines() if line.startswith("transmission")]
+    assert line.endswith(f"(at theta = {mu.at_minimum['theta']:.4f} deg and theta = "
+                         f"{mu.at_maximum['theta']:.4f} deg)")

@@ -480,6 +480,12 @@ class Report:
         report["curves"] = {point: curve.to_dict() for point, curve in self.curves.items()}
         return report
 
+    def _inputs_text(self, values: Mapping[str, float], angles: str, lengths: str) -> str:
+        """Say input values, each in its unit: ``theta = 12.3456 deg``."""
+        return ", ".join(f"{name} = {round(value, 4) + 0.0:.4f}"  # never -0.0000
+                         f"{angles if self.inputs[name].kind == 'angle' else lengths}"
+                         for name, value in values.items())
+
     def to_text(self, units: str = "") -> str:
         """Return the report as ``geokin analyze`` prints it, one finding a line.
 
@@ -516,7 +522,8 @@ class Report:
         input theta: turns fully
         four-bar O2-A-B-O4 (ground 4, input 1, coupler 4, output 3): crank-rocker (GCRR);
         input turns fully
-        transmission angle at B: 48.19 to 90.00 deg
+        transmission angle at B: 48.19 to 90.00 deg (at theta = 0.0000 deg and
+        theta = 180.0000 deg)
         crank.angle: turns fully
         coupler.angle: 28.9550 to 60.0000 deg, stroke 31.0450 deg, time ratio 1.1887
         (min->max slower)
@@ -546,8 +553,10 @@ class Report:
             lines.append(f"four-bar {'-'.join(bar.points)} ({sides}): {bar.named}; "
                          f"{turning} {verb} fully")
         for node, mu in self.transmission_angles.items():
+            where = " and ".join(self._inputs_text(at, angles, lengths)
+                                 for at in (mu.at_minimum, mu.at_maximum))
             lines.append(f"transmission angle at {node}: {mu.minimum:.2f} to "
-                         f"{mu.maximum:.2f}{angles}")
+                         f"{mu.maximum:.2f}{angles} (at {where})")
         for label, s in self.strokes.items():
             if s.turns:
                 lines.append(f"{label}: turns fully")
@@ -768,10 +777,21 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False,
             any({t.node, centre} <= set(link.points) for link in compiled.links)
             for centre in t.centers)
 
-    transmission = {
-        node: TransmissionReport(angle(t.minimum), angle(t.maximum), inputs_at(t.at_minimum),
-                                 inputs_at(t.at_maximum))
-        for node, t in transmission_angles(motion).items() if between_links(t)}
+    # extremes placed on the mechanism evaluated again between samples, as strokes' are
+    steps = (None if any(step.node.continued for step in compiled.steps)
+             else _Steps(compiled, motion))
+    transmission = {}
+    for node, t in transmission_angles(motion).items():
+        if not between_links(t):
+            continue
+        ends = [(t.at_minimum, t.minimum), (t.at_maximum, t.maximum)]
+        if steps is not None and np.isfinite(t.angle).any():
+            of = partial(_transmission_angle, node=node)
+            ends = [(steps.inputs_at(where), value) for where, value in (
+                _placed_extreme(t.angle, sign, steps, of, False) for sign in (-1, 1))]
+        (at_low, low), (at_high, high) = ends
+        transmission[node] = TransmissionReport(angle(low), angle(high), inputs_at(at_low),
+                                                inputs_at(at_high))
     curves = {}
     for point in compiled.traced:
         try:
@@ -880,6 +900,10 @@ def _slider(s: Sweep, name: str) -> np.ndarray:
     return slider_positions(s)[name]
 
 
+def _transmission_angle(s: Sweep, node: str) -> np.ndarray:
+    return transmission_angles(s)[node].angle
+
+
 def _angle(s: Sweep, name: str) -> np.ndarray:
     return link_angles(s)[name]
 
@@ -927,19 +951,29 @@ class _Steps:
                              sweep(self.compiled, values, start_branches=branches))
         return self.dense[a]
 
+    def inputs_at(self, where: float) -> dict[str, float]:
+        """Return the inputs where the steps' parameter is ``where``."""
+        if len(self.inputs) == 1:
+            return {name: where for name in self.inputs}
+        i = min(int(where), self.n - 2)
+        part = where - i
+        return {name: float(v[i] + part * (v[i + 1] - v[i])) for name, v in self.inputs.items()}
+
 
 def _placed_extreme(values, sign, steps: _Steps, of: Callable[[Sweep], np.ndarray],
-                    is_angle: bool) -> float:
-    """Return the largest (sign 1) or smallest (sign -1) value, placed inside the steps.
+                    is_angle: bool) -> tuple[float, float]:
+    """Return where the largest (sign 1) or smallest (sign -1) value lies, and the value.
 
     The extreme sample's two steps are evaluated again densely
     (:meth:`_Steps.evaluated`); an extreme strictly inside one, further out
     than the sample, is placed by a parabola through the dense samples about
-    it. A link angle is moved by whole turns to agree with the sample.
+    it. A link angle is moved by whole turns to agree with the sample. Where
+    is told as the steps' parameter (:meth:`_Steps.inputs_at` gives the
+    inputs there).
     """
     finite = np.where(np.isfinite(values), sign * values, -np.inf)
     i = int(np.argmax(finite))
-    best = float(values[i])
+    where, best = float(steps.x[i]), float(values[i])
     for a in steps.about(i):
         x, local = steps.evaluated(a)
         dense = np.asarray(of(local), dtype=float)
@@ -950,10 +984,10 @@ def _placed_extreme(values, sign, steps: _Steps, of: Callable[[Sweep], np.ndarra
             dense = dense + 2 * np.pi * np.round((best - dense[at]) / (2 * np.pi))
         k = int(np.argmax(sign * dense))
         if 0 < k < len(dense) - 1:
-            found = refine_extreme(x[k - 1:k + 2], dense[k - 1:k + 2])[1]
+            place, found = refine_extreme(x[k - 1:k + 2], dense[k - 1:k + 2])
             if sign * found > sign * best:
-                best = found
-    return best
+                where, best = place, found
+    return where, best
 
 
 MEETING_SPREAD = 4.0
@@ -1161,8 +1195,8 @@ def _strokes(compiled: Compiled, motion: Sweep, angle: Callable[[Any], float],
             continue
         convert = angle if is_angle else float
         if steps is not None:
-            low = _placed_extreme(values, -1, steps, of, is_angle)
-            high = _placed_extreme(values, 1, steps, of, is_angle)
+            low = _placed_extreme(values, -1, steps, of, is_angle)[1]
+            high = _placed_extreme(values, 1, steps, of, is_angle)[1]
         else:
             low, high = _extreme(values, -1, smooth), _extreme(values, 1, smooth)
         found = None
