@@ -8,8 +8,10 @@ alpha - 1, so the minimum transmission angle mu_min satisfies
     R2**2 + R3**2 - 2 R2 R3 cos(mu_min) = (alpha - 1)**2,
 
 an ellipse in the (R3, R2) plane: every coupler/follower pair on it gives the
-same minimum transmission angle. The chart draws it for seed 000's example
-(fixed 7, crank 4, coupler 5, rocker 5: alpha = 1.75, mu_min = 34.92 degrees)
+same minimum transmission angle. The chart draws it for the example of seed
+000's design chart (fixed 7, crank 4, coupler 5, rocker 5: alpha = 1.75,
+mu_min = 34.92 degrees; the seed's triple rocker, analysed in
+constructions/triple_rocker_*.toml, is another four-bar: 7, 5, 6, 5)
 and for neighbouring angles, over the Grashof class of every (R3, R2) from
 geokin.analysis.grashof, with the seed's three Grashof boundary lines
 
@@ -109,7 +111,7 @@ def main(argv=None):
             label=rf"$\mu_{{min}}$ = {np.degrees(mu_min):.2f}° (seed 000)")
 
     ax.plot(r3_seed, r2_seed, "o", color="k", ms=7, zorder=5)
-    ax.annotate(f"seed 000: fixed 7, crank 4, coupler 5, rocker 5\n"
+    ax.annotate(f"seed 000's chart example: fixed 7, crank 4, coupler 5, rocker 5\n"
                 rf"$\mu_{{min}}$ = {np.degrees(mu_min):.2f}°, "
                 rf"$\mu_{{max}}$ = {np.degrees(mu_max):.0f}°",
                 (r3_seed, r2_seed), xytext=(1.9, 0.45), fontsize=9,
