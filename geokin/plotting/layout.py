@@ -96,12 +96,15 @@ class Layout:
         For every slider on a fixed guide, by name, the side of the guide
         its block rides on the hatched ground of: -1 to the right of the
         guide's direction (from its first point to its second), +1 to the
-        left; the ground lies on the side away from the mechanism's other
-        moving points, taken over the sweep, so that no bar crosses it.
+        left: the side the bars cross less often over the sweep, and as
+        often, the side away from the mechanism's other moving points and
+        its pivots.
     traces : list of str
     crank : Crank or None
-        The crank the input turns, where the arc arrow is drawn: the first
-        of :func:`geokin.analysis.cranks`.
+        The crank the input turns: the first of :func:`geokin.analysis.cranks`.
+    driven : list of Crank
+        The cranks an arc arrow is drawn on: for each input that turns one,
+        the first crank it turns (:attr:`crank` first).
     size : float
         The size of a symbol (pivot, block) in data units.
     ground_sizes : dict of str to float
@@ -166,6 +169,8 @@ class Layout:
                                 if p not in linked and p not in self.traces]
         found = cranks(compiled)
         self.crank: Crank | None = found[0] if found else None
+        self.driven = [crank for i, crank in enumerate(found)
+                       if all(crank.input_name != other.input_name for other in found[:i])]
         self.neighbours: dict[str, set[str]] = {p: set() for p in self.nodes}
         for points in self.links:
             for p in points:
@@ -241,10 +246,24 @@ class Layout:
             sides[slider.name] = -1
             if length == 0 or not sampled.size:
                 continue
-            n = np.array([-u[1], u[0]]) / length
-            # how far the other moving points lie to the left of the guide, all together
+            u = u / length
+            n = np.array([-u[1], u[0]])
+            # the bars at the sampled poses, in the guide's frame: along it, and off it
+            ends = [(self.sweep.points[a][sampled] - p, self.sweep.points[b][sampled] - p)
+                    for points in self.links if not set(points) <= set(self.ground)
+                    for a, b in zip(points, points[1:], strict=False)]
+            start = np.concatenate([np.c_[a @ u, a @ n] for a, _ in ends] or [np.empty((0, 2))])
+            end = np.concatenate([np.c_[b @ u, b @ n] for _, b in ends] or [np.empty((0, 2))])
+            lo, hi = self.guide_spans[slider.name]
+            crossed = [int(_crossing(side * start, side * end, (side * lo, side * hi),
+                                     (1.0 * self.size, 1.7 * self.size)).sum())
+                       for side in (-1, 1)]
+            if crossed[0] != crossed[1]:
+                sides[slider.name] = -1 if crossed[0] < crossed[1] else 1
+                continue
+            # as often crossed either way: away from the other moving points and the pivots
             left = sum(float(np.nansum((self.sweep.points[m][sampled] - p) @ n))
-                       for m in self.moving if m != slider.point)
+                       for m in self.moving + self.pivots if m != slider.point)
             sides[slider.name] = -1 if left >= 0 else 1
         return sides
 
@@ -523,11 +542,39 @@ def _assembled_near(valid: np.ndarray, index: int) -> int | None:
     return int(before[-1]) if before.size else int(valid[0])
 
 
+def _crossing(start: np.ndarray, end: np.ndarray, along: tuple[float, float],
+              off: tuple[float, float]) -> np.ndarray:
+    """Whether each segment meets the rectangle ``along`` x ``off`` (Liang-Barsky).
+
+    ``start`` and ``end`` are (K, 2) arrays of the segments' ends; a bound
+    pair may come in either order. NaN ends meet nothing.
+
+    Examples
+    --------
+    >>> _crossing(np.array([[0.0, -1.0], [5.0, -1.0]]), np.array([[0.0, 1.0], [5.0, 1.0]]),
+    ...           (-1.0, 1.0), (-0.5, 0.5)).tolist()
+    [True, False]
+    """
+    enter = np.zeros(len(start))
+    leave = np.ones(len(start))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for axis, bounds in enumerate((along, off)):
+            low, high = min(bounds), max(bounds)
+            a, step = start[:, axis], end[:, axis] - start[:, axis]
+            to_low, to_high = (low - a) / step, (high - a) / step
+            still = step == 0
+            inside = (low <= a) & (a <= high)
+            enter = np.where(still, np.where(inside, enter, np.inf),
+                             np.fmax(enter, np.fmin(to_low, to_high)))
+            leave = np.where(still, leave, np.fmin(leave, np.fmax(to_low, to_high)))
+    return enter <= leave
+
+
 def input_text(sweep: Sweep, index: int) -> str:
     """Return the input values at sample ``index`` as a figure shows them.
 
-    An angle is in degrees, and an input named like a Greek letter is
-    written as that letter.
+    An angle is in degrees, a length in the construction's units, and an
+    input named like a Greek letter is written as that letter.
 
     Examples
     --------
@@ -540,15 +587,19 @@ def input_text(sweep: Sweep, index: int) -> str:
     >>> c.polar("A", "O", "10 + s", "theta")
     >>> input_text(sweep(c, {"theta": np.radians([0, 45]), "s": [0, 2.5]}), 1)
     'θ = 45.0°, s = 2.5'
+    >>> c.units = "mm"
+    >>> input_text(sweep(c, {"theta": np.radians([0, 45]), "s": [0, 2.5]}), 1)
+    'θ = 45.0°, s = 2.5 mm'
     """
     parts = []
+    units = shown_text(sweep.construction.units)
     for name, values in sweep.inputs.items():
         label = _GREEK.get(name, name)
         value = values[index]
         if sweep.construction.inputs[name].kind == "angle":
             parts.append(f"{label} = {math.degrees(value):.1f}°")
         else:
-            parts.append(f"{label} = {value:.4g}")
+            parts.append(f"{label} = {value:.4g}{' ' + units if units else ''}")
     return ", ".join(parts) if parts else f"sample {index}"
 
 

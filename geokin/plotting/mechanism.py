@@ -210,13 +210,14 @@ class Scene:
                           zorder=_Z_JOINT)
         self.reference_marks = line(ls="none", marker="+", ms=9, mew=1.5, color="#777777",
                                     zorder=_Z_JOINT)
-        self.crank_arrow = None
-        if layout.crank is not None:
-            self.crank_arrow = FancyArrowPatch((0, 0), (1, 1), arrowstyle="-|>",
-                                               mutation_scale=14, lw=1.8, color=INPUT_COLOR,
-                                               shrinkA=0, shrinkB=0, zorder=_Z_LABEL)
-            ax.add_patch(self.crank_arrow)
-            self.mechanism.append(self.crank_arrow)
+        self.crank_arrows = []  # an arc arrow on the crank of each input that turns one
+        for crank in layout.driven:
+            arrow = FancyArrowPatch((0, 0), (1, 1), arrowstyle="-|>", mutation_scale=14,
+                                    lw=1.8, color=INPUT_COLOR, shrinkA=0, shrinkB=0,
+                                    zorder=_Z_LABEL)
+            ax.add_patch(arrow)
+            self.mechanism.append(arrow)
+            self.crank_arrows.append((crank, arrow))
         self.labels = {}
         for name in layout.shown:
             self.labels[name] = ax.annotate(
@@ -325,11 +326,10 @@ class Scene:
             artist.set_data(*marks(names))
             artist.set_visible(True)
         self._arrow_points = np.empty((0, 2))
-        if self.crank_arrow is not None:
-            crank = layout.crank
-            self.crank_arrow.set_visible(known.issuperset((crank.origin, crank.tip)))
-            if self.crank_arrow.get_visible():
-                self._draw_crank(at, pose)
+        for crank, arrow in self.crank_arrows:
+            arrow.set_visible(known.issuperset((crank.origin, crank.tip)))
+            if arrow.get_visible():
+                self._draw_crank(crank, arrow, at, pose)
         for name, label in self.labels.items():
             label.set_visible(name in known)
         centre = np.mean([at[p] for p in layout.shown if p in known] or [np.zeros(2)], axis=0)
@@ -454,25 +454,24 @@ class Scene:
             hatch.set_xy([a, b, b + depth, a + depth])
             self._grounds.append((a + 0.5 * depth, b + 0.5 * depth))
 
-    def _draw_crank(self, at, pose):
-        crank = self.layout.crank
+    def _draw_crank(self, crank, arrow, at, pose):
         o, a = at[crank.origin], at[crank.tip]
         size = self.layout.size
         radius = min(max(0.5 * np.hypot(*(a - o)), 1.2 * size), 4.0 * size)
         phi = math.atan2(a[1] - o[1], a[0] - o[0])
-        sense = self._crank_sense(pose)
+        sense = self._crank_sense(crank, pose)
         span = math.radians(70)
         start, end = phi - sense * (span + math.radians(25)), phi - sense * math.radians(25)
-        self.crank_arrow.set_positions(
+        arrow.set_positions(
             (o[0] + radius * math.cos(start), o[1] + radius * math.sin(start)),
             (o[0] + radius * math.cos(end), o[1] + radius * math.sin(end)))
-        self.crank_arrow.set_connectionstyle(f"arc3,rad={sense * math.tan(span / 4):.4f}")
+        arrow.set_connectionstyle(f"arc3,rad={sense * math.tan(span / 4):.4f}")
         along = np.linspace(start, end, 12)
-        self._arrow_points = o + radius * np.column_stack([np.cos(along), np.sin(along)])
+        self._arrow_points = np.vstack([
+            self._arrow_points, o + radius * np.column_stack([np.cos(along), np.sin(along)])])
 
-    def _crank_sense(self, pose):
+    def _crank_sense(self, crank, pose):
         """+1 if the crank turns counter-clockwise at ``pose``, -1 if clockwise."""
-        crank = self.layout.crank
         # as evaluated: the crank is known where a node after it fails
         (x0, y0), (x1, y1) = self.sweep.points.xy(crank.origin), self.sweep.points.xy(crank.tip)
         angle = np.arctan2(y1 - y0, x1 - x0)
