@@ -16,7 +16,7 @@ from numpy.typing import ArrayLike
 from ..errors import GeokinError, did_you_mean
 from ..kinematics import Motion
 from ..results import Sweep
-from .layout import length_unit, shown_text
+from .layout import length_unit, shown_text, title_text
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -285,8 +285,7 @@ def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
     axes[0].legend(fontsize=9, ncols=min(len(names), 4), loc="lower left",
                    bbox_to_anchor=(0.0, 1.0), frameon=False, borderaxespad=0.2)
     axes[-1].set_xlabel("time (s)")
-    heading = motion.sweep.construction.name if title is None else title
-    heading = shown_text(heading)
+    heading = title_text(motion.sweep.construction.name if title is None else title)
     if motion.flagged.any():
         count = int(motion.flagged.sum())
         # flagged: the rates there may be less accurate than stated

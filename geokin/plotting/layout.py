@@ -26,6 +26,7 @@ Examples
 from __future__ import annotations
 
 import math
+import textwrap
 from collections.abc import Iterable, Sequence
 
 import numpy as np
@@ -612,6 +613,22 @@ def shown_text(text: object) -> str:
     'four-bar\\x1b[2J'
     """
     return escape(shorten(str(text), 200))
+
+
+TITLE_WIDTH = 80
+"""The most characters on a line of a figure's title: a longer one is broken."""
+
+
+def title_text(text: object) -> str:
+    """Return a title from a script as a figure shows it, on lines that fit its width.
+
+    Examples
+    --------
+    >>> print(title_text("a four-bar " * 10))
+    a four-bar a four-bar a four-bar a four-bar a four-bar a four-bar a four-bar
+    a four-bar a four-bar a four-bar
+    """
+    return textwrap.fill(shown_text(text), TITLE_WIDTH, break_on_hyphens=False)
 
 
 def length_unit(sweep: Sweep) -> str:

@@ -72,8 +72,8 @@ from .layout import (
     distance_to_segment,
     input_text,
     length_unit,
-    shown_text,
     signed_turn,
+    title_text,
 )
 
 if TYPE_CHECKING:
@@ -527,7 +527,7 @@ def setup_axes(ax: Axes, layout: Layout, title: str | None) -> None:
         title = layout.sweep.construction.name
     if title:
         # a name is text, not mathtext: "$" in it must not stop the drawing
-        ax.set_title(shown_text(title), parse_math=False)
+        ax.set_title(title_text(title), parse_math=False)
 
 
 def _check_index(sweep, index):
