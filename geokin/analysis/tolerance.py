@@ -38,6 +38,7 @@ import math
 import numbers
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass
+from functools import partial
 from typing import Any
 
 import numpy as np
@@ -206,11 +207,12 @@ def _strokes(coords: Callable[[str], tuple[Any, Any]], output: _Output,
             cross = dx[:, :-1] * dy[:, 1:] - dy[:, :-1] * dx[:, 1:]
             dot = dx[:, :-1] * dx[:, 1:] + dy[:, :-1] * dy[:, 1:]
             turned = np.cumsum(np.arctan2(cross, dot), axis=1)
-            return np.maximum(turned.max(axis=1), 0) - np.minimum(turned.min(axis=1), 0)
+            return _range_between_samples(np.concatenate(
+                [np.zeros((turned.shape[0], 1)), turned], axis=1))
         (px, py), (sx, sy), (ex, ey) = (coords(p) for p in output.points)
         gx, gy = ex - sx, ey - sy
         along = np.atleast_2d(((px - sx) * gx + (py - sy) * gy) / np.hypot(gx, gy))
-        stroke = along.max(axis=1) - along.min(axis=1)
+        stroke = _range_between_samples(along)
         # a point that keeps its place on its guide moves by the rounding of its
         # coordinates: no stroke
         size = np.atleast_2d(np.abs(px) + np.abs(py) + np.abs(sx) + np.abs(sy))
@@ -278,16 +280,77 @@ def _stroke_from(reference, dx, dy) -> np.ndarray:
             high = _extreme_angles(reference, dx, dy, tangent, members, high_columns, np.argmax)
             low = _extreme_angles(reference, dx, dy, tangent, members, low_columns, np.argmin)
         else:
-            high = _exact(base, cross, dot, members, high_columns).max(axis=1)
-            low = _exact(base, cross, dot, members, low_columns).min(axis=1)
+            high, low = (_between_samples(
+                partial(_exact_at, base, cross, dot, members), columns[pick(
+                    _exact(base, cross, dot, members, columns), axis=1)], dx.shape[1], sign)
+                for columns, pick, sign in ((high_columns, np.argmax, 1),
+                                            (low_columns, np.argmin, -1)))
         stroke[members] = high - low
     rest = np.flatnonzero(least <= 0)
     if rest.size:
         # a link that turns a quarter turn or more from the nominal: its difference
         # from it followed along the samples, never cut at half a turn
         angle = base + np.unwrap(np.arctan2(cross[rest], dot[rest]), axis=1)
-        stroke[rest] = angle.max(axis=1) - angle.min(axis=1)
+        stroke[rest] = _range_between_samples(angle)
     return stroke
+
+
+def _between_samples(values: Callable[[np.ndarray], np.ndarray], picked: np.ndarray, n: int,
+                     sign: int) -> np.ndarray:
+    """Return each row's largest (sign 1) or least (-1) value, placed between samples.
+
+    ``picked`` is each row's extreme sample, ``values(columns)`` each row's
+    value at one column each. The parabola through the extreme sample and
+    its neighbours places the extreme where it turns within a step of the
+    sample, as :func:`~geokin.analysis.measures.refine_extreme` does;
+    otherwise, and at an end of the sweep, the sample is the extreme. A row
+    that ends where it began (a whole turn of the input) has its ends as
+    each other's neighbours. Measured at the samples alone, a stroke is
+    short by up to the output's curvature times a step squared over 8, and
+    its derivative, a sensitivity, takes the slope at the sample.
+
+    Examples
+    --------
+    The tops of sin(3 t), 1, and of a parabola, 0, sampled every 0.1:
+
+    >>> t = np.linspace(0, 1, 11)
+    >>> rows = np.vstack([np.sin(3 * t), -(t - 0.42) ** 2])
+    >>> top = _between_samples(lambda c: rows[np.arange(2), c], rows.argmax(axis=1), 11, 1)
+    >>> np.round(rows.max(axis=1), 6).tolist(), np.round(top, 6).tolist()
+    ([0.997495, -0.0004], [0.999947, 0.0])
+    """
+    middle = values(picked)
+    last = n - 1
+    if n < 3:
+        return middle
+    ends = (picked == 0) | (picked == last)
+    left, right = picked - 1, picked + 1
+    if ends.any():
+        # a row back where it began: its ends are one sample, its neighbours 1 and n - 2
+        first, final = values(np.zeros_like(picked)), values(np.full_like(picked, last))
+        closed = np.abs(first - final) <= 1e-12 * np.fmax(np.abs(first), 1.0)
+        left = np.where(picked == 0, np.where(closed, last - 1, 0), left)
+        right = np.where(picked == last, np.where(closed, 1, last), right)
+    before, after = values(np.clip(left, 0, last)), values(np.clip(right, 0, last))
+    bend = before - 2 * middle + after  # the parabola's second difference
+    with np.errstate(divide="ignore", invalid="ignore"):
+        offset = (before - after) / (2 * bend)
+        placed = middle - 0.25 * (before - after) * offset
+    turns = (sign * bend < 0) & (np.abs(offset) <= 1) & (left != picked) & (right != picked)
+    placed = np.where(turns & (sign * placed > sign * middle), placed, middle)
+    return placed
+
+
+def _range_between_samples(values: np.ndarray) -> np.ndarray:
+    """Return each row's largest minus least value, both placed between samples."""
+    rows = np.arange(values.shape[0])
+
+    def at(columns):
+        return values[rows, columns]
+
+    n = values.shape[1]
+    return (_between_samples(at, np.argmax(values, axis=1), n, 1)
+            - _between_samples(at, np.argmin(values, axis=1), n, -1))
 
 
 def _near_extremes(base, turn: float) -> tuple[np.ndarray, np.ndarray]:
@@ -319,8 +382,12 @@ def _extreme_angles(reference, dx, dy, tangent, rows, columns, pick) -> np.ndarr
     turned += shift
     turned /= denominator
     picked = columns[pick(turned, axis=1)]
-    x, y = dx[rows, picked], dy[rows, picked]
-    return base[at] + np.arctan2(ux[at] * y - uy[at] * x, ux[at] * x + uy[at] * y)
+
+    def angle(at_columns):  # the rows' angles, one column each, from the nominal's extreme
+        x, y = dx[rows, at_columns], dy[rows, at_columns]
+        return base[at] + np.arctan2(ux[at] * y - uy[at] * x, ux[at] * x + uy[at] * y)
+
+    return _between_samples(angle, picked, dx.shape[1], 1 if pick is np.argmax else -1)
 
 
 def _cells(rows: np.ndarray, columns: np.ndarray) -> tuple:
@@ -338,6 +405,11 @@ def _exact(base, cross, dot, rows, columns) -> np.ndarray:
     """Return the link's angle at some rows and columns, by the arctangent."""
     where = _cells(rows, columns)
     return base[columns] + np.arctan2(cross[where], dot[where])
+
+
+def _exact_at(base, cross, dot, rows, columns) -> np.ndarray:
+    """Return the link's angle at some rows, one column each, by the arctangent."""
+    return base[columns] + np.arctan2(cross[rows, columns], dot[rows, columns])
 
 
 def _reference(nominal: Sweep, output: _Output) -> tuple[np.ndarray, np.ndarray,
