@@ -652,8 +652,10 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
 def _constant(value: float | np.ndarray, n: int, dtype=float) -> np.ndarray:
     """Return one number as a read-only array of N samples, without memory for them."""
     # what np.broadcast_to(value, (n,)) gives, a few times faster
-    array = np.ndarray((n,), dtype, np.array([value], dtype=dtype), 0, (0,))
-    array.flags.writeable = False
+    one = np.empty(1, dtype)
+    one[0] = value
+    array = np.ndarray((n,), dtype, one, 0, (0,))
+    array.setflags(write=False)
     return array
 
 
