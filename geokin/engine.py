@@ -58,6 +58,7 @@ from .compat import renamed_keywords
 from .construction import Compiled, Construction, as_compiled
 from .errors import AssemblyError, ConstructionError, did_you_mean
 from .nodes import Candidates, Node, failure_reasons
+from .primitives import extremes
 from .results import BranchEvent, PointTable, Sweep
 
 __all__ = ["assembly_guesses", "evaluate", "input_arrays", "meeting_rtol", "start_labels",
@@ -1353,8 +1354,8 @@ class _Tracker:
                 # a step between paths counts as the one before it, so that paths that
                 # each run one way still do all together
                 step[self.cut] = step[np.flatnonzero(self.cut) - 1]
-            low, high = ((np.minimum.reduce(step), np.maximum.reduce(step)) if step.size
-                         else (0.0, 0.0))
+            # as Python numbers: the tests on them below cost less than on numpy's
+            low, high = extremes(step) if step.size else (0.0, 0.0)
             one_way = (low > 0 and high > 0) or (low < 0 and high < 0)
             steady = one_way and high - low <= 1e-9 * max(abs(low), abs(high))
             if len(self.inputs) == 1 and not steady:
@@ -1388,7 +1389,7 @@ class _Tracker:
         if self.angle_steps is None:
             self.angle_steps = np.zeros(n - 1)
         scratch = None
-        if len(spans) == 1 and spans[0] is not None and np.isfinite(spans[0][1]):
+        if len(spans) == 1 and spans[0] is not None and math.isfinite(spans[0][1]):
             # one input running one way (a linspace, most often): its extremes are known,
             # and its steps can be held as numbers, freeing their array for scratch work
             shortest, self.longest = spans[0]
@@ -1452,10 +1453,11 @@ class _Tracker:
             # faster ones that carry NaN will do
             moved = self.scratch
             np.subtract(margin[1:], margin[:-1], out=moved)
-            fastest = max(np.maximum.reduce(moved), -np.minimum.reduce(moved))
+            low, high = extremes(moved)
+            fastest = max(high, -low)
             if not self.even:
                 fastest = float(np.fmax.reduce(np.abs(moved) / self.travel)) * self.longest
-            if np.minimum.reduce(margin) > (SAFETY * SAFETY) * fastest:
+            if extremes(margin)[0] > (SAFETY * SAFETY) * fastest:
                 self.labels[node.name] = start
                 return start, []
             apart = np.sqrt(margin)
@@ -1463,9 +1465,9 @@ class _Tracker:
             np.abs(moved, out=moved)
             if not self.even:
                 np.divide(moved, self.travel, out=moved)
-            fastest = (np.maximum.reduce(moved) if self.even
+            fastest = (extremes(moved)[1] if self.even
                        else np.fmax.reduce(moved) * self.longest)
-            if np.minimum.reduce(apart) > SAFETY * fastest:
+            if extremes(apart)[0] > SAFETY * fastest:
                 self.labels[node.name] = start
                 return start, []
         # per sample and per step, of the samples looked at: the step from sample i of
