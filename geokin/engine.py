@@ -212,7 +212,10 @@ _PLANS: dict[tuple[int, frozenset[str]], tuple[_PlannedStep, ...]] = {}
 that vary from sample to sample, dropped with the construction."""
 
 
-def _plan(compiled: Compiled, varied: frozenset[str] = frozenset()) -> tuple[_PlannedStep, ...]:
+_NONE: frozenset[str] = frozenset()
+
+
+def _plan(compiled: Compiled, varied: frozenset[str] = _NONE) -> tuple[_PlannedStep, ...]:
     """Return the evaluation plan of a compiled construction, made once and kept.
 
     ``varied`` names the parameters given per sample (design variants):
@@ -496,17 +499,13 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         varied, per_path = {k: _repeated(v, n // paths) for k, v in varied.items()}, False
     if not per_path:
         varied = {k: np.broadcast_to(v, (n,)) for k, v in varied.items()}
-    plan = _plan(compiled, frozenset(varied))
+    plan = _plan(compiled, frozenset(varied) if varied else _NONE)
     # a construction far from (0, 0) is found around its fixed points, its positions
     # moved back at the end; the frame is that of its own parameters, which its
     # variants share
     frame = _frame_of(compiled) if origin is None else None
     origin = frame or origin
-    chosen = {**(start or {}), **(held or {})}
-    if (not track and n > BLOCKED_ABOVE and paths == 1
-            and all(step.node.name in chosen or not step.node.chosen_by_position
-                    for step in plan if step.node.roots == 2)
-            and all(step.node.name in (held or {}) for step in plan if step.node.continued)):
+    if not track and n > BLOCKED_ABOVE and paths == 1 and _blocks_apart(plan, start, held):
         parts = _evaluate_in_blocks(compiled, plan, {**inputs, **varied}, n, held, start,
                                     origin)
     else:
@@ -529,6 +528,19 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         margins={name: per_sample(margin) for name, margin in parts.margins.items()},
         line_parameters={name: per_sample(t) for name, t in parts.parameters.items()},
         parameters={} if per_path else varied)
+
+
+def _blocks_apart(plan, start, held) -> bool:
+    """Whether an evaluation without tracking can be cut into blocks of samples.
+
+    It can unless something depends on all of them: a node chosen ``near`` a
+    position whose branch is not given, or a closure group whose solution is
+    not held.
+    """
+    chosen = {**(start or {}), **(held or {})}
+    return (all(step.node.name in chosen or not step.node.chosen_by_position
+                for step in plan if step.node.roots == 2)
+            and all(step.node.name in (held or {}) for step in plan if step.node.continued))
 
 
 def _over_paths(inputs, n, paths):
@@ -605,9 +617,9 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
             else:
                 cand = (_candidates(step, coords, values, origin) if n <= BLOCKED_ABOVE
                         else _candidates_in_blocks(step, coords, values, origin, n))
-            if cand.margin is not None and node.roots == 1:
-                margins[node.name] = cand.margin
             if node.roots == 1:
+                if cand.margin is not None:
+                    margins[node.name] = cand.margin
                 x, y = cand.x[0], cand.y[0]
                 label = None
             else:

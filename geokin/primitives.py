@@ -287,7 +287,11 @@ def _guarded(kernel, rescaled, windows, *args):
     of two). The common case, everything within, costs a reduction or two.
     """
     outputs, *checked = kernel(*args)
-    if all(q is None or _within(q, w) for q, w in zip(checked, windows, strict=True)):
+    # a loop, not all() of a generator: this runs for most nodes of every sweep
+    for q, w in zip(checked, windows, strict=True):
+        if q is not None and not _within(q, w):
+            break
+    else:
         return outputs
     shape = np.shape(outputs[0])
     mask = np.zeros(shape, dtype=bool)
