@@ -41,6 +41,8 @@ def renamed_keywords(**renames: str) -> Callable[[F], F]:
     def decorate(function: F) -> F:
         @functools.wraps(function)
         def wrapper(*args: Any, **kwargs: Any) -> Any:
+            if not kwargs or renames.keys().isdisjoint(kwargs):
+                return function(*args, **kwargs)  # no old name: the common case, quickly
             for old, new in renames.items():
                 if old in kwargs:
                     if new in kwargs:

@@ -58,6 +58,7 @@ from .compat import renamed_keywords
 from .construction import Compiled, Construction, as_compiled
 from .errors import AssemblyError, ConstructionError, did_you_mean
 from .nodes import Candidates, Node, failure_reasons
+from .primitives import extremes, largest, least
 from .results import BranchEvent, PointTable, Sweep
 
 __all__ = ["assembly_guesses", "evaluate", "input_arrays", "meeting_rtol", "start_labels",
@@ -211,7 +212,10 @@ _PLANS: dict[tuple[int, frozenset[str]], tuple[_PlannedStep, ...]] = {}
 that vary from sample to sample, dropped with the construction."""
 
 
-def _plan(compiled: Compiled, varied: frozenset[str] = frozenset()) -> tuple[_PlannedStep, ...]:
+_NONE: frozenset[str] = frozenset()
+
+
+def _plan(compiled: Compiled, varied: frozenset[str] = _NONE) -> tuple[_PlannedStep, ...]:
     """Return the evaluation plan of a compiled construction, made once and kept.
 
     ``varied`` names the parameters given per sample (design variants):
@@ -495,17 +499,13 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         varied, per_path = {k: _repeated(v, n // paths) for k, v in varied.items()}, False
     if not per_path:
         varied = {k: np.broadcast_to(v, (n,)) for k, v in varied.items()}
-    plan = _plan(compiled, frozenset(varied))
+    plan = _plan(compiled, frozenset(varied) if varied else _NONE)
     # a construction far from (0, 0) is found around its fixed points, its positions
     # moved back at the end; the frame is that of its own parameters, which its
     # variants share
     frame = _frame_of(compiled) if origin is None else None
     origin = frame or origin
-    chosen = {**(start or {}), **(held or {})}
-    if (not track and n > BLOCKED_ABOVE and paths == 1
-            and all(step.node.name in chosen or not step.node.chosen_by_position
-                    for step in plan if step.node.roots == 2)
-            and all(step.node.name in (held or {}) for step in plan if step.node.continued)):
+    if not track and n > BLOCKED_ABOVE and paths == 1 and _blocks_apart(plan, start, held):
         parts = _evaluate_in_blocks(compiled, plan, {**inputs, **varied}, n, held, start,
                                     origin)
     else:
@@ -528,6 +528,19 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         margins={name: per_sample(margin) for name, margin in parts.margins.items()},
         line_parameters={name: per_sample(t) for name, t in parts.parameters.items()},
         parameters={} if per_path else varied)
+
+
+def _blocks_apart(plan, start, held) -> bool:
+    """Whether an evaluation without tracking can be cut into blocks of samples.
+
+    It can unless something depends on all of them: a node chosen ``near`` a
+    position whose branch is not given, or a closure group whose solution is
+    not held.
+    """
+    chosen = {**(start or {}), **(held or {})}
+    return (all(step.node.name in chosen or not step.node.chosen_by_position
+                for step in plan if step.node.roots == 2)
+            and all(step.node.name in (held or {}) for step in plan if step.node.continued))
 
 
 def _over_paths(inputs, n, paths):
@@ -578,7 +591,8 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
     margins: dict[str, np.ndarray] = {}
     parameters: dict[str, np.ndarray] = {}
     events: list[BranchEvent] = []
-    valid = np.ones(n, dtype=bool)
+    valid = np.empty(n, dtype=bool)
+    valid.fill(True)  # what np.ones does, in a third of the time
     failed_step = np.zeros(n, dtype=np.int32)
     reason_code = np.zeros(n, dtype=np.int8)
     with np.errstate(all="ignore"):
@@ -603,9 +617,9 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
             else:
                 cand = (_candidates(step, coords, values, origin) if n <= BLOCKED_ABOVE
                         else _candidates_in_blocks(step, coords, values, origin, n))
-            if cand.margin is not None and node.roots == 1:
-                margins[node.name] = cand.margin
             if node.roots == 1:
+                if cand.margin is not None:
+                    margins[node.name] = cand.margin
                 x, y = cand.x[0], cand.y[0]
                 label = None
             else:
@@ -652,8 +666,10 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
 def _constant(value: float | np.ndarray, n: int, dtype=float) -> np.ndarray:
     """Return one number as a read-only array of N samples, without memory for them."""
     # what np.broadcast_to(value, (n,)) gives, a few times faster
-    array = np.ndarray((n,), dtype, np.array([value], dtype=dtype), 0, (0,))
-    array.flags.writeable = False
+    one = np.empty(1, dtype)
+    one[0] = value
+    array = np.ndarray((n,), dtype, one, 0, (0,))
+    array.setflags(write=False)
     return array
 
 
@@ -683,7 +699,7 @@ def _all_finite(x, y) -> bool:
     if type(x) is np.ndarray and type(y) is np.ndarray and x.shape == y.shape:
         if (x.size <= DOT_BELOW and x.flags.c_contiguous and y.flags.c_contiguous
                 and x.dtype == y.dtype == float):
-            return math.isfinite(np.vdot(x, y))
+            return math.isfinite(x.dot(y))
     elif (type(x) in _NUMBERS and type(y) in _NUMBERS) or (np.ndim(x) == 0 and np.ndim(y) == 0):
         return math.isfinite(x) and math.isfinite(y)
     return bool(np.isfinite(np.add.reduce(x, axis=None) + np.add.reduce(y, axis=None)))
@@ -1278,7 +1294,7 @@ def _initial_label(node, cand, n, override, paths=1, origin=None) -> int | np.nd
         cand = replace(cand, x=tuple(x + origin[0] for x in cand.x),
                        y=tuple(y + origin[1] for y in cand.y))
     first = node.initial_root(cand, n, paths)
-    return first if np.ndim(first) == 0 else _repeated(first, n // paths)
+    return first if type(first) is int or np.ndim(first) == 0 else _repeated(first, n // paths)
 
 
 class _Tracker:
@@ -1351,8 +1367,8 @@ class _Tracker:
                 # a step between paths counts as the one before it, so that paths that
                 # each run one way still do all together
                 step[self.cut] = step[np.flatnonzero(self.cut) - 1]
-            low, high = ((np.minimum.reduce(step), np.maximum.reduce(step)) if step.size
-                         else (0.0, 0.0))
+            # as Python numbers: the tests on them below cost less than on numpy's
+            low, high = extremes(step) if step.size else (0.0, 0.0)
             one_way = (low > 0 and high > 0) or (low < 0 and high < 0)
             steady = one_way and high - low <= 1e-9 * max(abs(low), abs(high))
             if len(self.inputs) == 1 and not steady:
@@ -1386,7 +1402,7 @@ class _Tracker:
         if self.angle_steps is None:
             self.angle_steps = np.zeros(n - 1)
         scratch = None
-        if len(spans) == 1 and spans[0] is not None and np.isfinite(spans[0][1]):
+        if len(spans) == 1 and spans[0] is not None and math.isfinite(spans[0][1]):
             # one input running one way (a linspace, most often): its extremes are known,
             # and its steps can be held as numbers, freeing their array for scratch work
             shortest, self.longest = spans[0]
@@ -1450,10 +1466,11 @@ class _Tracker:
             # faster ones that carry NaN will do
             moved = self.scratch
             np.subtract(margin[1:], margin[:-1], out=moved)
-            fastest = max(np.maximum.reduce(moved), -np.minimum.reduce(moved))
+            low, high = extremes(moved)
+            fastest = max(high, -low)
             if not self.even:
                 fastest = float(np.fmax.reduce(np.abs(moved) / self.travel)) * self.longest
-            if np.minimum.reduce(margin) > (SAFETY * SAFETY) * fastest:
+            if least(margin) > (SAFETY * SAFETY) * fastest:
                 self.labels[node.name] = start
                 return start, []
             apart = np.sqrt(margin)
@@ -1461,9 +1478,9 @@ class _Tracker:
             np.abs(moved, out=moved)
             if not self.even:
                 np.divide(moved, self.travel, out=moved)
-            fastest = (np.maximum.reduce(moved) if self.even
+            fastest = (largest(moved) if self.even
                        else np.fmax.reduce(moved) * self.longest)
-            if np.minimum.reduce(apart) > SAFETY * fastest:
+            if least(apart) > SAFETY * fastest:
                 self.labels[node.name] = start
                 return start, []
         # per sample and per step, of the samples looked at: the step from sample i of

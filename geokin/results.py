@@ -680,7 +680,8 @@ class PointTable(Mapping):
             stacked = np.empty((*self._valid.shape, 2))
             stacked[..., 0] = x
             stacked[..., 1] = y
-            if not self._valid.all():
+            # as valid.all(), a few times faster
+            if np.count_nonzero(self._valid) != self._valid.size:
                 stacked[~self._valid] = np.nan
             self._stacked[name] = stacked = read_only(stacked)
         return stacked
