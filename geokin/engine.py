@@ -58,7 +58,7 @@ from .compat import renamed_keywords
 from .construction import Compiled, Construction, as_compiled
 from .errors import AssemblyError, ConstructionError, did_you_mean
 from .nodes import Candidates, Node, failure_reasons
-from .primitives import extremes, largest, least
+from .primitives import extremes, largest_element, least_element
 from .results import BranchEvent, PointTable, Sweep
 
 __all__ = ["assembly_guesses", "evaluate", "input_arrays", "meeting_rtol", "start_labels",
@@ -1470,7 +1470,7 @@ class _Tracker:
             fastest = max(high, -low)
             if not self.even:
                 fastest = float(np.fmax.reduce(np.abs(moved) / self.travel)) * self.longest
-            if least(margin) > (SAFETY * SAFETY) * fastest:
+            if least_element(margin) > (SAFETY * SAFETY) * fastest:
                 self.labels[node.name] = start
                 return start, []
             apart = np.sqrt(margin)
@@ -1478,9 +1478,9 @@ class _Tracker:
             np.abs(moved, out=moved)
             if not self.even:
                 np.divide(moved, self.travel, out=moved)
-            fastest = (largest(moved) if self.even
+            fastest = (largest_element(moved) if self.even
                        else np.fmax.reduce(moved) * self.longest)
-            if least(apart) > SAFETY * fastest:
+            if least_element(apart) > SAFETY * fastest:
                 self.labels[node.name] = start
                 return start, []
         # per sample and per step, of the samples looked at: the step from sample i of

@@ -212,10 +212,10 @@ _PLAIN = (float, int)
 
 ARGS_BELOW = 8192
 """Arrays up to this size have their extremes found by ``argmin`` and ``argmax``
-(:func:`least`, :func:`largest`)."""
+(:func:`least_element`, :func:`largest_element`)."""
 
 
-def least(array: np.ndarray) -> float:
+def least_element(array: np.ndarray) -> float:
     """Return the least element of a non-empty array, NaN if it holds one.
 
     What ``np.minimum.reduce`` gives over the whole array, as a Python
@@ -226,21 +226,27 @@ def least(array: np.ndarray) -> float:
 
     Examples
     --------
-    >>> least(np.array([[3.0, -1.0], [2.0, 5.0]])), least(np.array([3.0, np.nan, 5.0]))
-    (-1.0, nan)
+    >>> least_element(np.array([[3.0, -1.0], [2.0, 5.0]]))
+    -1.0
+    >>> least_element(np.array([3.0, np.nan, 5.0]))
+    nan
     """
     if array.size <= ARGS_BELOW:
         return array.item(array.argmin())
     return float(np.minimum.reduce(array, axis=None))
 
 
-def largest(array: np.ndarray) -> float:
-    """Return the largest element of a non-empty array, NaN if it holds one (see :func:`least`).
+def largest_element(array: np.ndarray) -> float:
+    """Return the largest element of a non-empty array, NaN if it holds one.
+
+    See :func:`least_element`.
 
     Examples
     --------
-    >>> largest(np.array([[3.0, -1.0], [2.0, 5.0]])), largest(np.array([3.0, np.nan, 5.0]))
-    (5.0, nan)
+    >>> largest_element(np.array([[3.0, -1.0], [2.0, 5.0]]))
+    5.0
+    >>> largest_element(np.array([3.0, np.nan, 5.0]))
+    nan
     """
     if array.size <= ARGS_BELOW:
         return array.item(array.argmax())
@@ -248,14 +254,14 @@ def largest(array: np.ndarray) -> float:
 
 
 def extremes(array: np.ndarray) -> tuple[float, float]:
-    """Return :func:`least` and :func:`largest` of an array.
+    """Return :func:`least_element` and :func:`largest_element` of an array.
 
     Examples
     --------
     >>> extremes(np.array([3.0, np.nan, 5.0]))
     (nan, nan)
     """
-    return least(array), largest(array)
+    return least_element(array), largest_element(array)
 
 
 def _within(quantity, window) -> bool:
