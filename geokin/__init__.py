@@ -26,6 +26,7 @@ from .errors import (
     AssemblyError,
     BudgetError,
     ConstructionError,
+    DegreesWarning,
     GeokinError,
     ScriptError,
 )
@@ -41,6 +42,7 @@ __all__ = [
     "Compiled",
     "Construction",
     "ConstructionError",
+    "DegreesWarning",
     "GeokinError",
     "Input",
     "Limits",

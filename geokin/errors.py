@@ -104,6 +104,15 @@ class AssemblyError(GeokinError):
         super().__init__(message)
 
 
+class DegreesWarning(UserWarning):
+    """An angle given to Python looks like degrees: geokin takes radians there.
+
+    A whole number of 10 or more (``range=(0, 360)``, an angle of 40): rare
+    in radians, common in degrees. ``np.radians`` converts; scripts, which
+    are in degrees, never warn.
+    """
+
+
 class BudgetError(GeokinError):
     """A script, an expression or a computation is larger than its budget.
 

@@ -1,5 +1,6 @@
 import inspect
 import time
+import warnings
 
 import numpy as np
 import pytest
@@ -7,8 +8,10 @@ from hypothesis import given
 from hypothesis import strategies as st
 from mechanisms import sixbar
 
+import geokin
 from geokin import Construction, ConstructionError, GeokinError, sweep
 from geokin.expressions import as_expr, parse
+from geokin.io import loads
 from geokin.loops import fourbar_closed_form
 from geokin.nodes import NODE_KINDS
 
@@ -682,3 +685,36 @@ def test_errors_of_a_motion_and_a_sweep_call_inputs_and_parameters_so():
     with pytest.raises(ConstructionError) as info:
         c.compile().with_parameters({"l33": 1})
     check(info, "l33", None, "parameter")
+
+
+SCRIPT_IN_DEGREES = """
+[inputs.theta]
+range = [0, 360]
+
+[points]
+O = { op = "fixed", at = [0, 0] }
+A = { op = "polar", origin = "O", distance = 10, angle = "theta" }
+P = { op = "polar", origin = "A", distance = 5, angle = 40, reference = ["O", "A"] }
+"""
+
+
+def test_degrees_given_where_radians_are_taken_are_warned_of():
+    """range=(0, 360) is 57 turns in radians; an angle of 40 is 6.4 turns."""
+    c = Construction()
+    with pytest.warns(geokin.DegreesWarning, match=r"input 'theta': a range of 0 to 360 is 57.3 turns "
+                                         r"in radians.*np.radians converts degrees") as caught:
+        c.input("theta", range=(0, 360))
+    assert caught[0].filename == __file__  # the warning points at the call
+    c.fixed("O", 0, 0)
+    c.polar("A", "O", 10, "theta")
+    with pytest.warns(geokin.DegreesWarning, match="point 'P': an angle of 40 is 6.37 turns"):
+        c.polar("P", "A", 5, 40, reference=("O", "A"))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        c.input("phi", range=(0, 2 * np.pi))  # radians, as they should be
+        c.input("s", kind="length", range=(0, 360))  # a length
+        c.polar("Q", "A", 5, np.radians(40), reference=("O", "A"))
+        c.polar("R", "A", 5, 3, reference=("O", "A"))  # 3 rad: a radian value
+        # a script's degrees are converted, whole numbers of them too
+        loaded = loads(SCRIPT_IN_DEGREES)
+    assert loaded.inputs["theta"].range[1] == pytest.approx(2 * np.pi)

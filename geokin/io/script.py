@@ -138,11 +138,12 @@ import os
 import re
 import sys
 import tomllib
+import warnings
 from collections.abc import Mapping
 
 from ..budgets import MAX_SCRIPT_BYTES
 from ..construction import MAX_SAMPLES, Construction
-from ..errors import ConstructionError, ScriptError, did_you_mean
+from ..errors import ConstructionError, DegreesWarning, ScriptError, did_you_mean
 from ..expressions import BinOp, Call, Expr, Name, Neg, Number
 from ..nodes import NODE_KINDS, Closure, Key, Node
 from ..terminal import clip_message, escape, shorten
@@ -503,8 +504,11 @@ class _Reader:
             self.declare(c, "parameters", name, self.parameter, value)
         for name, value in data.get("inputs", {}).items():
             self.declare(c, "inputs", name, self.input, value)
-        for name, value in data.get("points", {}).items():
-            self.declare(c, "points", name, self.point, value)
+        with warnings.catch_warnings():
+            # a script's angles are degrees until the end of reading, as they should be
+            warnings.simplefilter("ignore", DegreesWarning)
+            for name, value in data.get("points", {}).items():
+                self.declare(c, "points", name, self.point, value)
         for name, value in data.get("groups", {}).items():
             self.declare(c, "groups", name, self.group, value)
         for name, value in data.get("links", {}).items():
