@@ -365,6 +365,9 @@ ERRORS = [
     ('samples = 37', 'samples = 37\nsped = 1', ["[inputs] theta.sped: unknown key 'sped'; "
                                                 "did you mean 'speed'?"]),
     ('samples = 37', 'samples = 37\nspeed = "fast"', ["[inputs] theta.speed: expected a number"]),
+    ('samples = 37', 'samples = 37\nspeed = -360',
+     ["[inputs] theta.speed: speed must be a positive number (how fast the input moves, "
+      "degrees per second; a sweep's direction sets its sign), got -360"]),
     ("l3 = 100", "l3 = [100]", ["sixbar.toml:7: [parameters] l3: expected a number, got an array"]),
     ("l3 = 100", 'l3 = "l2 * 5"', ["[parameters] l3: a parameter's value must be a number or "
                                    "arithmetic of numbers, not of names ('l2' in 'l2 * 5')"]),

@@ -619,6 +619,13 @@ class _Reader:
                                     f"{_kind_of(spec[key])}"
                                     + (plain if isinstance(spec[key], str) else ""), sub=key)
                 options[key] = scale(spec[key])
+        speed = spec.get("speed")
+        if speed is not None and not speed > 0:
+            # said in the script's units: the construction would say radians
+            raise self.fail("inputs", name, f"speed must be a positive number (how fast the "
+                            f"input moves, {'degrees' if kind == 'angle' else 'lengths'} per "
+                            f"second; a sweep's direction sets its sign), got {speed!r}",
+                            sub="speed")
         step = options.get("step")
         if step and math.isfinite(step):
             lo, hi = options.get("range", (0.0, 2 * math.pi))
