@@ -22,6 +22,7 @@ holds the whole closed coupler curve of that circuit with its input history.
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any
@@ -32,7 +33,7 @@ from numpy.typing import ArrayLike
 from .compat import renamed_attribute, renamed_keywords
 from .construction import Compiled, Construction, as_compiled
 from .engine import assembly_guesses, evaluate, start_labels, variant_values
-from .errors import AssemblyError, ConstructionError
+from .errors import AssemblyError, ConstructionError, looks_like_degrees, warn_of_degrees
 from .frozen import Frozen
 from .nodes import NO_INTERSECTION, SINGULAR
 from .results import BranchEvent, Sweep, short_name
@@ -612,14 +613,16 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
 
             lo, hi = max(found.intervals, key=overlap)
             start = 0.5 * (lo.value + hi.value)
+    if declared.kind == "angle" and looks_like_degrees(start):
+        warn_of_degrees(f"circuit of {name!r}: a start of {start:g} is "
+                        f"{start / (2 * math.pi):.3g} turns in radians, which angles are here "
+                        "(np.radians converts degrees)")
     interval = _containing(found, start, declared.kind == "angle")
     if interval is None:
         unit = " rad" if declared.kind == "angle" else ""
         intervals = ", ".join(f"{lo:.6g} to {hi:.6g}{unit}" for lo, hi in found.as_values())
-        hint = ("; angles are in radians here (np.radians converts degrees)"
-                if declared.kind == "angle" and abs(start) > 2 * np.pi else "")
         raise AssemblyError(f"input {name!r} = {start:g}{unit} is outside every assemblable "
-                            f"interval: {intervals or 'none'}{hint}")
+                            f"interval: {intervals or 'none'}")
     lo, hi, shift = interval
     start = start + shift
     labels = dict(found.held_branches)
@@ -809,9 +812,16 @@ def _through_toggle(compiled, name, held, labels, limit: Limit, ends=None) -> di
 
 
 def _containing(found: Limits, value: float, angle: bool):
-    """Return (low, high, shift) of the interval containing ``value`` (shifted by turns)."""
-    shifts = (0.0, 2 * np.pi, -2 * np.pi) if angle else (0.0,)
+    """Return (low, high, shift) of the interval containing ``value`` (shifted by turns).
+
+    An angle is taken as itself or as the same angle any whole number of
+    turns away, the nearest first.
+    """
     for lo, hi in found.intervals:
+        shifts = [0.0]
+        if angle:
+            turns = math.floor((lo.value - value) / (2 * math.pi))
+            shifts += [2 * math.pi * k for k in (turns, turns + 1) if k]
         for shift in shifts:
             if lo.value <= value + shift <= hi.value:
                 return lo, hi, shift

@@ -330,6 +330,11 @@ def _circuit_of(construction, compiled, args, at):
     if args.samples == 1:
         raise UsageError("--circuit --samples counts the samples of each pass between two "
                          "limits: at least 2")
+    if len(construction.inputs) > 1:
+        raise UsageError(f"--circuit moves one input through its toggles; this construction "
+                         f"has {len(construction.inputs)} inputs "
+                         f"({', '.join(map(quote, construction.inputs))}), which a sweep "
+                         "moves together: leave out --circuit")
     first = next(iter(construction.inputs))
     start = None if args.start is None else _circuit_start(construction, compiled, args.start)
     result = circuit(compiled, first, start=start, samples_per_pass=args.samples or 361)
@@ -337,29 +342,46 @@ def _circuit_of(construction, compiled, args, at):
     if at is not None:
         inp = construction.inputs[next(iter(result.inputs))]
         path = result.input_values
-        if not path.min() <= from_script(inp, at) <= path.max():
+        value = float(from_script(inp, at))
+        if inp.kind == "angle":  # the same angle, as many turns away as the circuit is
+            value += 2 * math.pi * round((0.5 * (path.min() + path.max()) - value)
+                                         / (2 * math.pi))
+        if not path.min() <= value <= path.max():
             raise _outside(at, inp, to_script(inp, path.min()), to_script(inp, path.max()),
                            "the circuit")
-        result, index = _circuit_at(result, from_script(inp, at))
+        result, index = _circuit_at(result, value)
     values = {name: to_script_array(construction.inputs[name], v)
               for name, v in result.inputs.items()}
     return ScriptSweep(construction, result, values), index
 
 
 def _circuit_start(construction: Construction, compiled: Compiled, value: float) -> float:
-    """Return --start in geokin's units, refused where the first input cannot be assembled."""
+    """Return --start in geokin's units, refused where the first input cannot be assembled.
+
+    An angle is taken any whole number of turns away; a value within
+    :data:`START_SLACK` of an interval (its end, copied from the six
+    decimals ``analyze`` prints) is that end.
+    """
     inp = next(iter(construction.inputs.values()))
     found = limits(compiled, inp.name)
     start = float(from_script(inp, value))
-    turn = 2 * np.pi if inp.kind == "angle" else 0.0
-    if found.full_turn or any(lo <= start + k * turn <= hi for lo, hi in found.as_values()
-                              for k in (-1, 0, 1)):
+    if found.full_turn:
         return start
-    unit = " deg" if inp.kind == "angle" else ""
+    turn = 2 * math.pi if inp.kind == "angle" else 0.0
+    slack = float(from_script(inp, START_SLACK))
+    for lo, hi in found.as_values():
+        near = start + (turn * round((0.5 * (lo + hi) - start) / turn) if turn else 0.0)
+        if lo - slack <= near <= hi + slack:
+            return min(max(near, lo), hi)
+    unit = " deg" if inp.kind == "angle" else f" {one_line(construction.units, 100)}".rstrip()
     spans = ", ".join(f"{round(to_script(inp, lo), 6):.12g} to "
                       f"{round(to_script(inp, hi), 6):.12g}{unit}" for lo, hi in found.as_values())
-    raise UsageError(f"--start {value:g}: input {quote(inp.name)} cannot be assembled there "
+    raise UsageError(f"--start {value:.12g}: input {quote(inp.name)} cannot be assembled there "
                      f"(it can from {spans or 'nowhere'})")
+
+
+START_SLACK = 1e-6
+"""How far (script units) a --start may lie outside an interval and still start at its end."""
 
 
 def _circuit_at(result, at):
@@ -381,9 +403,10 @@ def _circuit_at(result, at):
 
 def _outside(at, inp, start, end, what) -> UsageError:
     """Refuse an --at beyond the values swept, naming them: drawing there would extrapolate."""
+    start, end = round(start, 6), round(end, 6)  # as analyze gives the limits
     swept = (f"{_format_value(inp, start)} alone" if start == end
-             else f"{start:g} to {_format_value(inp, end)}")
-    return UsageError(f"--at {at:g} is outside {what} of input {quote(inp.name)}: {swept}")
+             else f"{start:.12g} to {_format_value(inp, end)}")
+    return UsageError(f"--at {at:.12g} is outside {what} of input {quote(inp.name)}: {swept}")
 
 
 def _insert(values: dict, name: str, at: float):
@@ -406,8 +429,8 @@ def _insert(values: dict, name: str, at: float):
 
 def _format_value(inp, value) -> str:
     if inp.kind == "angle":
-        return f"{value:g} deg"
-    return f"{value:g}"
+        return f"{value:.12g} deg"
+    return f"{value:.12g}"
 
 
 # -- check -------------------------------------------------------------------------
@@ -984,13 +1007,11 @@ def add_analyze(subparsers: Subparsers) -> None:
 
 def run_analyze(args: argparse.Namespace) -> int:
     construction, compiled = script_of(args.script, args)
-    start = None
-    if args.start is not None:
-        if len(construction.inputs) != 1:
-            raise UsageError(f"--start picks a circuit of the input; this construction has "
-                             f"{len(construction.inputs)} inputs, swept together")
-        _circuit_start(construction, compiled, args.start)  # refused where it cannot start
-        start = args.start
+    start = args.start
+    if start is not None and len(construction.inputs) == 1:
+        # refused in script units, and taken at an interval's end copied from the report
+        start = to_script(next(iter(construction.inputs.values())),
+                          _circuit_start(construction, compiled, start))
     report = analyze(compiled, degrees=True, start=start)
     if args.json:
         json.dump(report.to_dict(), sys.stdout, indent=2, allow_nan=False,

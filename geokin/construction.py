@@ -45,19 +45,23 @@ import functools
 import heapq
 import keyword
 import math
-import sys
 import unicodedata
-import warnings
 from collections.abc import Callable, Iterable, Iterator, Mapping, Sequence
 from dataclasses import dataclass, field
-from types import FrameType
 from typing import ClassVar, Concatenate, ParamSpec, TypeVar
 
 import numpy as np
 
 from . import display
 from . import primitives as prim
-from .errors import ConstructionError, DegreesWarning, did_you_mean, quote, show
+from .errors import (
+    ConstructionError,
+    did_you_mean,
+    looks_like_degrees,
+    quote,
+    show,
+    warn_of_degrees,
+)
 from .expressions import (
     CONSTANTS,
     FUNCTIONS,
@@ -536,24 +540,6 @@ def _declaring(kind: str) -> Iterator[None]:
         raise err.naming(kind).with_traceback(err.__traceback__) from None
 
 
-def _looks_like_degrees(angle: float) -> bool:
-    """Whether an angle in radians is more likely degrees given by mistake.
-
-    A whole number of 10 or more: 30, 40, 90, 360 are common angles in
-    degrees, and rare ones in radians.
-    """
-    return abs(angle) >= 10 and float(angle).is_integer()
-
-
-def _warn_caller(message: str) -> None:
-    """Warn of degrees, pointing at the first caller outside this module."""
-    frame: FrameType | None = sys._getframe(1)
-    level = 2
-    while frame is not None and frame.f_globals.get("__name__") == __name__:
-        frame, level = frame.f_back, level + 1
-    warnings.warn(message, DegreesWarning, stacklevel=level)
-
-
 def _declares(kind: str) -> Callable[[Callable[Concatenate[Construction, _P], _R]],
                                      Callable[Concatenate[Construction, _P], _R]]:
     """Decorate a method that declares a ``kind``: its errors call the name a ``kind``."""
@@ -772,9 +758,9 @@ class Construction:
             raise ConstructionError("the range's two ends are equal: nothing to sweep",
                                     node=name, field="range")
         width = lo_hi[1] - lo_hi[0]
-        if kind == "angle" and all(_looks_like_degrees(end) or end == 0 for end in lo_hi) \
-                and _looks_like_degrees(width):
-            _warn_caller(f"input {quote(name)}: a range of {lo_hi[0]:g} to {lo_hi[1]:g} is "
+        if kind == "angle" and all(looks_like_degrees(end) or end == 0 for end in lo_hi) \
+                and looks_like_degrees(width):
+            warn_of_degrees(f"input {quote(name)}: a range of {lo_hi[0]:g} to {lo_hi[1]:g} is "
                          f"{abs(width) / (2 * math.pi):.3g} turns in radians, which angles "
                          "are here (np.radians converts degrees)")
         if not np.isfinite(width):
@@ -1196,8 +1182,8 @@ class Construction:
         values = node.value_fields()
         for field_name in sorted(node.angle_fields()):
             value = values[field_name]
-            if isinstance(value, Number) and _looks_like_degrees(value.value):
-                _warn_caller(f"point {quote(name)}: an angle of {value.value:g} is "
+            if isinstance(value, Number) and looks_like_degrees(value.value):
+                warn_of_degrees(f"point {quote(name)}: an angle of {value.value:g} is "
                              f"{value.value / (2 * math.pi):.3g} turns in radians, which "
                              "angles are here (np.radians converts degrees)")
         self.nodes[name] = node

@@ -697,8 +697,8 @@ def _all_finite(x, y) -> bool:
     that keep spinning, and take the other cores' time.
     """
     if type(x) is np.ndarray and type(y) is np.ndarray and x.shape == y.shape:
-        if (x.size <= DOT_BELOW and x.flags.c_contiguous and y.flags.c_contiguous
-                and x.dtype == y.dtype == float):
+        if (x.ndim == 1 and x.size <= DOT_BELOW and x.flags.c_contiguous
+                and y.flags.c_contiguous and x.dtype == y.dtype == float):
             return math.isfinite(x.dot(y))
     elif (type(x) in _NUMBERS and type(y) in _NUMBERS) or (np.ndim(x) == 0 and np.ndim(y) == 0):
         return math.isfinite(x) and math.isfinite(y)

@@ -8,7 +8,10 @@ in a sweep is *not* an error: it is recorded in the sweep result.
 from __future__ import annotations
 
 import difflib
+import sys
+import warnings
 from collections.abc import Iterable
+from types import FrameType
 
 from .terminal import cut_text
 
@@ -111,6 +114,27 @@ class DegreesWarning(UserWarning):
     in radians, common in degrees. ``np.radians`` converts; scripts, which
     are in degrees, never warn.
     """
+
+
+def looks_like_degrees(angle: float) -> bool:
+    """Whether an angle in radians is more likely degrees given by mistake.
+
+    A whole number of 10 or more: 30, 40, 90, 360 are common angles in
+    degrees, and rare ones in radians.
+
+    >>> looks_like_degrees(40), looks_like_degrees(40.5), looks_like_degrees(3)
+    (True, False, False)
+    """
+    return abs(angle) >= 10 and float(angle).is_integer()
+
+
+def warn_of_degrees(message: str) -> None:
+    """Warn with a :class:`DegreesWarning`, pointing at the first caller outside geokin."""
+    frame: FrameType | None = sys._getframe(1)
+    level = 2
+    while frame is not None and str(frame.f_globals.get("__name__", "")).startswith("geokin."):
+        frame, level = frame.f_back, level + 1
+    warnings.warn(message, DegreesWarning, stacklevel=level)
 
 
 class BudgetError(GeokinError):

@@ -218,11 +218,11 @@ ARGS_BELOW = 8192
 def least_element(array: np.ndarray) -> float:
     """Return the least element of a non-empty array, NaN if it holds one.
 
-    What ``np.minimum.reduce`` gives over the whole array, as a Python
-    number. On short arrays it is found by ``argmin``, which takes the first
-    NaN as the least, in a third of the time of a reduction on a few
-    hundred elements; on long ones, where ``argmin`` is slower per element,
-    by the reduction.
+    For a float array, the value ``np.minimum.reduce`` gives over the whole
+    array (but for the sign of a zero), as a Python number. On short arrays
+    it is found by ``argmin``, which takes the first NaN as the least, in a
+    third of the time of a reduction on a few hundred elements; on long
+    ones, where ``argmin`` is slower per element, by the reduction.
 
     Examples
     --------

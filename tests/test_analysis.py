@@ -482,3 +482,18 @@ def test_a_joint_run_out_and_back_unevenly_has_no_double_point():
     crossing = curve_measures(np.c_[x, y] * 40)
     assert crossing.double_points.shape == (1, 2)
     np.testing.assert_allclose(crossing.double_points[0], (0, 0), atol=1e-9)
+
+
+@pytest.mark.parametrize("radius, centre", [(1.0, 0.0), (1e-5, 1000.0), (1e-3, 1e6)])
+def test_an_arc_run_out_and_back_far_from_the_origin_has_no_double_point(radius, centre):
+    """The search for the segments through a node scales with the curve, not its place."""
+    a = np.concatenate([np.linspace(0, 2, 51), np.linspace(2, 0, 38)])
+    m = curve_measures(np.c_[centre + radius * np.cos(a), radius * np.sin(a)])
+    assert m.closed and m.simple and m.area <= m.area_tolerance
+    # a figure eight there keeps its one double point, at its centre
+    t = np.linspace(0, 2 * np.pi, 2001)
+    d = 1 + np.sin(t) ** 2
+    eight = curve_measures(np.c_[centre + radius * 2 * np.cos(t) / d,
+                                 radius * 2 * np.sin(t) * np.cos(t) / d])
+    assert eight.double_points.shape == (1, 2)
+    np.testing.assert_allclose(eight.double_points[0], (centre, 0.0), atol=1e-6 * radius)

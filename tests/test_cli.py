@@ -670,7 +670,7 @@ def test_plot_at_a_value_that_does_not_assemble_names_the_pose_drawn(capsys, tmp
                                                               "input 'theta': 40 deg alone"),
     ([CRANK, "--at", 140], "--at 140 is outside the sweep of input 'theta2': -132 to 132 deg"),
     ([CRANK, "--circuit", "--at", 140], "--at 140 is outside the circuit of input 'theta2': "
-                                        "-132.177 to 132.177 deg"),
+                                        "-132.177419 to 132.177419 deg"),
 ])
 def test_plot_refuses_a_value_outside_the_sweep_with_its_range(capsys, tmp_path, argv,
                                                                message):

@@ -701,8 +701,9 @@ P = { op = "polar", origin = "A", distance = 5, angle = 40, reference = ["O", "A
 def test_degrees_given_where_radians_are_taken_are_warned_of():
     """range=(0, 360) is 57 turns in radians; an angle of 40 is 6.4 turns."""
     c = Construction()
-    with pytest.warns(geokin.DegreesWarning, match=r"input 'theta': a range of 0 to 360 is 57.3 turns "
-                                         r"in radians.*np.radians converts degrees") as caught:
+    with pytest.warns(geokin.DegreesWarning,
+                      match=r"input 'theta': a range of 0 to 360 is 57.3 turns in radians.*"
+                            r"np.radians converts degrees") as caught:
         c.input("theta", range=(0, 360))
     assert caught[0].filename == __file__  # the warning points at the call
     c.fixed("O", 0, 0)

@@ -4,6 +4,7 @@ from hypothesis import assume, given, settings
 from hypothesis import strategies as st
 from mechanisms import R1, R2, R3, R4, coupler_fourbar, fourbar, triple_rocker
 
+import geokin
 from geokin import AssemblyError, Construction, ConstructionError, sweep
 from geokin.analysis import grashof
 from geokin.circuits import circuit, limits
@@ -102,9 +103,17 @@ def test_a_circuit_start_outside_every_interval_is_an_error_in_radians():
     with pytest.raises(AssemblyError, match=rf"= 3.14159 rad is outside every assemblable "
                                             rf"interval: {interval}$"):
         circuit(triple_rocker("crank"), start=np.pi)
-    # degrees passed for radians: said so
-    with pytest.raises(AssemblyError, match=r"= 150 rad is outside .*; angles are in radians"):
-        circuit(triple_rocker("crank"), start=150)
+
+
+
+def test_a_circuit_starts_at_its_angle_however_many_turns_out_it_is_given():
+    """150 rad is -45.63 deg after 24 turns back; a whole number like it may be degrees."""
+    with pytest.warns(geokin.DegreesWarning, match="a start of 150 is 23.9 turns in radians"):
+        s = circuit(triple_rocker("crank"), start=150)
+    assert s.input_values[0] == pytest.approx(150 - 24 * 2 * np.pi, abs=1e-12)
+    s = circuit(coupler_fourbar(), start=0.3 + 7 * 2 * np.pi)  # a full turn, 7 turns out
+    assert s.input_values[0] == pytest.approx(0.3, abs=1e-12)
+    np.testing.assert_allclose(s.input_values[-1] - s.input_values[0], 2 * np.pi)
 
 
 def test_limits_and_circuit_for_a_line_circle_toggle():

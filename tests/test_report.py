@@ -799,3 +799,25 @@ def test_transmission_extremes_are_placed_between_samples_where_the_closed_form_
     [line] = [line for line in report.to_text().splitlines() if line.startswith("transmission")]
     assert line.endswith(f"(at theta = {mu.at_minimum['theta']:.4f} deg and theta = "
                          f"{mu.at_maximum['theta']:.4f} deg)")
+
+
+def test_a_construction_without_inputs_is_reported_as_it_stands():
+    c = Construction("still")
+    c.fixed("O", 0, 0)
+    c.polar("A", "O", 2, 0.5)
+    c.link("arm", "O", "A")
+    c.trace("A")
+    report = analyze(c)
+    assert report.dof == 0 and not report.inputs and not report.strokes
+    assert report.warnings == ()
+    assert "0 inputs" in report.to_text()
+
+
+def test_a_start_outside_every_interval_is_refused_in_the_reports_units():
+    with pytest.raises(AnalysisError, match=r"a start of 200 deg: input 'theta' cannot be "
+                                            r"assembled there \(it can from 22.331645 to "
+                                            r"82.819244 deg, 277.180756 to 337.668355 deg\)"):
+        analyze(double_rocker(), degrees=True, start=200.0)
+    # 780 deg is 60 deg two turns on: the first circuit
+    report = analyze(double_rocker(), degrees=True, start=780.0)
+    assert "from 22.331645 to 82.819244 deg" in report.warnings[0]

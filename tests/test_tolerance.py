@@ -110,17 +110,17 @@ def test_uniform_draws_against_the_closed_condition():
     assert abs(t.assemblable_fraction - expected) < 4.5 * error
 
 
-def placed_extreme(values, sign):
+def placed_extreme(values, sign, closed):
     """The largest (sign 1) or least (-1) value, by the parabola through the extreme sample.
 
-    Its neighbours; a sweep that ends where it began has its ends as each
-    other's neighbours.
+    Its neighbours; over a ``closed`` sweep (whole turns) values that end
+    where they began have their ends as each other's neighbours.
     """
     i, n = int(np.argmax(sign * values)), len(values)
-    closed = abs(values[0] - values[-1]) <= 1e-12 * max(1.0, abs(values[0]))
+    back = closed and abs(values[0] - values[-1]) <= 1e-12 * max(1.0, abs(values[0]))
     if 0 < i < n - 1:
         around = values[i - 1:i + 2]
-    elif closed:
+    elif back:
         around = np.array([values[n - 2], values[i], values[1]])
     else:
         return values[i]
@@ -140,7 +140,8 @@ def test_path_statistics_and_strokes_are_those_of_the_variants_swept_one_by_one(
         if s.valid.all():
             deviations.append(np.hypot(*(s["B"] - nominal).T))
             rocker = link_angles(s)["rocker"]
-            strokes.append(placed_extreme(rocker, 1) - placed_extreme(rocker, -1))
+            # one turn of the crank: a closed sweep
+            strokes.append(placed_extreme(rocker, 1, True) - placed_extreme(rocker, -1, True))
     deviations = np.array(deviations)
     spread = t.paths["B"]
     assert np.allclose(spread.mean, deviations.mean(axis=0), rtol=1e-9, atol=1e-12)
@@ -491,7 +492,8 @@ def test_strokes_near_the_nominal_link_are_those_of_the_arctangent(seed, spread,
     # the links' own angles, continuous along the samples: a turn beyond half a
     # turn from the nominal is not cut there
     angle = base + turn
-    expected = np.array([placed_extreme(row, 1) - placed_extreme(row, -1) for row in angle])
+    expected = np.array([placed_extreme(row, 1, False) - placed_extreme(row, -1, False)
+                         for row in angle])
     found = _stroke_from((ux, uy, base), dx, dy)
     np.testing.assert_allclose(found[1:], expected[1:], rtol=0, atol=1e-11)
     assert np.isnan(found[0])
@@ -733,3 +735,22 @@ def test_a_slider_cranks_stroke_and_its_sensitivity_are_those_of_the_closed_form
     drawn = t.draws()["e"][t.assembled]
     expected = np.sqrt((rod + r) ** 2 - drawn**2) - np.sqrt((rod - r) ** 2 - drawn**2)
     np.testing.assert_allclose(t.strokes["slider.position"].assembled, expected, atol=1e-5)
+
+
+def test_an_open_sweeps_ends_are_not_each_others_neighbours():
+    """x (1 - x)(1 + 2x) on [0, 1] is 0 at both ends and tops 0.528163 inside.
+
+    Only a sweep that ends whole turns on from where it began may join its
+    ends; this one, sampled every 0.1, is open, whatever its values do.
+    """
+    from geokin.analysis.tolerance import _closes, _range_between_samples
+
+    x = np.linspace(0, 1, 11)
+    f = (x * (1 - x) * (1 + 2 * x))[None]
+    top = (2 + np.sqrt(28)) / 12  # where 1 + 2x - 6x^2 = 0
+    assert _range_between_samples(f, False)[0] == pytest.approx(
+        top * (1 - top) * (1 + 2 * top), abs=2e-4)
+    c = fourbar()
+    assert _closes(c.compile(), {"theta2": np.linspace(0, 2 * np.pi, 5)})
+    assert not _closes(c.compile(), {"theta2": np.linspace(0, np.pi, 5)})
+    assert not _closes(c.compile(), {"theta2": np.zeros(5)})

@@ -212,7 +212,8 @@ class Curve:
     double_points : ndarray, shape (K, 2)
         Where the curve crosses or touches itself.
     area_tolerance : float
-        How far ``area`` may be from the area of the smooth curve the
+        For a closed curve (NaN for an open one), how far ``area`` may be
+        from the area of the smooth curve the
         polyline samples: the areas between each segment and the arc it
         cuts off, about ``turn * length**2 / 12`` a segment, where ``turn``
         is the angle the path turns through across the segment (its turns
@@ -437,8 +438,11 @@ def _double_points(noded, runs, closed: bool, least_angle=GRAZING_ANGLE) -> np.n
     # shapely gives an array of lines for an array of coordinates
     lines = cast(np.ndarray, shapely.linestrings(np.stack([starts, starts + steps], axis=1)))
     tree = shapely.STRtree(lines)
-    # the curve is about unit size here: a node lies on its segments to rounding
-    at, through = tree.query(shapely.points(nodes), predicate="dwithin", distance=1e-9)
+    # a node lies on its segments to the rounding of the coordinates (about 1 here, the
+    # curve scaled by its largest), or of the curve's own extent if that is larger
+    extent = float(np.ptp(starts, axis=0).max(initial=0.0))
+    reach = max(1e-9 * extent, 64 * np.finfo(float).eps)
+    at, through = tree.query(shapely.points(nodes), predicate="dwithin", distance=reach)
     # every two segments through a node, and the steepest crossing at each node
     order = np.argsort(at, kind="stable")
     at, through = at[order], through[order]

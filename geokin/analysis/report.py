@@ -716,18 +716,19 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False,
     warnings = []
     if len(compiled.inputs) == 1:
         name = next(iter(compiled.inputs))
-        if start is not None and degrees and compiled.inputs[name].kind == "angle":
-            start = math.radians(start)
+        if start is not None:
+            start = _circuit_start(compiled, name, inputs[name], start, degrees)
         motion = circuit(compiled, start=start)
         if len(inputs[name].intervals) > 1:
-            warnings.append(_which_circuit(name, compiled.inputs[name].kind, inputs[name],
+            warnings.append(_which_circuit(compiled, name, len(inputs[name].intervals),
                                            motion.inputs[name], value_of(name), degrees))
     else:
         if start is not None:
-            raise AnalysisError(f"start= picks a circuit of the input; this construction "
+            raise AnalysisError(f"a start picks the circuit of an input; this construction "
                                 f"has {len(compiled.inputs)} inputs, swept together")
         motion = sweep(compiled)
-        warnings.append(_swept_together(compiled, motion, value_of, degrees))
+        if compiled.inputs:
+            warnings.append(_swept_together(compiled, motion, value_of, degrees))
     if not motion.valid.all():
         i = int(np.flatnonzero(~motion.valid)[0])
         warnings.append(
@@ -790,8 +791,9 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False,
             ends = [(steps.inputs_at(where), value) for where, value in (
                 _placed_extreme(t.angle, sign, steps, of, False) for sign in (-1, 1))]
         (at_low, low), (at_high, high) = ends
-        transmission[node] = TransmissionReport(angle(low), angle(high), inputs_at(at_low),
-                                                inputs_at(at_high))
+        transmission[node] = TransmissionReport(
+            angle(low), angle(high), inputs_at(_in_declared_turn(compiled, inputs, at_low)),
+            inputs_at(_in_declared_turn(compiled, inputs, at_high)))
     curves = {}
     for point in compiled.traced:
         try:
@@ -921,8 +923,9 @@ class _Steps:
         self.compiled = compiled
         self.inputs = motion.inputs
         n = self.n = len(motion)
-        self.x = (next(iter(motion.inputs.values())) if len(motion.inputs) == 1
-                  else np.arange(n, dtype=float))
+        # the parameter along the steps: the input, or the sample's index
+        self.along = (next(iter(motion.inputs.values())) if len(motion.inputs) == 1
+                      else np.arange(n, dtype=float))
         self.labels = {k: np.broadcast_to(b, (n,)) for k, b in motion.branches.items()}
         self.changes = {event.index for event in motion.events}  # in the step ending there
         self.closed = (n > 2 and all(v[0] == v[-1] for v in self.inputs.values())
@@ -947,7 +950,7 @@ class _Steps:
             values = {k: np.linspace(v[start], v[end], REFINE_SAMPLES)
                       for k, v in self.inputs.items()}
             branches = {k: int(v[start]) for k, v in self.labels.items()}
-            self.dense[a] = (np.linspace(self.x[start], self.x[end], REFINE_SAMPLES),
+            self.dense[a] = (np.linspace(self.along[start], self.along[end], REFINE_SAMPLES),
                              sweep(self.compiled, values, start_branches=branches))
         return self.dense[a]
 
@@ -973,14 +976,14 @@ def _placed_extreme(values, sign, steps: _Steps, of: Callable[[Sweep], np.ndarra
     """
     finite = np.where(np.isfinite(values), sign * values, -np.inf)
     i = int(np.argmax(finite))
-    where, best = float(steps.x[i]), float(values[i])
+    where, best = float(steps.along[i]), float(values[i])
     for a in steps.about(i):
         x, local = steps.evaluated(a)
         dense = np.asarray(of(local), dtype=float)
         if not np.isfinite(dense).all():
             continue
         if is_angle:
-            at = int(np.argmin(np.abs(x - steps.x[i])))
+            at = int(np.argmin(np.abs(x - steps.along[i])))
             dense = dense + 2 * np.pi * np.round((best - dense[at]) / (2 * np.pi))
         k = int(np.argmax(sign * dense))
         if 0 < k < len(dense) - 1:
@@ -1061,14 +1064,57 @@ def _known_to(compiled: Compiled, motion: Sweep) -> dict[str, float]:
     return off
 
 
-def _which_circuit(name: str, kind: str, entry: InputReport, path: np.ndarray,
+def _in_declared_turn(compiled: Compiled, inputs: Mapping[str, InputReport],
+                      values: Mapping[str, float]) -> dict[str, float]:
+    """Return input values (radians) with each input that turns fully told in its first turn.
+
+    The turn from the start of its declared range: a circuit started
+    elsewhere gives a crank's angles some turns on.
+    """
+    told = dict(values)
+    for name, value in values.items():
+        if inputs[name].full_turn and compiled.inputs[name].kind == "angle":
+            low = min(compiled.inputs[name].range)
+            turned = (value - low) % (2 * math.pi)
+            # a turn short of the start by rounding is the start
+            told[name] = low + (0.0 if 2 * math.pi - turned <= ROUNDING else turned)
+    return told
+
+
+def _input_unit(compiled: Compiled, name: str, degrees: bool) -> str:
+    """Return the unit an input's values are told in, with its leading space."""
+    if compiled.inputs[name].kind == "angle":
+        return " deg" if degrees else " rad"
+    return f" {one_line(compiled.units, 100)}" if compiled.units else ""
+
+
+def _circuit_start(compiled: Compiled, name: str, entry: InputReport, start: float,
+                   degrees: bool) -> float:
+    """Return a circuit's start in radians (or length units), refused outside every interval.
+
+    ``start`` is in the report's units; an angle is taken any whole number of
+    turns away.
+    """
+    angle = compiled.inputs[name].kind == "angle"
+    turn = (360.0 if degrees else 2 * math.pi) if angle else 0.0
+    if not entry.full_turn and not any(
+            lo <= start + (turn * round((0.5 * (lo + hi) - start) / turn) if turn else 0.0)
+            <= hi for lo, hi in entry.intervals):
+        unit = _input_unit(compiled, name, degrees)
+        spans = ", ".join(f"{lo:.6f} to {hi:.6f}{unit}" for lo, hi in entry.intervals)
+        raise AnalysisError(f"a start of {start:.12g}{unit}: input {quote(name)} cannot be "
+                            f"assembled there (it can from {spans or 'nowhere'})")
+    return math.radians(start) if angle and degrees else start
+
+
+def _which_circuit(compiled: Compiled, name: str, count: int, path: np.ndarray,
                    convert: Callable[[Any], float], degrees: bool) -> str:
-    """Say which of an input's intervals the analysed circuit runs in."""
-    unit = (" deg" if degrees else " rad") if kind == "angle" else ""
+    """Say which of an input's ``count`` intervals the analysed circuit runs in."""
+    unit = _input_unit(compiled, name, degrees)
     low, high = convert(np.min(path)), convert(np.max(path))
-    return (f"input {name!r} can be assembled in {len(entry.intervals)} intervals, each a "
-            f"circuit of its own: the figures below are of the one from {low:.6f} to "
-            f"{high:.6f}{unit} (--start, or start= in Python, picks another)")
+    return (f"input {quote(name)} can be assembled in {count} intervals, each a circuit of "
+            f"its own: the figures below are of the one from {low:.6f} to {high:.6f}{unit} "
+            "(a start in another analyses its circuit)")
 
 
 def _swept_together(compiled: Compiled, motion: Sweep, value_of: Callable[[str], Callable],
@@ -1076,9 +1122,9 @@ def _swept_together(compiled: Compiled, motion: Sweep, value_of: Callable[[str],
     """Say that several inputs were swept together along one path, and how."""
     spans = []
     for name, values in motion.inputs.items():
-        unit = (" deg" if degrees else " rad") if compiled.inputs[name].kind == "angle" else ""
         convert = value_of(name)
-        spans.append(f"{name!r} from {convert(values[0]):g} to {convert(values[-1]):g}{unit}")
+        spans.append(f"{quote(name)} from {convert(values[0]):g} to {convert(values[-1]):g}"
+                     f"{_input_unit(compiled, name, degrees)}")
     return (f"{len(spans)} inputs swept together over {len(motion)} samples "
             f"({', '.join(spans)}): the figures below are over this path, not over every "
             "combination of their values")
@@ -1139,6 +1185,8 @@ def _strokes(compiled: Compiled, motion: Sweep, angle: Callable[[Any], float],
     turns fully is reported as turning rather than with extremes. With
     several inputs, over the path of the sweep: extremes only.
     """
+    if not compiled.inputs:  # one configuration: nothing moves
+        return {}
     name, declared = next(iter(compiled.inputs.items()))
     single = len(compiled.inputs) == 1
     # one turn of the input, forwards: through change points too, where the branches

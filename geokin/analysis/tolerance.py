@@ -188,7 +188,8 @@ def _outputs(compiled: Compiled) -> tuple[_Output, ...]:
 
 
 def _strokes(coords: Callable[[str], tuple[Any, Any]], output: _Output,
-             reference: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None) -> np.ndarray:
+             reference: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None, *,
+             closed: bool = False) -> np.ndarray:
     """Return the stroke of an output for each row of (V, N) coordinates.
 
     ``coords(point)`` gives a point's x and y. A link's angle is measured
@@ -196,23 +197,24 @@ def _strokes(coords: Callable[[str], tuple[Any, Any]], output: _Output,
     angle at each sample, so a variant's angle is the nominal one plus its
     small difference from it; without a reference it is followed from
     sample to sample (each step the angle between its directions, as
-    unwrapping does). A full turn is 2 pi either way.
+    unwrapping does). A full turn is 2 pi either way. ``closed``: the sweep
+    ends where it began, whole turns on (see :func:`_between_samples`).
     """
     with np.errstate(all="ignore"):
         if output.kind == "angle":
             (x0, y0), (x1, y1) = coords(output.points[0]), coords(output.points[1])
             dx, dy = np.atleast_2d(x1 - x0), np.atleast_2d(y1 - y0)
             if reference is not None:
-                return _stroke_from(reference, dx, dy)
+                return _stroke_from(reference, dx, dy, closed)
             cross = dx[:, :-1] * dy[:, 1:] - dy[:, :-1] * dx[:, 1:]
             dot = dx[:, :-1] * dx[:, 1:] + dy[:, :-1] * dy[:, 1:]
             turned = np.cumsum(np.arctan2(cross, dot), axis=1)
             return _range_between_samples(np.concatenate(
-                [np.zeros((turned.shape[0], 1)), turned], axis=1))
+                [np.zeros((turned.shape[0], 1)), turned], axis=1), closed)
         (px, py), (sx, sy), (ex, ey) = (coords(p) for p in output.points)
         gx, gy = ex - sx, ey - sy
         along = np.atleast_2d(((px - sx) * gx + (py - sy) * gy) / np.hypot(gx, gy))
-        stroke = _range_between_samples(along)
+        stroke = _range_between_samples(along, closed)
         # a point that keeps its place on its guide moves by the rounding of its
         # coordinates: no stroke
         size = np.atleast_2d(np.abs(px) + np.abs(py) + np.abs(sx) + np.abs(sy))
@@ -243,7 +245,7 @@ their temporaries stay within the shared cache, and the work each block
 does in Python is small beside its arithmetic."""
 
 
-def _stroke_from(reference, dx, dy) -> np.ndarray:
+def _stroke_from(reference, dx, dy, closed: bool = False) -> np.ndarray:
     """Return each row's stroke of a link's angle, measured from the nominal link.
 
     The angle is the nominal one plus the angle between the two directions,
@@ -258,7 +260,7 @@ def _stroke_from(reference, dx, dy) -> np.ndarray:
     ux, uy, base = reference
     rows = max(1, STROKE_BLOCK // max(dx.shape[1], 1))
     if dx.shape[0] > rows:  # a block of rows at a time: its temporaries stay in the cache
-        return np.concatenate([_stroke_from(reference, dx[i:i + rows], dy[i:i + rows])
+        return np.concatenate([_stroke_from(reference, dx[i:i + rows], dy[i:i + rows], closed)
                                for i in range(0, dx.shape[0], rows)])
     cross = ux * dy
     cross -= uy * dx
@@ -277,12 +279,15 @@ def _stroke_from(reference, dx, dy) -> np.ndarray:
         largest = float(np.max(turn[members]))
         high_columns, low_columns = _near_extremes(base, largest)
         if largest < FROM_REFERENCE:
-            high = _extreme_angles(reference, dx, dy, tangent, members, high_columns, np.argmax)
-            low = _extreme_angles(reference, dx, dy, tangent, members, low_columns, np.argmin)
+            high = _extreme_angles(reference, dx, dy, tangent, members, high_columns, np.argmax,
+                                   closed)
+            low = _extreme_angles(reference, dx, dy, tangent, members, low_columns, np.argmin,
+                                  closed)
         else:
             high, low = (_between_samples(
                 partial(_exact_at, base, cross, dot, members), columns[pick(
-                    _exact(base, cross, dot, members, columns), axis=1)], dx.shape[1], sign)
+                    _exact(base, cross, dot, members, columns), axis=1)], dx.shape[1], sign,
+                closed)
                 for columns, pick, sign in ((high_columns, np.argmax, 1),
                                             (low_columns, np.argmin, -1)))
         stroke[members] = high - low
@@ -291,21 +296,41 @@ def _stroke_from(reference, dx, dy) -> np.ndarray:
         # a link that turns a quarter turn or more from the nominal: its difference
         # from it followed along the samples, never cut at half a turn
         angle = base + np.unwrap(np.arctan2(cross[rest], dot[rest]), axis=1)
-        stroke[rest] = _range_between_samples(angle)
+        stroke[rest] = _range_between_samples(angle, closed)
     return stroke
 
 
+def _closes(compiled: Compiled, inputs: Mapping[str, np.ndarray]) -> bool:
+    """Whether a sweep's inputs end where they began, an angle whole turns on (one at least).
+
+    Only then may an output's first and last samples be one configuration,
+    each the other's neighbour (:func:`_between_samples`).
+    """
+    turned = False
+    for name, values in inputs.items():
+        travel = float(values[-1] - values[0]) if len(values) > 1 else 0.0
+        if compiled.inputs[name].kind == "angle":
+            turns = travel / (2 * math.pi)
+            if abs(turns - round(turns)) > 1e-9 * max(1.0, abs(turns)):
+                return False
+            turned = turned or round(turns) != 0
+        elif travel != 0:
+            return False
+    return turned
+
+
 def _between_samples(values: Callable[[np.ndarray], np.ndarray], picked: np.ndarray, n: int,
-                     sign: int) -> np.ndarray:
+                     sign: int, closed: bool = False) -> np.ndarray:
     """Return each row's largest (sign 1) or least (-1) value, placed between samples.
 
     ``picked`` is each row's extreme sample, ``values(columns)`` each row's
     value at one column each. The parabola through the extreme sample and
     its neighbours places the extreme where it turns within a step of the
     sample, as :func:`~geokin.analysis.measures.refine_extreme` does;
-    otherwise, and at an end of the sweep, the sample is the extreme. A row
-    that ends where it began (a whole turn of the input) has its ends as
-    each other's neighbours. Measured at the samples alone, a stroke is
+    otherwise, and at an end of the sweep, the sample is the extreme. Over a
+    ``closed`` sweep (its inputs end whole turns on from where they began) a
+    row whose value ends where it began has its ends as each other's
+    neighbours. Measured at the samples alone, a stroke is
     short by up to the output's curvature times a step squared over 8, and
     its derivative, a sensitivity, takes the slope at the sample.
 
@@ -323,25 +348,25 @@ def _between_samples(values: Callable[[np.ndarray], np.ndarray], picked: np.ndar
     last = n - 1
     if n < 3:
         return middle
-    ends = (picked == 0) | (picked == last)
     left, right = picked - 1, picked + 1
-    if ends.any():
+    if closed and ((picked == 0) | (picked == last)).any():
         # a row back where it began: its ends are one sample, its neighbours 1 and n - 2
         first, final = values(np.zeros_like(picked)), values(np.full_like(picked, last))
-        closed = np.abs(first - final) <= 1e-12 * np.fmax(np.abs(first), 1.0)
-        left = np.where(picked == 0, np.where(closed, last - 1, 0), left)
-        right = np.where(picked == last, np.where(closed, 1, last), right)
+        back = np.abs(first - final) <= 1e-12 * np.fmax(np.abs(first), 1.0)
+        left = np.where((picked == 0) & back, last - 1, left)
+        right = np.where((picked == last) & back, 1, right)
+    inside = (left >= 0) & (right <= last)  # else an end of the sweep: the sample
     before, after = values(np.clip(left, 0, last)), values(np.clip(right, 0, last))
     bend = before - 2 * middle + after  # the parabola's second difference
     with np.errstate(divide="ignore", invalid="ignore"):
         offset = (before - after) / (2 * bend)
         placed = middle - 0.25 * (before - after) * offset
-    turns = (sign * bend < 0) & (np.abs(offset) <= 1) & (left != picked) & (right != picked)
+    turns = (sign * bend < 0) & (np.abs(offset) <= 1) & inside
     placed = np.where(turns & (sign * placed > sign * middle), placed, middle)
     return placed
 
 
-def _range_between_samples(values: np.ndarray) -> np.ndarray:
+def _range_between_samples(values: np.ndarray, closed: bool = False) -> np.ndarray:
     """Return each row's largest minus least value, both placed between samples."""
     rows = np.arange(values.shape[0])
 
@@ -349,8 +374,8 @@ def _range_between_samples(values: np.ndarray) -> np.ndarray:
         return values[rows, columns]
 
     n = values.shape[1]
-    return (_between_samples(at, np.argmax(values, axis=1), n, 1)
-            - _between_samples(at, np.argmin(values, axis=1), n, -1))
+    return (_between_samples(at, np.argmax(values, axis=1), n, 1, closed)
+            - _between_samples(at, np.argmin(values, axis=1), n, -1, closed))
 
 
 def _near_extremes(base, turn: float) -> tuple[np.ndarray, np.ndarray]:
@@ -360,7 +385,8 @@ def _near_extremes(base, turn: float) -> tuple[np.ndarray, np.ndarray]:
             np.flatnonzero(base <= np.min(base) + reach))
 
 
-def _extreme_angles(reference, dx, dy, tangent, rows, columns, pick) -> np.ndarray:
+def _extreme_angles(reference, dx, dy, tangent, rows, columns, pick,
+                    closed: bool = False) -> np.ndarray:
     """Return the largest (``pick`` np.argmax) or least (np.argmin) angle of some rows.
 
     Sought over ``columns``, all within twice atan(turn) of the nominal's
@@ -387,7 +413,7 @@ def _extreme_angles(reference, dx, dy, tangent, rows, columns, pick) -> np.ndarr
         x, y = dx[rows, at_columns], dy[rows, at_columns]
         return base[at] + np.arctan2(ux[at] * y - uy[at] * x, ux[at] * x + uy[at] * y)
 
-    return _between_samples(angle, picked, dx.shape[1], 1 if pick is np.argmax else -1)
+    return _between_samples(angle, picked, dx.shape[1], 1 if pick is np.argmax else -1, closed)
 
 
 def _cells(rows: np.ndarray, columns: np.ndarray) -> tuple:
@@ -439,6 +465,7 @@ class _Study:
     references: dict[str, tuple[np.ndarray, np.ndarray, np.ndarray] | None]
     percentile_variants: int
     sample_paths: int
+    closed: bool  # the inputs end whole turns on from where they began
 
 
 @dataclass
@@ -513,7 +540,8 @@ def _evaluate_block(study: _Study, start: int, stop: int) -> _Block:
         values_ = np.full(stop - start, np.nan)
         if count:
             values_[assembled] = _strokes(s.points.coords, output,
-                                          study.references[output.name])[assembled]
+                                          study.references[output.name],
+                                          closed=study.closed)[assembled]
         strokes[output.name] = values_
     return _Block(start, assembled, failures, valid.sum(axis=0), count, mean, m2, worst,
                   worst_variant, kept, paths, strokes)
@@ -922,7 +950,7 @@ def _studied_points(compiled: Compiled, points: Iterable[str] | None) -> tuple[s
 
 
 def _sensitivity(compiled: Compiled, inputs, tolerances: dict[str, float], points, outputs,
-                 references) -> dict[str, tuple[tuple[str, float], ...]]:
+                 references, closed: bool = False) -> dict[str, tuple[tuple[str, float], ...]]:
     """Return each output's central differences times tolerance, ranked (one sweep of 2P)."""
     names = list(tolerances)
     steps = np.array([tolerances[p] * SENSITIVITY_STEP for p in names])
@@ -944,7 +972,7 @@ def _sensitivity(compiled: Compiled, inputs, tolerances: dict[str, float], point
         result[f"{point}.path"] = [(p, float(rms[j] * tolerances[p]) if both[j] else math.nan)
                                    for j, p in enumerate(names)]
     for output in outputs:
-        stroke = _strokes(s.points.coords, output, references[output.name])
+        stroke = _strokes(s.points.coords, output, references[output.name], closed=closed)
         rate = (stroke[0::2] - stroke[1::2]) / (2 * steps)
         result[output.name] = [(p, float(rate[j] * tolerances[p]) if both[j] else math.nan)
                                for j, p in enumerate(names)]
@@ -1148,11 +1176,12 @@ def tolerance(construction: Construction | Compiled, tolerances: Mapping[str, fl
     nominal = sweep(compiled, inputs).require_assembled()
     outputs = _outputs(compiled)
     references = {o.name: _reference(nominal, o) for o in outputs}
-    nominal_strokes = {o.name: float(_strokes(nominal.points.coords, o, references[o.name])[0])
-                       for o in outputs}
+    closed = _closes(compiled, inputs)
+    nominal_strokes = {o.name: float(_strokes(nominal.points.coords, o, references[o.name],
+                                              closed=closed)[0]) for o in outputs}
     study = _Study(compiled, inputs, checked, distribution, seed, studied,
                    {p: np.asarray(nominal[p]) for p in studied}, outputs, references,
-                   PERCENTILE_VARIANTS, SAMPLE_PATHS)
+                   PERCENTILE_VARIANTS, SAMPLE_PATHS, closed)
     count = int(n)
     chunks = _chunks(count, chunk_size)
     blocks = _in_process(study, chunks) if client is None else _on_cluster(client, study,
@@ -1161,7 +1190,8 @@ def tolerance(construction: Construction | Compiled, tolerances: Mapping[str, fl
     for block in blocks:
         totals.add(block)
     return _result(study, totals, nominal, nominal_strokes, count, level,
-                   _sensitivity(compiled, inputs, checked, studied, outputs, references))
+                   _sensitivity(compiled, inputs, checked, studied, outputs, references,
+                                closed))
 
 
 def _result(study: _Study, totals: _Totals, nominal: Sweep, nominal_strokes, count: int,

@@ -237,6 +237,9 @@ class Layout:
         """Choose the side of each fixed guide its hatched ground is drawn on."""
         sides = {}
         sampled = self.valid_indices[:: max(1, self.valid_indices.size // 90)]
+        bars = [(self.sweep.points[a][sampled], self.sweep.points[b][sampled])
+                for points in self.links if not set(points) <= set(self.ground)
+                for a, b in zip(points, points[1:], strict=False)]
         for slider in self.sliders:
             first, second = slider.along
             if first not in self.ground or second not in self.ground:
@@ -250,11 +253,10 @@ class Layout:
             u = u / length
             n = np.array([-u[1], u[0]])
             # the bars at the sampled poses, in the guide's frame: along it, and off it
-            ends = [(self.sweep.points[a][sampled] - p, self.sweep.points[b][sampled] - p)
-                    for points in self.links if not set(points) <= set(self.ground)
-                    for a, b in zip(points, points[1:], strict=False)]
-            start = np.concatenate([np.c_[a @ u, a @ n] for a, _ in ends] or [np.empty((0, 2))])
-            end = np.concatenate([np.c_[b @ u, b @ n] for _, b in ends] or [np.empty((0, 2))])
+            start = np.concatenate([np.c_[(a - p) @ u, (a - p) @ n] for a, _ in bars]
+                                   or [np.empty((0, 2))])
+            end = np.concatenate([np.c_[(b - p) @ u, (b - p) @ n] for _, b in bars]
+                                 or [np.empty((0, 2))])
             lo, hi = self.guide_spans[slider.name]
             crossed = [int(_crossing(side * start, side * end, (side * lo, side * hi),
                                      (1.0 * self.size, 1.7 * self.size)).sum())
@@ -552,9 +554,9 @@ def _crossing(start: np.ndarray, end: np.ndarray, along: tuple[float, float],
 
     Examples
     --------
-    >>> _crossing(np.array([[0.0, -1.0], [5.0, -1.0]]), np.array([[0.0, 1.0], [5.0, 1.0]]),
-    ...           (-1.0, 1.0), (-0.5, 0.5)).tolist()
-    [True, False]
+    >>> _crossing(np.array([[0.0, -1.0], [5.0, -1.0], [np.nan, 0.0]]),
+    ...           np.array([[0.0, 1.0], [5.0, 1.0], [0.0, 0.0]]), (-1.0, 1.0), (-0.5, 0.5)).tolist()
+    [True, False, False]
     """
     enter = np.zeros(len(start))
     leave = np.ones(len(start))
@@ -568,7 +570,8 @@ def _crossing(start: np.ndarray, end: np.ndarray, along: tuple[float, float],
             enter = np.where(still, np.where(inside, enter, np.inf),
                              np.fmax(enter, np.fmin(to_low, to_high)))
             leave = np.where(still, leave, np.fmin(leave, np.fmax(to_low, to_high)))
-    return enter <= leave
+    finite = np.isfinite(start).all(axis=1) & np.isfinite(end).all(axis=1)
+    return finite & (enter <= leave)
 
 
 def input_text(sweep: Sweep, index: int) -> str:
