@@ -621,9 +621,12 @@ def shown_text(text: object) -> str:
 TITLE_WIDTH = 80
 """The most characters on a line of a figure's title: a longer one is broken."""
 
+CHARACTERS_PER_INCH = 11
+"""About how many characters of a 12-point title fit in an inch."""
 
-def title_text(text: object) -> str:
-    """Return a title from a script as a figure shows it, on lines that fit its width.
+
+def title_text(text: object, width: int = TITLE_WIDTH) -> str:
+    """Return a title from a script as a figure shows it, on lines of ``width`` at most.
 
     Examples
     --------
@@ -631,7 +634,13 @@ def title_text(text: object) -> str:
     a four-bar a four-bar a four-bar a four-bar a four-bar a four-bar a four-bar
     a four-bar a four-bar a four-bar
     """
-    return textwrap.fill(shown_text(text), TITLE_WIDTH, break_on_hyphens=False)
+    return textwrap.fill(shown_text(text), width, break_on_hyphens=False)
+
+
+def title_width(ax) -> int:
+    """Return how many characters of a title fit over an axes, :data:`TITLE_WIDTH` at most."""
+    inches = ax.get_position().width * ax.figure.get_figwidth()
+    return max(30, min(TITLE_WIDTH, int(inches * CHARACTERS_PER_INCH)))
 
 
 def length_unit(sweep: Sweep) -> str:

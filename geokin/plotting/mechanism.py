@@ -74,6 +74,7 @@ from .layout import (
     length_unit,
     signed_turn,
     title_text,
+    title_width,
 )
 
 if TYPE_CHECKING:
@@ -527,7 +528,7 @@ def setup_axes(ax: Axes, layout: Layout, title: str | None) -> None:
         title = layout.sweep.construction.name
     if title:
         # a name is text, not mathtext: "$" in it must not stop the drawing
-        ax.set_title(title_text(title), parse_math=False)
+        ax.set_title(title_text(title, title_width(ax)), parse_math=False)
 
 
 def _check_index(sweep, index):
