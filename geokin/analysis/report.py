@@ -836,6 +836,28 @@ REFINE_SAMPLES = 129
 step next to an extreme sample, to place the extreme inside it."""
 
 
+def _told_turn(low: float, high: float, values: np.ndarray,
+               driving: np.ndarray | None) -> tuple[float, float]:
+    """Return an angle's extremes turned by whole turns to read as people expect.
+
+    A crank's as the input that drives it (``driving``, at the samples of
+    ``values``), so that its angle reads as that input does, give or take
+    the constant angle between them; any other angle's centred on zero
+    (:func:`_about_zero`).
+    """
+    if driving is None:
+        return _about_zero(low, high)
+    at = np.flatnonzero(np.isfinite(values))
+    if not at.size:
+        return low, high
+    # the constant angle between the crank and its input, within half a turn
+    offset = float(values[at[0]] - driving[at[0]])
+    offset -= 2 * math.pi * round(offset / (2 * math.pi))
+    middle = 0.5 * (np.nanmin(driving[at]) + np.nanmax(driving[at])) + offset
+    turns = round((middle - 0.5 * (low + high)) / (2 * math.pi))
+    return low + 2 * math.pi * turns, high + 2 * math.pi * turns
+
+
 def _about_zero(low: float, high: float) -> tuple[float, float]:
     """Return the extremes of an angle, turned by whole turns to centre in (-pi, pi].
 
@@ -1210,11 +1232,17 @@ def _strokes(compiled: Compiled, motion: Sweep, angle: Callable[[Any], float],
                                              partial(_slider, name=block.name),
                                              (block.point, *block.along))
     angles = link_angles(motion)
+    # a crank's angle is told in the turn of the input that drives it
+    driven: dict[str, np.ndarray] = {}
     for link in compiled.links:
         if set(link.points[:2]) <= compiled.ground:
             continue
         outputs[f"{link.name}.angle"] = (angles[link.name], True, partial(_angle, name=link.name),
                                          link.points[:2])
+        for crank in cranks(compiled):
+            if {crank.origin, crank.tip} == set(link.points[:2]):
+                driven[f"{link.name}.angle"] = motion.inputs[crank.input_name]
+                break
     # the extremes of a motion that does not turn fully are placed on the mechanism
     # evaluated again along the steps about an extreme sample (a circuit's samples
     # are too far apart near its limits for a parabola through three), and so are those
@@ -1255,14 +1283,14 @@ def _strokes(compiled: Compiled, motion: Sweep, angle: Callable[[Any], float],
                 pass
         if found is None:
             if is_angle:
-                low, high = _about_zero(low, high)
+                low, high = _told_turn(low, high, values, driven.get(label))
             strokes[label] = StrokeReport(False, convert(low), convert(high), convert(high - low))
             continue
         per_turn = _peaks(values[:-1], high - low)
         if steps is None:
             low, high = found.minimum, found.maximum
         if is_angle:
-            low, high = _about_zero(low, high)
+            low, high = _told_turn(low, high, values, driven.get(label))
         strokes[label] = StrokeReport(
             False, convert(low), convert(high), convert(high - low),
             # out and back more than once a turn: no one forward and return stroke
