@@ -601,6 +601,10 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
     found = limits(compiled, name, at=at, start_branches=start_branches)
     declared = compiled.inputs[name]
     held = _held(compiled, name, at)
+    if start is not None and declared.kind == "angle" and looks_like_degrees(start):
+        warn_of_degrees(f"circuit of {name!r}: a start of {start:g} is "
+                        f"{start / (2 * math.pi):.3g} turns in radians, which angles are here "
+                        "(np.radians converts degrees)")
     if start is None:
         start = declared.range[0]
         if not any(lo.value <= start <= hi.value for lo, hi in found.intervals):
@@ -613,10 +617,6 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
 
             lo, hi = max(found.intervals, key=overlap)
             start = 0.5 * (lo.value + hi.value)
-    if declared.kind == "angle" and looks_like_degrees(start):
-        warn_of_degrees(f"circuit of {name!r}: a start of {start:g} is "
-                        f"{start / (2 * math.pi):.3g} turns in radians, which angles are here "
-                        "(np.radians converts degrees)")
     interval = _containing(found, start, declared.kind == "angle")
     if interval is None:
         unit = " rad" if declared.kind == "angle" else ""
@@ -815,8 +815,10 @@ def _containing(found: Limits, value: float, angle: bool):
     """Return (low, high, shift) of the interval containing ``value`` (shifted by turns).
 
     An angle is taken as itself or as the same angle any whole number of
-    turns away, the nearest first.
+    turns away, the nearest first. None for a value that is not finite.
     """
+    if not math.isfinite(value):
+        return None
     for lo, hi in found.intervals:
         shifts = [0.0]
         if angle:

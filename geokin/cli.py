@@ -346,10 +346,11 @@ def _circuit_of(construction, compiled, args, at):
         if inp.kind == "angle":  # the same angle, as many turns away as the circuit is
             value += 2 * math.pi * round((0.5 * (path.min() + path.max()) - value)
                                          / (2 * math.pi))
-        if not path.min() <= value <= path.max():
+        slack = float(from_script(inp, START_SLACK))  # an end copied from analyze's six decimals
+        if not path.min() - slack <= value <= path.max() + slack:
             raise _outside(at, inp, to_script(inp, path.min()), to_script(inp, path.max()),
                            "the circuit")
-        result, index = _circuit_at(result, value)
+        result, index = _circuit_at(result, min(max(value, path.min()), path.max()))
     values = {name: to_script_array(construction.inputs[name], v)
               for name, v in result.inputs.items()}
     return ScriptSweep(construction, result, values), index
@@ -1007,12 +1008,13 @@ def add_analyze(subparsers: Subparsers) -> None:
 
 def run_analyze(args: argparse.Namespace) -> int:
     construction, compiled = script_of(args.script, args)
-    start = args.start
-    if start is not None and len(construction.inputs) == 1:
-        # refused in script units, and taken at an interval's end copied from the report
-        start = to_script(next(iter(construction.inputs.values())),
-                          _circuit_start(construction, compiled, start))
-    report = analyze(compiled, degrees=True, start=start)
+    if args.start is not None and len(construction.inputs) != 1:
+        raise UsageError("--start picks the circuit of an input; this construction has "
+                         + (f"{len(construction.inputs)} inputs, swept together"
+                            if construction.inputs else "no input"))
+    if args.start is not None:
+        _circuit_start(construction, compiled, args.start)  # refused in script units
+    report = analyze(compiled, degrees=True, start=args.start)
     if args.json:
         json.dump(report.to_dict(), sys.stdout, indent=2, allow_nan=False,
                   default=lambda value: None)

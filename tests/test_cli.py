@@ -1251,3 +1251,54 @@ def test_the_kinematics_heading_says_how_many_samples_it_leaves_out():
     import matplotlib.pyplot as plt
 
     plt.close(fig)
+
+
+FIVE_BAR = """
+[construction]
+name = "five-bar"
+
+[inputs.t1]
+
+[inputs.t2]
+range = [90, 450]
+
+[points]
+O1 = { op = "fixed", at = [0, 0] }
+O2 = { op = "fixed", at = [50, 0] }
+A = { op = "polar", origin = "O1", distance = 20, angle = "t1" }
+B = { op = "polar", origin = "O2", distance = 20, angle = "t2" }
+C = { op = "circle_circle", centers = ["A", "B"], radii = [50, 50], branch = "left" }
+"""
+
+
+def test_circuit_refuses_several_inputs_rather_than_hold_all_but_one(capsys, tmp_path):
+    script = tmp_path / "five_bar.toml"
+    script.write_text(FIVE_BAR)
+    for command in (["trace", script, "--circuit"], ["plot", script, "--circuit", "-o",
+                                                      tmp_path / "x.png"]):
+        status, out, err = run(capsys, *command)
+        assert (status, out) == (2, "")
+        assert err == ("geokin: error: --circuit moves one input through its toggles; this "
+                       "construction has 2 inputs ('t1', 't2'), which a sweep moves together: "
+                       "leave out --circuit\n")
+    status, _, err = run(capsys, "analyze", script, "--start", 3)
+    assert status == 2 and "--start picks the circuit of an input; this construction has 2 " \
+                           "inputs, swept together" in err
+
+
+def test_circuit_values_copied_from_analyze_or_turns_away_are_taken(capsys, tmp_path):
+    """The double rocker's limits to six decimals, and -60 deg for 300, are in its circuits."""
+    script = tmp_path / "double_rocker.toml"
+    script.write_text(DOUBLE_ROCKER)
+    for start, at in (("22.331645", "22.331645"), ("337.668355", "337.668355"),
+                      ("-60", "-50")):
+        status, out, err = run(capsys, "trace", script, "--circuit", "--start", start,
+                               "--samples", 5)
+        assert status == 0 and err == ""
+        status, _, err = run(capsys, "plot", script, "--circuit", "--start", start, "--at",
+                             at, "-o", tmp_path / "x.png")
+        assert status == 0 and err == f"wrote {tmp_path / 'x.png'}\n"
+    status, _, err = run(capsys, "plot", script, "--circuit", "--start", 300, "--at", 337.67,
+                         "-o", tmp_path / "x.png")
+    assert status == 2 and "--at 337.67 is outside the circuit of input 'theta': " \
+                           "277.180756 to 337.668355 deg" in err

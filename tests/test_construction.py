@@ -716,6 +716,8 @@ def test_degrees_given_where_radians_are_taken_are_warned_of():
         c.input("s", kind="length", range=(0, 360))  # a length
         c.polar("Q", "A", 5, np.radians(40), reference=("O", "A"))
         c.polar("R", "A", 5, 3, reference=("O", "A"))  # 3 rad: a radian value
-        # a script's degrees are converted, whole numbers of them too
+        # a script's degrees are converted, whole numbers of them too, into radians
+        # that may be whole numbers themselves
         loaded = loads(SCRIPT_IN_DEGREES)
+        loads(SCRIPT_IN_DEGREES.replace("range = [0, 360]", "range = [0, 1.7e+308]"))
     assert loaded.inputs["theta"].range[1] == pytest.approx(2 * np.pi)

@@ -1,3 +1,4 @@
+import dataclasses
 import re
 from pathlib import Path
 
@@ -821,3 +822,45 @@ def test_a_start_outside_every_interval_is_refused_in_the_reports_units():
     # 780 deg is 60 deg two turns on: the first circuit
     report = analyze(double_rocker(), degrees=True, start=780.0)
     assert "from 22.331645 to 82.819244 deg" in report.warnings[0]
+
+
+def test_a_start_copied_from_the_report_starts_at_that_interval_end():
+    """The report gives interval ends to six decimals; such a start is that end."""
+    c = fourbar(6.611, 7.99, 6.517, 9.256)
+    [(low, high)] = analyze(c, degrees=True).inputs["theta2"].intervals
+    for end in (low, high):
+        report = analyze(c, degrees=True, start=round(end, 6))
+        assert report.inputs["theta2"].intervals == ((low, high),)
+    with pytest.raises(AnalysisError, match=r"a start of .*: input 'theta2' cannot be"):
+        analyze(c, degrees=True, start=round(high, 6) + 1e-4)
+    for bad in (np.nan, np.inf):
+        with pytest.raises(AnalysisError, match="a start must be a finite number"):
+            analyze(c, start=bad)
+    # a whole number of radians far beyond a turn: most likely degrees
+    with pytest.raises(AnalysisError, match=r"a start of 50 rad: .*; angles are in radians "
+                                            r"here \(degrees=True takes degrees\)"):
+        analyze(double_rocker(), start=50)
+
+
+def test_a_crank_turned_otherwise_than_with_its_input_is_told_as_any_link():
+    """A crank at -theta does not read as theta does: its swing is centred on zero."""
+    c = Construction("double rocker, crank at -theta")
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 100, 0)
+    c.polar("A", "O2", 60, "-theta")
+    c.circle_circle("B", ("A", "O4"), (30, 80), branch="right")
+    c.link("input", "O2", "A")
+    c.link("output", "O4", "B")
+    for start in (None, -300.0):
+        swing = analyze(c, degrees=True, start=start).strokes["input.angle"]
+        assert -180 < 0.5 * (swing.minimum + swing.maximum) <= 180
+
+
+def test_transmission_extremes_of_a_full_turn_are_told_in_the_declared_turn():
+    """Started at 97 deg, the crank-rocker's circuit runs to 457: its extremes are at 0, 180."""
+    c = fourbar(40, 10, 35, 30)
+    c.inputs["theta2"] = dataclasses.replace(c.inputs["theta2"], range=(0.0, 2 * np.pi))
+    mu = analyze(c, degrees=True, start=97.0).transmission_angles["C"]
+    assert sorted([mu.at_minimum["theta2"], mu.at_maximum["theta2"]]) == pytest.approx(
+        [0.0, 180.0], abs=1e-3)

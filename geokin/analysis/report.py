@@ -22,10 +22,10 @@ from typing import Any
 
 import numpy as np
 
-from ..circuits import circuit, describe_limit, limits
+from ..circuits import Limits, circuit, describe_limit, limits
 from ..construction import Compiled, Construction, Slider, as_compiled
 from ..engine import meeting_rtol, sweep
-from ..errors import AnalysisError, quote
+from ..errors import AnalysisError, looks_like_degrees, quote
 from ..kinematics import link_angles, slider_positions, sliders_off_guide
 from ..nodes import CircleCircle
 from ..results import Sweep, short_name
@@ -704,9 +704,10 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False,
         return angle if compiled.inputs[name].kind == "angle" else float
 
     inputs = {}
+    found_limits = {}
     for name, declared in compiled.inputs.items():
         convert = value_of(name)
-        found = limits(compiled, name)
+        found = found_limits[name] = limits(compiled, name)
         inputs[name] = InputReport(
             kind=declared.kind,
             full_turn=found.full_turn,
@@ -717,15 +718,17 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False,
     if len(compiled.inputs) == 1:
         name = next(iter(compiled.inputs))
         if start is not None:
-            start = _circuit_start(compiled, name, inputs[name], start, degrees)
+            start = _circuit_start(compiled, found_limits[name], inputs[name], start, degrees)
         motion = circuit(compiled, start=start)
         if len(inputs[name].intervals) > 1:
             warnings.append(_which_circuit(compiled, name, len(inputs[name].intervals),
                                            motion.inputs[name], value_of(name), degrees))
     else:
         if start is not None:
-            raise AnalysisError(f"a start picks the circuit of an input; this construction "
-                                f"has {len(compiled.inputs)} inputs, swept together")
+            raise AnalysisError(
+                "start= picks the circuit of an input; this construction has "
+                + (f"{len(compiled.inputs)} inputs, swept together" if compiled.inputs
+                   else "no input"))
         motion = sweep(compiled)
         if compiled.inputs:
             warnings.append(_swept_together(compiled, motion, value_of, degrees))
@@ -841,17 +844,21 @@ def _told_turn(low: float, high: float, values: np.ndarray,
     """Return an angle's extremes turned by whole turns to read as people expect.
 
     A crank's as the input that drives it (``driving``, at the samples of
-    ``values``), so that its angle reads as that input does, give or take
-    the constant angle between them; any other angle's centred on zero
-    (:func:`_about_zero`).
+    ``values``) when it keeps a constant angle from it, so that its angle
+    reads as that input does, give or take that angle; any other angle's
+    centred on zero (:func:`_about_zero`).
     """
     if driving is None:
         return _about_zero(low, high)
-    at = np.flatnonzero(np.isfinite(values))
+    at = np.flatnonzero(np.isfinite(values) & np.isfinite(driving))
     if not at.size:
-        return low, high
-    # the constant angle between the crank and its input, within half a turn
-    offset = float(values[at[0]] - driving[at[0]])
+        return _about_zero(low, high)
+    # the constant angle between the crank and its input, within half a turn; a crank
+    # turned otherwise (-theta, 2 theta) is told as any other link
+    between = values[at] - driving[at]
+    if np.ptp(between) > ROUNDING * max(1.0, float(np.max(np.abs(between)))):
+        return _about_zero(low, high)
+    offset = float(between[0])
     offset -= 2 * math.pi * round(offset / (2 * math.pi))
     middle = 0.5 * (np.nanmin(driving[at]) + np.nanmax(driving[at])) + offset
     turns = round((middle - 0.5 * (low + high)) / (2 * math.pi))
@@ -1110,23 +1117,38 @@ def _input_unit(compiled: Compiled, name: str, degrees: bool) -> str:
     return f" {one_line(compiled.units, 100)}" if compiled.units else ""
 
 
-def _circuit_start(compiled: Compiled, name: str, entry: InputReport, start: float,
+START_SLACK = 1e-6
+"""How far (in the report's units) a start may lie outside an interval and still be
+taken at its end: the report gives the ends to six decimals."""
+
+
+def _circuit_start(compiled: Compiled, found: Limits, entry: InputReport, start: float,
                    degrees: bool) -> float:
     """Return a circuit's start in radians (or length units), refused outside every interval.
 
     ``start`` is in the report's units; an angle is taken any whole number of
-    turns away.
+    turns away, and a start within :data:`START_SLACK` of an interval's end
+    (as the report prints it) at that end.
     """
+    name = found.input_name
     angle = compiled.inputs[name].kind == "angle"
-    turn = (360.0 if degrees else 2 * math.pi) if angle else 0.0
-    if not entry.full_turn and not any(
-            lo <= start + (turn * round((0.5 * (lo + hi) - start) / turn) if turn else 0.0)
-            <= hi for lo, hi in entry.intervals):
-        unit = _input_unit(compiled, name, degrees)
-        spans = ", ".join(f"{lo:.6f} to {hi:.6f}{unit}" for lo, hi in entry.intervals)
-        raise AnalysisError(f"a start of {start:.12g}{unit}: input {quote(name)} cannot be "
-                            f"assembled there (it can from {spans or 'nowhere'})")
-    return math.radians(start) if angle and degrees else start
+    unit = _input_unit(compiled, name, degrees)
+    if not math.isfinite(start):
+        raise AnalysisError(f"a start must be a finite number, got {start!r}")
+    to_radians = math.radians if angle and degrees else float
+    value, slack = to_radians(start), to_radians(START_SLACK)
+    if found.full_turn:
+        return value
+    turn = 2 * math.pi if angle else 0.0
+    for lo, hi in found.as_values():
+        near = value + (turn * round((0.5 * (lo + hi) - value) / turn) if turn else 0.0)
+        if lo - slack <= near <= hi + slack:
+            return min(max(near, lo), hi)
+    spans = ", ".join(f"{lo:.6f} to {hi:.6f}{unit}" for lo, hi in entry.intervals)
+    hint = ("; angles are in radians here (degrees=True takes degrees)"
+            if angle and not degrees and looks_like_degrees(start) else "")
+    raise AnalysisError(f"a start of {start:.12g}{unit}: input {quote(name)} cannot be "
+                        f"assembled there (it can from {spans or 'nowhere'}){hint}")
 
 
 def _which_circuit(compiled: Compiled, name: str, count: int, path: np.ndarray,
@@ -1136,7 +1158,7 @@ def _which_circuit(compiled: Compiled, name: str, count: int, path: np.ndarray,
     low, high = convert(np.min(path)), convert(np.max(path))
     return (f"input {quote(name)} can be assembled in {count} intervals, each a circuit of "
             f"its own: the figures below are of the one from {low:.6f} to {high:.6f}{unit} "
-            "(a start in another analyses its circuit)")
+            "(start= in Python or --start on the command line picks another)")
 
 
 def _swept_together(compiled: Compiled, motion: Sweep, value_of: Callable[[str], Callable],

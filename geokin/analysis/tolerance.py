@@ -309,6 +309,8 @@ def _closes(compiled: Compiled, inputs: Mapping[str, np.ndarray]) -> bool:
     turned = False
     for name, values in inputs.items():
         travel = float(values[-1] - values[0]) if len(values) > 1 else 0.0
+        if not math.isfinite(travel):
+            return False
         if compiled.inputs[name].kind == "angle":
             turns = travel / (2 * math.pi)
             if abs(turns - round(turns)) > 1e-9 * max(1.0, abs(turns)):

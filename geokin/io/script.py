@@ -502,11 +502,11 @@ class _Reader:
                          description=meta.get("description", ""), units=meta.get("units", ""))
         for name, value in data.get("parameters", {}).items():
             self.declare(c, "parameters", name, self.parameter, value)
-        for name, value in data.get("inputs", {}).items():
-            self.declare(c, "inputs", name, self.input, value)
         with warnings.catch_warnings():
-            # a script's angles are degrees until the end of reading, as they should be
+            # a script's angles are degrees, converted as it is read: never a mistake
             warnings.simplefilter("ignore", DegreesWarning)
+            for name, value in data.get("inputs", {}).items():
+                self.declare(c, "inputs", name, self.input, value)
             for name, value in data.get("points", {}).items():
                 self.declare(c, "points", name, self.point, value)
         for name, value in data.get("groups", {}).items():

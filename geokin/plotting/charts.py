@@ -7,6 +7,7 @@ of each link against time. matplotlib is imported inside the functions.
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Iterable, Mapping
 from typing import TYPE_CHECKING
 
@@ -16,7 +17,7 @@ from numpy.typing import ArrayLike
 from ..errors import GeokinError, did_you_mean
 from ..kinematics import Motion
 from ..results import Sweep
-from .layout import length_unit, shown_text, title_text
+from .layout import TITLE_WIDTH, length_unit, shown_text
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -285,10 +286,11 @@ def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
     axes[0].legend(fontsize=9, ncols=min(len(names), 4), loc="lower left",
                    bbox_to_anchor=(0.0, 1.0), frameon=False, borderaxespad=0.2)
     axes[-1].set_xlabel("time (s)")
-    heading = title_text(motion.sweep.construction.name if title is None else title)
+    heading = shown_text(motion.sweep.construction.name if title is None else title)
     if motion.flagged.any():
         count = int(motion.flagged.sum())
         # flagged: the rates there may be less accurate than stated
         heading += f" (rates not drawn at {count} flagged sample{'' if count == 1 else 's'})"
-    fig.suptitle(heading, parse_math=False)
+    # already shown as text: broken into lines, not escaped again
+    fig.suptitle(textwrap.fill(heading, TITLE_WIDTH, break_on_hyphens=False), parse_math=False)
     return fig, axes

@@ -621,8 +621,8 @@ def shown_text(text: object) -> str:
 TITLE_WIDTH = 80
 """The most characters on a line of a figure's title: a longer one is broken."""
 
-CHARACTERS_PER_INCH = 11
-"""About how many characters of a 12-point title fit in an inch."""
+CHARACTERS_PER_INCH = 9.5
+"""About how many characters of a 12-point title fit in an inch (wide ones among them)."""
 
 
 def title_text(text: object, width: int = TITLE_WIDTH) -> str:
@@ -640,7 +640,7 @@ def title_text(text: object, width: int = TITLE_WIDTH) -> str:
 def title_width(ax) -> int:
     """Return how many characters of a title fit over an axes, :data:`TITLE_WIDTH` at most."""
     inches = ax.get_position().width * ax.figure.get_figwidth()
-    return max(30, min(TITLE_WIDTH, int(inches * CHARACTERS_PER_INCH)))
+    return max(12, min(TITLE_WIDTH, int(inches * CHARACTERS_PER_INCH)))
 
 
 def length_unit(sweep: Sweep) -> str:
