@@ -1202,3 +1202,28 @@ def test_each_input_that_turns_a_crank_gets_its_arrow():
         tail, head = (np.array(point) - pivot for point in arrow._posA_posB)
         assert np.sign(tail[0] * head[1] - tail[1] * head[0]) == sense  # counter-clockwise: +
     plt.close(ax.figure)
+
+
+@pytest.mark.parametrize("sense", [1, -1])
+def test_a_point_an_input_pushes_gets_a_straight_arrow_away_from_its_ground(sense):
+    """A piston B pushed along the x axis by a length input: the arrow shows its sense."""
+    c = Construction("piston-driven crank")
+    c.input("s", kind="length", range=(55, 85)[::sense], samples=31)
+    c.fixed("O", 0, 0)
+    c.fixed("G", 100, 0)
+    c.fixed("B", "s", 0)
+    c.circle_circle("A", ("O", "B"), (20, 70), branch="left")
+    c.link("crank", "O", "A")
+    c.link("rod", "A", "B")
+    c.slider("piston", "B", ("O", "G"))
+    s = sweep(c)
+    layout = Layout(s)
+    assert layout.pushed == [("B", "s")] and layout.driven == []
+    ax = gp.plot_mechanism(s, 15)
+    [arrow] = [p for p in ax.patches if isinstance(p, matplotlib.patches.FancyArrowPatch)]
+    tail, head = (np.array(point) for point in arrow._posA_posB)
+    assert np.sign(head[0] - tail[0]) == sense and head[1] == pytest.approx(tail[1])
+    # beside the block, on the side away from the hatched ground
+    ground = layout.guide_sides["piston"]  # the guide runs along +x: +1 is above
+    assert np.sign(tail[1] - s["B"][15][1]) == -ground
+    plt.close(ax.figure)

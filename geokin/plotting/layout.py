@@ -106,6 +106,11 @@ class Layout:
     driven : list of Crank
         The cranks an arc arrow is drawn on: for each input that turns one,
         the first crank it turns (:attr:`crank` first).
+    pushed : list of (str, str)
+        The points an input places directly (a ``fixed`` point whose
+        coordinates use it, as a piston pushed by a length input), with that
+        input, where it turns no crank: a straight arrow beside the point
+        marks its sense.
     size : float
         The size of a symbol (pivot, block) in data units.
     ground_sizes : dict of str to float
@@ -172,6 +177,14 @@ class Layout:
         self.crank: Crank | None = found[0] if found else None
         self.driven = [crank for i, crank in enumerate(found)
                        if all(crank.input_name != other.input_name for other in found[:i])]
+        turning = {crank.input_name for crank in self.driven}
+        self.pushed = []
+        for name, node in self.nodes.items():
+            if node.ground_kind and name not in compiled.ground:
+                used = sorted(set().union(*(expr.names() for expr in node.value_fields().values()))
+                              & compiled.inputs.keys() - turning)
+                if used:
+                    self.pushed.append((name, used[0]))
         self.neighbours: dict[str, set[str]] = {p: set() for p in self.nodes}
         for points in self.links:
             for p in points:

@@ -219,6 +219,14 @@ class Scene:
             ax.add_patch(arrow)
             self.mechanism.append(arrow)
             self.crank_arrows.append((crank, arrow))
+        self.push_arrows = []  # a straight arrow beside each point an input places directly
+        for point, _ in layout.pushed:
+            arrow = FancyArrowPatch((0, 0), (1, 1), arrowstyle="-|>", mutation_scale=14,
+                                    lw=1.8, color=INPUT_COLOR, shrinkA=0, shrinkB=0,
+                                    zorder=_Z_LABEL)
+            ax.add_patch(arrow)
+            self.mechanism.append(arrow)
+            self.push_arrows.append((point, arrow))
         self.labels = {}
         for name in layout.shown:
             self.labels[name] = ax.annotate(
@@ -331,6 +339,8 @@ class Scene:
             arrow.set_visible(known.issuperset((crank.origin, crank.tip)))
             if arrow.get_visible():
                 self._draw_crank(crank, arrow, at, pose)
+        for point, arrow in self.push_arrows:
+            arrow.set_visible(point in known and self._draw_push(point, arrow, at, pose))
         for name, label in self.labels.items():
             label.set_visible(name in known)
         centre = np.mean([at[p] for p in layout.shown if p in known] or [np.zeros(2)], axis=0)
@@ -470,6 +480,42 @@ class Scene:
         along = np.linspace(start, end, 12)
         self._arrow_points = np.vstack([
             self._arrow_points, o + radius * np.column_stack([np.cos(along), np.sin(along)])])
+
+    def _draw_push(self, point, arrow, at, pose) -> bool:
+        """Draw the arrow beside a point an input places, the way it moves at ``pose``.
+
+        Beside the point, clear of its block; returns False where the point
+        does not move there.
+        """
+        xy = self.sweep.points[point]
+        n = len(xy)
+        step = None
+        for i, j in ((pose, pose + 1), (pose - 1, pose)):
+            if 0 <= i and j < n and np.isfinite(xy[[i, j]]).all():
+                step = xy[j] - xy[i]
+                if np.hypot(*step) > 0:
+                    break
+        if step is None or not np.hypot(*step) > 0:
+            return False
+        u = step / np.hypot(*step)
+        # beside the point: away from the ground of a fixed guide it runs on, else above
+        # it (or to its left, moving up or down)
+        side = np.array([-u[1], u[0]])
+        for slider in self.layout.sliders:
+            if slider.point == point and slider.name in self.layout.guide_sides:
+                p, q = (at[name] for name in slider.along)
+                guide = (q - p) / max(np.hypot(*(q - p)), 1e-300)
+                side = -self.layout.guide_sides[slider.name] * np.array([-guide[1], guide[0]])
+                break
+        else:
+            if side[1] < 0 or (side[1] == 0 and side[0] > 0):
+                side = -side
+        size = self.layout.size
+        middle = at[point] + 2.6 * size * side
+        arrow.set_positions(tuple(middle - 1.6 * size * u), tuple(middle + 1.6 * size * u))
+        self._arrow_points = np.vstack([self._arrow_points,
+                                        middle + np.linspace(-1.6, 1.6, 7)[:, None] * size * u])
+        return True
 
     def _crank_sense(self, crank, pose):
         """+1 if the crank turns counter-clockwise at ``pose``, -1 if clockwise."""
