@@ -2,6 +2,7 @@
 
 import io
 import itertools
+import math
 import re
 import shutil
 import subprocess
@@ -1226,4 +1227,6 @@ def test_a_point_an_input_pushes_gets_a_straight_arrow_away_from_its_ground(sens
     # beside the block, on the side away from the hatched ground
     ground = layout.guide_sides["piston"]  # the guide runs along +x: +1 is above
     assert np.sign(tail[1] - s["B"][15][1]) == -ground
+    # O stands on the guide's ground, clear of the crank swinging above it
+    assert ground == -1 and math.sin(layout.ground_directions["O"]) == pytest.approx(-1)
     plt.close(ax.figure)

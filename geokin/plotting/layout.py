@@ -348,6 +348,7 @@ class Layout:
         at = {p: self.ground_at(p) for p in self.ground}
         # the lines of the ground: its frame, and each fixed guide with the hatching under it
         lines = []
+        grounds = []  # each fixed guide's line, and the edge of its hatched ground
         for points in self.links:
             if all(p in self.ground for p in points):
                 closed = (*points, points[0]) if len(points) > 2 else points
@@ -363,7 +364,8 @@ class Layout:
                 out = self.guide_sides[slider.name] * np.array([-u[1], u[0]])
                 lo, hi = self.guide_spans[slider.name]
                 start, end = at[a] + lo * u, at[a] + hi * u
-                lines += [(start, end), (start + 1.7 * s * out, end + 1.7 * s * out)]
+                lines.append((start, end))
+                grounds.append(((start, end), (start + 1.7 * s * out, end + 1.7 * s * out)))
         # the directions of the moving bars about each pivot, over (some of) the motion
         sampled = self.valid_indices[:: max(1, self.valid_indices.size // 90)]
         placed: dict[str, float] = {}
@@ -376,7 +378,11 @@ class Layout:
             swing = np.concatenate(ends) if ends else np.empty((0, 2))
             swing = np.arctan2(swing[:, 1], swing[:, 0])
             through, apart = [], []  # lines through the pivot (their directions), and others
-            for line in lines:
+            # a guide's hatched ground is the pivot's own where the guide runs through it:
+            # only the grounds of other guides are in the way
+            others = [edge for guide, edge in grounds
+                      if distance_to_segment(here, *guide) >= 1e-6 * s]
+            for line in lines + others:
                 if distance_to_segment(here, *line) < 1e-6 * s:
                     through += [math.atan2(*(end - here)[::-1]) for end in line
                                 if np.hypot(*(end - here)) > 0.1 * s]
