@@ -380,9 +380,9 @@ class Layout:
             through, apart = [], []  # lines through the pivot (their directions), and others
             # a guide's hatched ground is the pivot's own where the guide runs through it:
             # only the grounds of other guides are in the way
-            others = [edge for guide, edge in grounds
-                      if distance_to_segment(here, *guide) >= 1e-6 * s]
-            for line in lines + others:
+            elsewhere = [edge for guide, edge in grounds
+                         if distance_to_segment(here, *guide) >= 1e-6 * s]
+            for line in lines + elsewhere:
                 if distance_to_segment(here, *line) < 1e-6 * s:
                     through += [math.atan2(*(end - here)[::-1]) for end in line
                                 if np.hypot(*(end - here)) > 0.1 * s]
