@@ -796,38 +796,24 @@ def test_analyze_json_has_dof_and_intervals_in_script_units(capsys):
     assert (round(lo, 4), round(hi, 4)) == (47.8226, 312.1774)
 
 
-DOUBLE_ROCKER = """
-[construction]
-name = "double rocker"
-units = "mm"
-
-[inputs.theta]
-range = [0, 360]
-
-[points]
-O2 = { op = "fixed", at = [0, 0] }
-O4 = { op = "fixed", at = [100, 0] }
-A = { op = "polar", origin = "O2", distance = 60, angle = "theta" }
-B = { op = "circle_circle", centers = ["A", "O4"], radii = [30, 80], branch = "left" }
-
-[links]
-input = ["O2", "A"]
-output = ["O4", "B"]
-"""
+def double_rocker_intervals():
+    """DOUBLE_ROCKER's crank (8 on a ground of 10) stops where A-O4 is 9 - 3 or 9 + 3."""
+    low, high = (np.degrees(np.arccos((8**2 + 10**2 - r**2) / (2 * 8 * 10))) for r in (6, 12))
+    return (low, high), (360 - high, 360 - low)
 
 
 def test_start_picks_the_circuit_of_an_input_assembled_in_two_intervals(capsys, tmp_path):
-    """The double rocker's input can be assembled in 22.33 to 82.82 and 277.18 to 337.67 deg."""
+    """The double rocker's input can be assembled in 36.87 to 82.82 and 277.18 to 323.13 deg."""
     script = tmp_path / "double_rocker.toml"
     script.write_text(DOUBLE_ROCKER)
-    spans = ["from 22.331645 to 82.819244 deg", "from 277.180756 to 337.668355 deg"]
+    spans = [f"from {lo:.6f} to {hi:.6f} deg" for lo, hi in double_rocker_intervals()]
     for start, span in ((50, spans[0]), (300, spans[1])):
         status, out, err = run(capsys, "analyze", script, "--start", start)
         assert (status, err) == (0, "")
         assert (f"warning: input 'theta' can be assembled in 2 intervals, each a circuit of "
                 f"its own: the figures below are of the one {span}") in out
         status, out, _ = run(capsys, "trace", script, "--circuit", "--start", start,
-                             "--links", "input")
+                             "--links", "crank")
         header, data = read_csv(out)
         assert status == 0
         low, high = (float(v) for v in span.split()[1::2])
@@ -1290,15 +1276,16 @@ def test_circuit_values_copied_from_analyze_or_turns_away_are_taken(capsys, tmp_
     """The double rocker's limits to six decimals, and -60 deg for 300, are in its circuits."""
     script = tmp_path / "double_rocker.toml"
     script.write_text(DOUBLE_ROCKER)
-    for start, at in (("22.331645", "22.331645"), ("337.668355", "337.668355"),
-                      ("-60", "-50")):
+    (first, _), (second_low, second_high) = (
+        (f"{lo:.6f}", f"{hi:.6f}") for lo, hi in double_rocker_intervals())
+    for start, at in ((first, first), (second_high, second_high), ("-60", "-50")):
         status, out, err = run(capsys, "trace", script, "--circuit", "--start", start,
                                "--samples", 5)
         assert status == 0 and err == ""
         status, _, err = run(capsys, "plot", script, "--circuit", "--start", start, "--at",
                              at, "-o", tmp_path / "x.png")
         assert status == 0 and err == f"wrote {tmp_path / 'x.png'}\n"
-    status, _, err = run(capsys, "plot", script, "--circuit", "--start", 300, "--at", 337.67,
+    status, _, err = run(capsys, "plot", script, "--circuit", "--start", 300, "--at", 323.14,
                          "-o", tmp_path / "x.png")
-    assert status == 2 and "--at 337.67 is outside the circuit of input 'theta': " \
-                           "277.180756 to 337.668355 deg" in err
+    assert status == 2 and (f"--at 323.14 is outside the circuit of input 'theta': "
+                            f"{second_low} to {second_high} deg") in err
