@@ -138,3 +138,25 @@ def slider_crank_closed_form(theta, r, rod, e, omega=1.0):
     dx = -r * np.sin(t) - g * dg / root
     ddx = -r * np.cos(t) - (dg * dg + g * ddg) / root - (g * dg) ** 2 / root**3
     return x, dx * omega, ddx * omega**2
+
+
+def five_bar(second_turns=1):
+    """Two cranks of 20 on pivots 50 apart, driven together, and links of 60 meeting at C.
+
+    The second crank turns ``second_turns`` times while the first turns once
+    (clockwise for a negative number).
+    """
+    c = Construction("five-bar")
+    c.input("t1")
+    c.input("t2", range=(0.0, second_turns * 2 * np.pi))
+    c.fixed("O1", 0, 0)
+    c.fixed("O2", 50, 0)
+    c.polar("A", "O1", 20, "t1")
+    c.polar("B", "O2", 20, "t2")
+    c.circle_circle("C", ("A", "B"), (60, 60), branch="left")
+    c.link("crank1", "O1", "A")
+    c.link("crank2", "O2", "B")
+    c.link("left", "A", "C")
+    c.link("right", "B", "C")
+    c.trace("C")
+    return c

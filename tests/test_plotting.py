@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 import shapely
 from matplotlib import animation
+from mechanisms import five_bar
 from PIL import Image
 
 from geokin import BudgetError, Construction, ConstructionError, GeokinError, budgets, sweep
@@ -1182,19 +1183,7 @@ def test_a_fixed_guides_ground_lies_away_from_the_mechanism(offset):
 
 def test_each_input_that_turns_a_crank_gets_its_arrow():
     """A five-bar's two cranks each show the sense their input turns them in."""
-    c = Construction("five-bar")
-    c.input("t1")
-    c.input("t2", range=(0.0, -2 * np.pi))  # the second crank turns clockwise
-    c.fixed("O1", 0, 0)
-    c.fixed("O2", 50, 0)
-    c.polar("A", "O1", 20, "t1")
-    c.polar("B", "O2", 20, "t2")
-    c.circle_circle("C", ("A", "B"), (60, 60), branch="left")
-    c.link("crank1", "O1", "A")
-    c.link("crank2", "O2", "B")
-    c.link("left", "A", "C")
-    c.link("right", "B", "C")
-    s = sweep(c)
+    s = sweep(five_bar(second_turns=-1))  # the second crank turns clockwise
     assert [crank.tip for crank in Layout(s).driven] == ["A", "B"]
     ax = gp.plot_mechanism(s, 10)
     arrows = [p for p in ax.patches if isinstance(p, matplotlib.patches.FancyArrowPatch)]

@@ -4,7 +4,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from mechanisms import parallelograms_in_series
+from mechanisms import five_bar, parallelograms_in_series
 
 from geokin import Construction, circuit, load, sweep
 from geokin.analysis import analyze
@@ -671,22 +671,6 @@ def test_a_guide_point_the_rocker_passes_over_does_not_hide_the_slider(guide_at)
     x = circuit(c)["Q"][:, 0]
     assert {"Q.x", "block.position", "rod.angle"} <= set(strokes)
     assert strokes["Q.x"].stroke == pytest.approx(np.ptp(x), rel=1e-3)
-
-
-def five_bar(second_turns=1):
-    """Two cranks of 20 on pivots 50 apart, driven together, and links of 60 meeting at C."""
-    c = Construction("five-bar")
-    c.input("t1")
-    c.input("t2", range=(0.0, second_turns * 2 * np.pi))
-    c.fixed("O1", 0, 0)
-    c.fixed("O2", 50, 0)
-    c.polar("A", "O1", 20, "t1")
-    c.polar("B", "O2", 20, "t2")
-    c.circle_circle("C", ("A", "B"), (60, 60), branch="left")
-    c.link("left", "A", "C")
-    c.link("right", "B", "C")
-    c.trace("C")
-    return c
 
 
 def test_two_inputs_swept_together_get_strokes_over_their_path_and_say_so():

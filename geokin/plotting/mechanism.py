@@ -211,22 +211,18 @@ class Scene:
                           zorder=_Z_JOINT)
         self.reference_marks = line(ls="none", marker="+", ms=9, mew=1.5, color="#777777",
                                     zorder=_Z_JOINT)
-        self.crank_arrows = []  # an arc arrow on the crank of each input that turns one
-        for crank in layout.driven:
+        def input_arrow():  # placed at each pose
             arrow = FancyArrowPatch((0, 0), (1, 1), arrowstyle="-|>", mutation_scale=14,
                                     lw=1.8, color=INPUT_COLOR, shrinkA=0, shrinkB=0,
                                     zorder=_Z_LABEL)
             ax.add_patch(arrow)
             self.mechanism.append(arrow)
-            self.crank_arrows.append((crank, arrow))
-        self.push_arrows = []  # a straight arrow beside each point an input places directly
-        for point, _ in layout.pushed:
-            arrow = FancyArrowPatch((0, 0), (1, 1), arrowstyle="-|>", mutation_scale=14,
-                                    lw=1.8, color=INPUT_COLOR, shrinkA=0, shrinkB=0,
-                                    zorder=_Z_LABEL)
-            ax.add_patch(arrow)
-            self.mechanism.append(arrow)
-            self.push_arrows.append((point, arrow))
+            return arrow
+
+        # an arc arrow on the crank of each input that turns one, and a straight one
+        # beside each point an input places directly
+        self.crank_arrows = [(crank, input_arrow()) for crank in layout.driven]
+        self.push_arrows = [(point, input_arrow()) for point, _ in layout.pushed]
         self.labels = {}
         for name in layout.shown:
             self.labels[name] = ax.annotate(
