@@ -160,3 +160,19 @@ def five_bar(second_turns=1):
     c.link("right", "B", "C")
     c.trace("C")
     return c
+
+
+def offset_slider_crank(crank, rod, offset, samples=361):
+    """A crank about O at (0, 0) and a rod to a block B on the line y = e (parameter e)."""
+    c = Construction("offset slider-crank")
+    c.parameter("e", offset)
+    c.input("theta", samples=samples)
+    c.fixed("O", 0, 0)
+    c.fixed("G1", 0, "e")
+    c.fixed("G2", 1, "e")
+    c.polar("A", "O", crank, "theta")
+    c.line_circle("B", ("G1", "G2"), "A", rod, branch="second")
+    c.link("crank", "O", "A")
+    c.link("rod", "A", "B")
+    c.slider("slider", "B", ("G1", "G2"))
+    return c

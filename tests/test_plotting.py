@@ -16,7 +16,7 @@ import numpy as np
 import pytest
 import shapely
 from matplotlib import animation
-from mechanisms import five_bar
+from mechanisms import five_bar, offset_slider_crank
 from PIL import Image
 
 from geokin import BudgetError, Construction, ConstructionError, GeokinError, budgets, sweep
@@ -1157,19 +1157,9 @@ def test_a_link_is_wrapped_only_if_it_turns_fully_within_one_run():
 @pytest.mark.parametrize("offset", [30.0, -30.0])
 def test_a_fixed_guides_ground_lies_away_from_the_mechanism(offset):
     """A slider-crank's guide clear above or below the crank: no bar crosses its ground."""
-    c = Construction("offset slider-crank")
-    c.input("theta", samples=73)
-    c.fixed("O", 0, 0)
-    c.fixed("G1", 0, offset)
-    c.fixed("G2", 1, offset)
-    c.polar("A", "O", 20, "theta")
-    c.line_circle("B", ("G1", "G2"), "A", 70, branch="second")
-    c.link("crank", "O", "A")
-    c.link("rod", "A", "B")
-    c.slider("block", "B", ("G1", "G2"))
-    s = sweep(c)
+    s = sweep(offset_slider_crank(20, 70, offset, samples=73))
     # the crank's circle, of radius 20, stays on one side: the ground goes on the other
-    assert Layout(s).guide_sides["block"] == (1 if offset > 0 else -1)
+    assert Layout(s).guide_sides["slider"] == (1 if offset > 0 else -1)
     for i in range(0, 73, 6):
         ax = gp.plot_mechanism(s, i)
         # the guide's hatched strip: the one far longer than a pivot's
