@@ -38,7 +38,7 @@ from .frozen import Frozen
 from .nodes import NO_INTERSECTION, SINGULAR
 from .results import BranchEvent, Sweep, short_name
 
-__all__ = ["LIMIT_TOLERANCE", "Limit", "Limits", "circuit", "limits"]
+__all__ = ["LIMIT_TOLERANCE", "Limit", "Limits", "circuit", "limits", "placed_in"]
 
 LIMIT_TOLERANCE = 1e-12
 """Width (radians or length units) to which every limit's bracket is narrowed."""
@@ -617,14 +617,13 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
 
             lo, hi = max(found.intervals, key=overlap)
             start = 0.5 * (lo.value + hi.value)
-    interval = _containing(found, start, declared.kind == "angle")
-    if interval is None:
+    placed = placed_in(found, start, declared.kind == "angle")
+    if placed is None:
         unit = " rad" if declared.kind == "angle" else ""
         intervals = ", ".join(f"{lo:.6g} to {hi:.6g}{unit}" for lo, hi in found.as_values())
         raise AssemblyError(f"input {name!r} = {start:g}{unit} is outside every assemblable "
                             f"interval: {intervals or 'none'}")
-    lo, hi, shift = interval
-    start = start + shift
+    (lo, hi), start = placed
     labels = dict(found.held_branches)
     groups = [step.node.name for step in compiled.steps if step.node.continued]
     passes: list[tuple[np.ndarray, dict[str, np.ndarray], dict[str, np.ndarray]]] = []
@@ -696,7 +695,7 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
             if target.kind == "tangent":
                 ends = {k: _last_solved(v)[None] for k, v in passes[-1][2].items()}
                 labels = _through_toggle(compiled, name, held, labels, target, ends)
-                for node in sorted(set(target.nodes or (target.node,)) & set(groups)):
+                for node in sorted(set(groups).intersection(target.nodes or (target.node,))):
                     sheets[node] ^= 1
                     folds.append((len(passes) - 1, node, sheets[node]))
                     across = _continuing(compiled, name, held, passes[-1], target, node)
@@ -811,22 +810,32 @@ def _through_toggle(compiled, name, held, labels, limit: Limit, ends=None) -> di
     return after
 
 
-def _containing(found: Limits, value: float, angle: bool):
-    """Return (low, high, shift) of the interval containing ``value`` (shifted by turns).
+def placed_in(found: Limits, value: float, angle: bool, slack: float = 0.0
+              ) -> tuple[tuple[Limit, Limit], float] | None:
+    """Return the interval of ``found`` that holds ``value``, and the value there.
 
-    An angle is taken as itself or as the same angle any whole number of
-    turns away, the nearest first. None for a value that is not finite.
+    An angle (``angle``) is moved by whole turns to the interval it falls in;
+    a value within ``slack`` of an interval's end (an end as printed, to a
+    few decimals) is that end. None where no interval holds it, and for a
+    value that is not finite.
+
+    Examples
+    --------
+    >>> ends = (Limit(-1.0, "C", "tangent"), Limit(1.0, "C", "tangent"))
+    >>> found = Limits("theta", (ends,), False, {})
+    >>> round(placed_in(found, 0.5 + 4 * np.pi, angle=True)[1], 12)
+    0.5
+    >>> placed_in(found, 1.0 + 1e-9, angle=True, slack=1e-6)[1], placed_in(found, 2.0, True)
+    (1.0, None)
     """
     if not math.isfinite(value):
         return None
+    turn = 2 * math.pi if angle else 0.0
     for lo, hi in found.intervals:
-        shifts = [0.0]
-        if angle:
-            turns = math.floor((lo.value - value) / (2 * math.pi))
-            shifts += [2 * math.pi * k for k in (turns, turns + 1) if k]
-        for shift in shifts:
-            if lo.value <= value + shift <= hi.value:
-                return lo, hi, shift
+        near = value + (turn * round((0.5 * (lo.value + hi.value) - value) / turn)
+                        if turn else 0.0)
+        if lo.value - slack <= near <= hi.value + slack:
+            return (lo, hi), min(max(near, lo.value), hi.value)
     return None
 
 

@@ -92,7 +92,7 @@ from .analysis.tolerance import (
     tolerance,
 )
 from .atomic import require_folder
-from .circuits import circuit, limits
+from .circuits import circuit, limits, placed_in
 from .construction import MAX_SAMPLES, Compiled, Construction, whole_steps
 from .engine import STREAM_BLOCK_SAMPLES, evaluate, sweep_in_blocks
 from .engine import sweep as run_sweep
@@ -365,15 +365,10 @@ def _circuit_start(construction: Construction, compiled: Compiled, value: float)
     """
     inp = next(iter(construction.inputs.values()))
     found = limits(compiled, inp.name)
-    start = float(from_script(inp, value))
-    if found.full_turn:
-        return start
-    turn = 2 * math.pi if inp.kind == "angle" else 0.0
-    slack = float(from_script(inp, START_SLACK))
-    for lo, hi in found.as_values():
-        near = start + (turn * round((0.5 * (lo + hi) - start) / turn) if turn else 0.0)
-        if lo - slack <= near <= hi + slack:
-            return min(max(near, lo), hi)
+    placed = placed_in(found, float(from_script(inp, value)), inp.kind == "angle",
+                       float(from_script(inp, START_SLACK)))
+    if placed is not None:
+        return placed[1]
     unit = " deg" if inp.kind == "angle" else f" {one_line(construction.units, 100)}".rstrip()
     spans = ", ".join(f"{round(to_script(inp, lo), 6):.12g} to "
                       f"{round(to_script(inp, hi), 6):.12g}{unit}" for lo, hi in found.as_values())

@@ -22,7 +22,7 @@ from typing import Any
 
 import numpy as np
 
-from ..circuits import Limits, circuit, describe_limit, limits
+from ..circuits import Limits, circuit, describe_limit, limits, placed_in
 from ..construction import Compiled, Construction, Slider, as_compiled
 from ..engine import meeting_rtol, sweep
 from ..errors import AnalysisError, looks_like_degrees, quote
@@ -1136,14 +1136,9 @@ def _circuit_start(compiled: Compiled, found: Limits, entry: InputReport, start:
     if not math.isfinite(start):
         raise AnalysisError(f"a start must be a finite number, got {start!r}")
     to_radians = math.radians if angle and degrees else float
-    value, slack = to_radians(start), to_radians(START_SLACK)
-    if found.full_turn:
-        return value
-    turn = 2 * math.pi if angle else 0.0
-    for lo, hi in found.as_values():
-        near = value + (turn * round((0.5 * (lo + hi) - value) / turn) if turn else 0.0)
-        if lo - slack <= near <= hi + slack:
-            return min(max(near, lo), hi)
+    placed = placed_in(found, to_radians(start), angle, to_radians(START_SLACK))
+    if placed is not None:
+        return placed[1]
     spans = ", ".join(f"{lo:.6f} to {hi:.6f}{unit}" for lo, hi in entry.intervals)
     hint = ("; angles are in radians here (degrees=True takes degrees)"
             if angle and not degrees and looks_like_degrees(start) else "")
