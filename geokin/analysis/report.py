@@ -813,7 +813,8 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False,
             curve.bounds, tuple((x, y) for x, y in curve.double_points.tolist()))
     return Report(compiled.name, unit, mobility, inputs, tuple(warnings), assembled=True,
                   four_bars=tuple(four_bars), transmission_angles=transmission,
-                  strokes=_strokes(compiled, motion, angle, off, back), curves=curves)
+                  strokes=_strokes(compiled, motion, angle, off, back, steps),
+                  curves=curves)
 
 
 def _peaks(values, span) -> int:
@@ -1216,8 +1217,12 @@ def _returning(compiled: Compiled, motion: Sweep, off: Mapping[str, float]) -> d
 
 
 def _strokes(compiled: Compiled, motion: Sweep, angle: Callable[[Any], float],
-             off: Mapping[str, float], back: Mapping[str, bool]) -> dict[str, StrokeReport]:
+             off: Mapping[str, float], back: Mapping[str, bool],
+             steps: _Steps | None) -> dict[str, StrokeReport]:
     """Extremes and time ratios of traced coordinates and link angles.
+
+    ``steps`` evaluates the motion again between samples (None for a
+    construction with a closure group), shared with the transmission angles.
 
     Over one turn of an input that turns fully the time ratio is given too.
     Constant outputs (a ground link's angle) are left out, and a link that
@@ -1264,8 +1269,8 @@ def _strokes(compiled: Compiled, motion: Sweep, angle: Callable[[Any], float],
     # evaluated again along the steps about an extreme sample (a circuit's samples
     # are too far apart near its limits for a parabola through three), and so are those
     # of a turn through change points, where an output may have a corner
-    steps = (_Steps(compiled, motion) if (not turns or motion.events)
-             and not any(step.node.continued for step in compiled.steps) else None)
+    if turns and not motion.events:
+        steps = None  # a smooth turn: the samples about each extreme place it
     smooth = _running_on(motion)
     strokes: dict[str, StrokeReport] = {}
     whole_turns = _whole_turns(compiled, motion)
