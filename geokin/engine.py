@@ -149,6 +149,9 @@ def input_arrays(compiled: Compiled, values: ArrayLike | Mapping[str, ArrayLike]
     input names to arrays or numbers, or None for every input's default range.
     """
     names = list(compiled.inputs)
+    if (type(values) is np.ndarray and len(names) == 1 and values.ndim == 1 and values.size
+            and values.dtype == float):
+        return {names[0]: values}, values.shape[0]  # the commonest call, quickly
     if values is None:
         values = {}
     elif not isinstance(values, Mapping):
@@ -697,8 +700,8 @@ def _all_finite(x, y) -> bool:
     that keep spinning, and take the other cores' time.
     """
     if type(x) is np.ndarray and type(y) is np.ndarray and x.shape == y.shape:
-        if (x.ndim == 1 and x.size <= DOT_BELOW and x.flags.c_contiguous
-                and y.flags.c_contiguous and x.dtype == y.dtype == float):
+        # whatever their layout; whole numbers are finite, and so is their dot product
+        if x.ndim == 1 and x.size <= DOT_BELOW:
             return math.isfinite(x.dot(y))
     elif (type(x) in _NUMBERS and type(y) in _NUMBERS) or (np.ndim(x) == 0 and np.ndim(y) == 0):
         return math.isfinite(x) and math.isfinite(y)
@@ -1347,6 +1350,8 @@ class _Tracker:
             self.cut = np.zeros(n - 1, dtype=bool)
             self.cut[self.length - 1::self.length] = True
         self.angle_steps = self.length_steps = None
+        if paths == 1 and n > 2 and len(self.inputs) == 1 and self._prepare_steady():
+            return
         # how far the path moves in each step, all inputs together, and where it turns
         travel = None
         # where the path turns back, and which steps are between finite inputs: made
@@ -1426,6 +1431,32 @@ class _Tracker:
                            > ANGLE_RESOLUTION * (1 + 1e-9))
         # memory for the per-step work of the whole-sweep test, reused from node to node
         self.scratch = np.empty(n - 1) if scratch is None else scratch
+
+    def _prepare_steady(self) -> bool:
+        """Read the path of one input moving one way in equal steps (a linspace), if it is.
+
+        Such a path, the commonest, is known by its step alone; for any
+        other, nothing is kept and False returned.
+        """
+        ((name, values),) = self.inputs.items()
+        step = np.subtract(values[1:], values[:-1], out=kept_memory(self.n - 1, "tracking"))
+        low, high = extremes(step)
+        shortest, longest = (low, high) if low > 0 else (-high, -low)
+        # steps either way, NaN and infinite ones fail this test
+        if not 0 < shortest <= longest <= shortest + 1e-9 * longest < math.inf:
+            return False
+        self.turning = np.zeros(self.n - 1, dtype=bool)
+        self.finite = True
+        self.longest, self.even = longest, True
+        self.travel = _constant(longest, self.n - 1)
+        if self.compiled.inputs[name].kind == "angle":
+            self.angle_steps = self.travel
+            self.any_coarse = longest > ANGLE_RESOLUTION * (1 + 1e-9)
+        else:
+            self.angle_steps, self.length_steps = np.zeros(self.n - 1), self.travel
+            self.any_coarse = True
+        self.scratch = step
+        return True
 
     def track(self, position: int, cand, start: int | np.ndarray,
               tolerance_at: Callable[[np.ndarray, np.ndarray], float | np.ndarray] | None = None

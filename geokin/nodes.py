@@ -434,7 +434,8 @@ def _scaled_and_shifted(values, factor, offset):
             type(factor) is float or np.ndim(factor) == 0) and (
             type(offset) is float or np.ndim(offset) == 0 or np.shape(offset) == values.shape):
         values *= factor
-        values += offset
+        if not (type(offset) is float and offset == 0.0):  # a crank on the origin
+            values += offset
         return values
     return offset + factor * values
 
