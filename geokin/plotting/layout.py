@@ -93,6 +93,9 @@ class Layout:
         reaches its first point, and a moving one stays on the link that
         carries it (the lever of a slotted lever), unless the block goes
         further.
+    fixed_guides : dict of str to (ndarray, ndarray)
+        For every slider on a fixed guide of two distinct points, by name,
+        the guide's first point and its unit direction.
     guide_sides : dict of str to int
         For every slider on a fixed guide, by name, the side of the guide
         its block rides on the hatched ground of: -1 to the right of the
@@ -210,6 +213,7 @@ class Layout:
         extent = float(np.max(hi - lo))
         self.size = 0.035 * extent if extent > 0 else 1.0
         self.guide_spans = self._guide_spans()
+        self.fixed_guides = self._fixed_guides()
         self.guide_sides = self._guide_sides()
         self.ground_sizes = self._ground_sizes()
         self.ground_directions = self._ground_directions()
@@ -246,41 +250,55 @@ class Layout:
                 raise ConstructionError(f"cannot trace: {err.args[0]}") from None
         return names
 
+    def _fixed_guides(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """Return the first point and the direction of every fixed guide, by slider.
+
+        Only guides of two distinct ground points: one of no length has no
+        direction.
+        """
+        guides = {}
+        for slider in self.sliders:
+            first, second = slider.along
+            if first in self.ground and second in self.ground:
+                p = self.ground_at(first)
+                u = self.ground_at(second) - p
+                length = float(np.hypot(*u))
+                if length > 0:
+                    guides[slider.name] = (p, u / length)
+        return guides
+
     def _guide_sides(self) -> dict[str, int]:
         """Choose the side of each fixed guide its hatched ground is drawn on."""
-        sides = {}
+        sides = {slider.name: -1 for slider in self.sliders
+                 if set(slider.along) <= set(self.ground)}
         sampled = self.valid_indices[:: max(1, self.valid_indices.size // 90)]
+        if not sampled.size:
+            return sides
         bars = [(self.sweep.points[a][sampled], self.sweep.points[b][sampled])
                 for points in self.links if not set(points) <= set(self.ground)
                 for a, b in zip(points, points[1:], strict=False)]
         for slider in self.sliders:
-            first, second = slider.along
-            if first not in self.ground or second not in self.ground:
+            name = slider.name
+            if name not in self.fixed_guides:
                 continue
-            p, q = self.ground_at(first), self.ground_at(second)
-            u = q - p
-            length = float(np.hypot(*u))
-            sides[slider.name] = -1
-            if length == 0 or not sampled.size:
-                continue
-            u = u / length
+            p, u = self.fixed_guides[name]
             n = np.array([-u[1], u[0]])
             # the bars at the sampled poses, in the guide's frame: along it, and off it
             start = np.concatenate([np.c_[(a - p) @ u, (a - p) @ n] for a, _ in bars]
                                    or [np.empty((0, 2))])
             end = np.concatenate([np.c_[(b - p) @ u, (b - p) @ n] for _, b in bars]
                                  or [np.empty((0, 2))])
-            lo, hi = self.guide_spans[slider.name]
+            lo, hi = self.guide_spans[name]
             crossed = [int(_crossing(side * start, side * end, (side * lo, side * hi),
                                      (1.0 * self.size, 1.7 * self.size)).sum())
                        for side in (-1, 1)]
             if crossed[0] != crossed[1]:
-                sides[slider.name] = -1 if crossed[0] < crossed[1] else 1
+                sides[name] = -1 if crossed[0] < crossed[1] else 1
                 continue
             # as often crossed either way: away from the other moving points and the pivots
             left = sum(float(np.nansum((self.sweep.points[m][sampled] - p) @ n))
                        for m in self.moving + self.pivots if m != slider.point)
-            sides[slider.name] = -1 if left >= 0 else 1
+            sides[name] = -1 if left >= 0 else 1
         return sides
 
     def _guide_spans(self) -> dict[str, tuple[float, float]]:
@@ -353,19 +371,12 @@ class Layout:
             if all(p in self.ground for p in points):
                 closed = (*points, points[0]) if len(points) > 2 else points
                 lines += [(at[a], at[b]) for a, b in zip(closed, closed[1:], strict=False)]
-        for slider in self.sliders:
-            a, b = slider.along
-            if a in self.ground and b in self.ground:
-                u = at[b] - at[a]
-                length = float(np.hypot(*u))
-                if length == 0:
-                    continue
-                u = u / length
-                out = self.guide_sides[slider.name] * np.array([-u[1], u[0]])
-                lo, hi = self.guide_spans[slider.name]
-                start, end = at[a] + lo * u, at[a] + hi * u
-                lines.append((start, end))
-                grounds.append(((start, end), (start + 1.7 * s * out, end + 1.7 * s * out)))
+        for name, (p, u) in self.fixed_guides.items():
+            out = self.guide_sides[name] * np.array([-u[1], u[0]])
+            lo, hi = self.guide_spans[name]
+            start, end = p + lo * u, p + hi * u
+            lines.append((start, end))
+            grounds.append(((start, end), (start + 1.7 * s * out, end + 1.7 * s * out)))
         # the directions of the moving bars about each pivot, over (some of) the motion
         sampled = self.valid_indices[:: max(1, self.valid_indices.size // 90)]
         placed: dict[str, float] = {}
