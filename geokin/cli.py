@@ -208,11 +208,12 @@ def sweep_values(construction: Construction, args: argparse.Namespace) -> dict[s
 
 
 def sweep_sampling(construction: Construction, args: argparse.Namespace, *,
-                   most: int = MAX_SAMPLES):
+                   most: int = MAX_SAMPLES, warn: bool = True):
     """Return how many samples the sweep options ask for, and a function giving some.
 
     ``between(i, j)`` gives the input values of samples i to j - 1, in
-    script units: the values :func:`sweep_values` gives all at once.
+    script units: the values :func:`sweep_values` gives all at once. With
+    ``warn``, says so where ``--range`` changes how several inputs pair up.
     """
     if getattr(args, "start", None) is not None:
         raise UsageError("--start picks where a circuit starts: use it with --circuit "
@@ -236,11 +237,27 @@ def sweep_sampling(construction: Construction, args: argparse.Namespace, *,
     else:
         count, values = _sampling(lo, hi, samples=first.samples, label=label, most=most)
     parts = {first.name: values}
+    if warn:
+        _warn_of_pairing(construction, args)
     for inp in others:
         parts[inp.name] = _sampling(to_script(inp, inp.range[0]), to_script(inp, inp.range[1]),
                                     samples=count, label=f"input {inp.name}: range",
                                     most=most)[1]
     return count, lambda i, j: {name: part(i, j) for name, part in parts.items()}
+
+
+def _warn_of_pairing(construction: Construction, args: argparse.Namespace) -> None:
+    """Warn that ``--range`` moves the first of several inputs alone, if it is given."""
+    first, *others = construction.inputs.values()
+    if args.range is None or not others:
+        return
+    kept = "; ".join(f"{quote(inp.name)} from {_format_value(inp, to_script(inp, lo))} to "
+                     f"{_format_value(inp, to_script(inp, hi))}"
+                     for inp in others for lo, hi in [inp.range])
+    print(one_line(f"geokin: warning: --range moves input {quote(first.name)} alone; the "
+                   f"other inputs keep their declared ranges ({kept}) over as many samples, "
+                   "so the inputs pair up differently than in the declared sweep"),
+          file=sys.stderr)
 
 
 def motion_of(path: str | os.PathLike[str], args: argparse.Namespace,
@@ -753,9 +770,11 @@ def _long_sweep(args, construction):
             raise UsageError(f"--samples {args.samples}: a JSON trace holds at most "
                              f"{MAX_SAMPLES} samples; write CSV or NPZ for more")
         return None
-    count, between = sweep_sampling(construction, args, most=TRACE_MAX_SAMPLES)
+    # a sweep of one block is made whole, and sampled again, by motion_of
+    count, between = sweep_sampling(construction, args, most=TRACE_MAX_SAMPLES, warn=False)
     if count <= TRACE_BLOCK_SAMPLES:
         return None
+    _warn_of_pairing(construction, args)
     return count, between
 
 

@@ -1272,6 +1272,31 @@ def test_circuit_refuses_several_inputs_rather_than_hold_all_but_one(capsys, tmp
                            "inputs, swept together" in err
 
 
+def test_a_range_for_the_first_of_several_inputs_warns_that_the_pairing_changes(
+        capsys, tmp_path, monkeypatch):
+    script = tmp_path / "five_bar.toml"
+    script.write_text(FIVE_BAR)
+    status, out, err = run(capsys, "trace", script, "--range", 0, 180, "--samples", 3)
+    assert status == 0
+    warning = ("geokin: warning: --range moves input 't1' alone; the other inputs keep "
+                   "their declared ranges ('t2' from 90 deg to 450 deg) over as many samples, "
+                   "so the inputs pair up differently than in the declared sweep\n")
+    assert err == warning
+    rows = [line.split(",") for line in out.splitlines()[1:]]
+    header = out.splitlines()[0].split(",")
+    t1, t2 = header.index("t1"), header.index("t2")
+    assert [(float(r[t1]), float(r[t2])) for r in rows] == [(0, 90), (90, 270), (180, 450)]
+    # once, also where a long trace is written block by block
+    monkeypatch.setattr(geokin.cli, "TRACE_BLOCK_SAMPLES", 4)
+    status, _, err = run(capsys, "trace", script, "--range", 0, 180, "--samples", 9, "-o",
+                         tmp_path / "t.csv")
+    assert status == 0 and err == warning + f"wrote {tmp_path / 't.csv'}: 9 samples, 13 columns\n"
+    # the declared sweep, or only its sampling changed: the inputs pair as declared, silently
+    for options in ([], ["--samples", 5]):
+        status, _, err = run(capsys, "trace", script, *options)
+        assert (status, err) == (0, "")
+
+
 def test_circuit_values_copied_from_analyze_or_turns_away_are_taken(capsys, tmp_path):
     """The double rocker's limits to six decimals, and -60 deg for 300, are in its circuits."""
     script = tmp_path / "double_rocker.toml"
