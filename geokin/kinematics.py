@@ -1357,12 +1357,45 @@ def sliders_off_guide(sweep: Sweep) -> dict[str, tuple[int, float]]:
     return found
 
 
+CRANK_RTOL = 1e-9
+"""A link whose angle stays this close to an angle input plus a constant
+(relative to that constant, or absolute below one radian) turns with it: see
+:func:`link_angles`."""
+
+
+def _in_turn_of(angle: np.ndarray, driving: np.ndarray, free: np.ndarray
+                ) -> tuple[np.ndarray, np.ndarray]:
+    """Turn an angle by whole turns where it keeps a constant angle from ``driving``.
+
+    Along the last axis, in each row still ``free``: at every sample, also
+    across a gap that the angle could not be unwrapped across, the angle is
+    then ``driving`` plus one constant in (-pi, pi]. Returns the angle and
+    the rows it was turned in.
+    """
+    between = angle - driving
+    # whole turns apart from an element of its row (one of them: the least)
+    apart = np.round((between - np.fmin.reduce(between, axis=-1, keepdims=True)) / (2 * np.pi))
+    between -= 2 * np.pi * apart
+    low = np.fmin.reduce(between, axis=-1, keepdims=True)
+    high = np.fmax.reduce(between, axis=-1, keepdims=True)
+    with np.errstate(invalid="ignore"):  # a row of NaN keeps no angle from anything
+        constant = free & (high - low <= CRANK_RTOL * np.fmax(1.0, np.fmax(-low, high)))
+    # the constant in (-pi, pi]: a half turn, to rounding, is +pi
+    middle = 0.5 * (low + high)
+    turns = np.where(constant, apart + np.floor((middle + np.pi - CRANK_RTOL) / (2 * np.pi)),
+                     0.0)
+    return angle - 2 * np.pi * turns, constant
+
+
 def link_angles(sweep: Sweep) -> dict[str, np.ndarray]:
     """Return the angle of every declared link over a sweep.
 
     The angle of a link is that of the line from its first point to its
     second, counter-clockwise from the x axis, unwrapped over the valid
-    samples so that it runs on continuously through full turns.
+    samples so that it runs on continuously through full turns. A link
+    that keeps a constant angle from an angle input (a crank) reads in that
+    input's turn, within half a turn of it; any other link starts in
+    (-pi, pi].
 
     Returns
     -------
@@ -1380,9 +1413,23 @@ def link_angles(sweep: Sweep) -> dict[str, np.ndarray]:
     >>> angles = link_angles(sweep(c, np.linspace(0, 4 * np.pi, 9)))
     >>> np.round(angles["crank"] / np.pi, 9)
     array([0. , 0.5, 1. , 1.5, 2. , 2.5, 3. , 3.5, 4. ])
+
+    A crank swept from 300 degrees reads 300, not -60:
+
+    >>> angles = link_angles(sweep(c, np.radians([300.0, 330.0])))
+    >>> np.degrees(angles["crank"]).round(9)
+    array([300., 330.])
     """
+    compiled = sweep.construction
+    driving = [values for name, values in sweep.inputs.items()
+               if compiled.inputs[name].kind == "angle"]
     result = {}
-    for link in sweep.construction.links:
+    for link in compiled.links:
         d = sweep.points[link.points[1]] - sweep.points[link.points[0]]
-        result[link.name] = unwrap_valid(np.arctan2(d[..., 1], d[..., 0]))
+        angle = unwrap_valid(np.arctan2(d[..., 1], d[..., 0]))
+        free = np.ones((*angle.shape[:-1], 1), dtype=bool)
+        for values in driving:
+            angle, turned = _in_turn_of(angle, values, free)
+            free &= ~turned
+        result[link.name] = angle
     return result

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 from hypothesis import assume, given
 from hypothesis import strategies as st
-from mechanisms import sixbar
+from mechanisms import five_bar, sixbar
 
 from geokin import Construction, circuit, sweep
 from geokin.analysis import (
@@ -349,6 +349,57 @@ def test_link_angles_unwrap_over_turns():
     np.testing.assert_allclose(angles["crank"], theta, atol=1e-12)
     assert np.ptp(angles["rocker"]) < np.pi  # a rocker does not turn
     assert angles["coupler"].shape == (1081,)
+
+
+def crank_and_rocker_both_ways(crank="a"):
+    """A crank-rocker (ground 40, crank ``crank``, coupler 35, rocker 30) with each link
+    declared from either end: the crank from its pivot and back."""
+    c = Construction("crank both ways")
+    c.parameter("a", 10)
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 40, 0)
+    c.polar("A", "O2", crank, "theta")
+    c.circle_circle("B", ("A", "O4"), (35, 30), branch="left")
+    c.link("crank", "O2", "A")
+    c.link("back", "A", "O2")
+    c.link("rocker", "O4", "B")
+    return c
+
+
+@given(st.floats(-1000, 1000), st.floats(-3, 3).filter(lambda turns: abs(turns) > 0.01))
+def test_a_crank_reads_in_the_turn_of_its_input_wherever_the_sweep_starts(start, turns):
+    """The crank's angle is its input's (plus a half turn from its other end), at every
+    sample; a rocker's starts where atan2 puts it."""
+    theta = np.radians(start) + np.linspace(0, 2 * np.pi * turns, 50)
+    s = sweep(crank_and_rocker_both_ways(), theta)
+    angles = link_angles(s)
+    np.testing.assert_allclose(angles["crank"], theta, rtol=0, atol=1e-9)
+    np.testing.assert_allclose(angles["back"], theta + np.pi, rtol=0, atol=1e-9)
+    b = s["B"][0] - s["O4"][0]
+    assert angles["rocker"][0] == pytest.approx(np.arctan2(b[1], b[0]), abs=1e-12)
+    assert np.ptp(angles["rocker"]) < np.pi
+
+
+def test_a_crank_reads_in_its_input_turn_across_a_gap_and_in_each_variant():
+    """Variants of crank 10 and 60: the long crank cannot be assembled for most of the turn,
+    and its angle, which no unwrapping can carry across the gap, is still its input's."""
+    theta = np.radians(np.arange(300, 700, 30.0))
+    s = sweep(crank_and_rocker_both_ways(), theta, parameters={"a": [10, 60]})
+    assert s.valid[0].all() and not s.valid[1].all() and s.valid[1, [0, -1]].all()
+    angles = link_angles(s)
+    for row in range(2):
+        found = s.valid[row]
+        np.testing.assert_allclose(angles["crank"][row][found], theta[found], rtol=0, atol=1e-9)
+        assert np.isnan(angles["crank"][row][~found]).all()
+
+
+def test_each_crank_of_a_five_bar_reads_in_the_turn_of_its_own_input():
+    s = sweep(five_bar(second_turns=-2), {"t1": np.linspace(5, 5 + 2 * np.pi, 73),
+                                           "t2": np.linspace(-3, -3 - 4 * np.pi, 73)})
+    angles = link_angles(s)
+    np.testing.assert_allclose(angles["crank1"], s.inputs["t1"], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(angles["crank2"], s.inputs["t2"], rtol=0, atol=1e-9)
 
 
 # -- curve measures -------------------------------------------------------------------------------

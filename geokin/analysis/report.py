@@ -844,9 +844,9 @@ def _told_turn(low: float, high: float, values: np.ndarray,
                driving: np.ndarray | None) -> tuple[float, float]:
     """Return an angle's extremes turned by whole turns to read as people expect.
 
-    A crank's as the input that drives it (``driving``, at the samples of
-    ``values``) when it keeps a constant angle from it, so that its angle
-    reads as that input does, give or take that angle; any other angle's
+    A crank's as :func:`~geokin.kinematics.link_angles` gives them, in the
+    turn of the input that drives it (``driving``, at the samples of
+    ``values``), when it keeps a constant angle from it; any other angle's
     centred on zero (:func:`_about_zero`).
     """
     if driving is None:
@@ -854,16 +854,11 @@ def _told_turn(low: float, high: float, values: np.ndarray,
     at = np.flatnonzero(np.isfinite(values) & np.isfinite(driving))
     if not at.size:
         return _about_zero(low, high)
-    # the constant angle between the crank and its input, within half a turn; a crank
-    # turned otherwise (-theta, 2 theta) is told as any other link
+    # a crank turned otherwise (-theta, 2 theta) is told as any other link
     between = values[at] - driving[at]
     if np.ptp(between) > ROUNDING * max(1.0, float(np.max(np.abs(between)))):
         return _about_zero(low, high)
-    offset = float(between[0])
-    offset -= 2 * math.pi * round(offset / (2 * math.pi))
-    middle = 0.5 * (np.nanmin(driving[at]) + np.nanmax(driving[at])) + offset
-    turns = round((middle - 0.5 * (low + high)) / (2 * math.pi))
-    return low + 2 * math.pi * turns, high + 2 * math.pi * turns
+    return low, high
 
 
 def _about_zero(low: float, high: float) -> tuple[float, float]:
