@@ -33,7 +33,14 @@ from numpy.typing import ArrayLike
 from .compat import renamed_attribute, renamed_keywords
 from .construction import Compiled, Construction, as_compiled
 from .engine import assembly_guesses, evaluate, start_labels, variant_values
-from .errors import AssemblyError, ConstructionError, looks_like_degrees, warn_of_degrees
+from .errors import (
+    AssemblyError,
+    ConstructionError,
+    degrees_hint,
+    looks_like_degrees,
+    range_looks_like_degrees,
+    warn_of_degrees,
+)
 from .frozen import Frozen
 from .nodes import NO_INTERSECTION, SINGULAR
 from .results import BranchEvent, Sweep, short_name
@@ -318,6 +325,9 @@ def limits(construction: Construction | Compiled | Sweep, input_name: str | None
             lo, hi = middle - np.pi, middle + np.pi
     else:
         lo, hi = sorted(map(float, search_range))
+        if declared.kind == "angle" and range_looks_like_degrees(lo, hi):
+            warn_of_degrees(f"limits of {name!r}: a search range of {lo:g} to {hi:g} "
+                            f"{degrees_hint(lo, hi)}")
     if samples < 3:
         raise ConstructionError(f"limits need at least 3 samples to bracket, got {samples}",
                                 node=name, field="samples")

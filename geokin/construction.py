@@ -56,9 +56,11 @@ from . import display
 from . import primitives as prim
 from .errors import (
     ConstructionError,
+    degrees_hint,
     did_you_mean,
     looks_like_degrees,
     quote,
+    range_looks_like_degrees,
     show,
     warn_of_degrees,
 )
@@ -758,11 +760,9 @@ class Construction:
             raise ConstructionError("the range's two ends are equal: nothing to sweep",
                                     node=name, field="range")
         width = lo_hi[1] - lo_hi[0]
-        if kind == "angle" and all(looks_like_degrees(end) or end == 0 for end in lo_hi) \
-                and looks_like_degrees(width):
-            warn_of_degrees(f"input {quote(name)}: a range of {lo_hi[0]:g} to {lo_hi[1]:g} is "
-                         f"{abs(width) / (2 * math.pi):.3g} turns in radians, which angles "
-                         "are here (np.radians converts degrees)")
+        if kind == "angle" and range_looks_like_degrees(*lo_hi):
+            warn_of_degrees(f"input {quote(name)}: a range of {lo_hi[0]:g} to {lo_hi[1]:g} "
+                            f"{degrees_hint(*lo_hi)}")
         if not np.isfinite(width):
             raise ConstructionError(f"the range from {lo_hi[0]:g} to {lo_hi[1]:g} is wider "
                                     "than floating-point numbers reach", node=name, field="range")

@@ -56,7 +56,14 @@ from numpy.typing import ArrayLike
 from .budgets import check_sweep_memory
 from .compat import renamed_keywords
 from .construction import Compiled, Construction, as_compiled
-from .errors import AssemblyError, ConstructionError, did_you_mean
+from .errors import (
+    AssemblyError,
+    ConstructionError,
+    degrees_hint,
+    did_you_mean,
+    range_looks_like_degrees,
+    warn_of_degrees,
+)
 from .nodes import Candidates, Node, failure_reasons
 from .primitives import extremes, largest_element, least_element
 from .results import BranchEvent, PointTable, Sweep
@@ -972,6 +979,8 @@ def sweep(construction: Construction | Compiled,
     """
     compiled = as_compiled(construction)
     inputs, n = input_arrays(compiled, values, samples)
+    if values is not None and n > 1:
+        _warn_of_degrees(compiled, inputs, values)
     start = start_labels(compiled, start_branches)
     if parameters is None:
         # refused before allocating, with the estimate and a block that would fit
@@ -989,6 +998,18 @@ def sweep(construction: Construction | Compiled,
     # each variant's values at its samples: a view, not a copy
     return replace(flat.as_variants(count), parameters={
         k: np.broadcast_to(v[:, None], (count, n)) for k, v in varied.items()})
+
+
+def _warn_of_degrees(compiled: Compiled, inputs: Mapping[str, np.ndarray],
+                     given: ArrayLike | Mapping[str, ArrayLike]) -> None:
+    """Warn of each angle input given values that run between ends that look like degrees."""
+    for name in (given if isinstance(given, Mapping) else inputs):
+        values = inputs[name]
+        if compiled.inputs[name].kind == "angle" and values.ndim == 1:
+            low, high = float(values[0]), float(values[-1])
+            if range_looks_like_degrees(low, high):
+                warn_of_degrees(f"sweep: input {name!r} runs from {low:g} to {high:g}, which "
+                                f"{degrees_hint(low, high)}")
 
 
 def _repeated(values: np.ndarray, times: int) -> np.ndarray:

@@ -8,6 +8,7 @@ in a sweep is *not* an error: it is recorded in the sweep result.
 from __future__ import annotations
 
 import difflib
+import math
 import sys
 import warnings
 from collections.abc import Iterable
@@ -126,6 +127,32 @@ def looks_like_degrees(angle: float) -> bool:
     (True, False, False)
     """
     return abs(angle) >= 10 and float(angle).is_integer()
+
+
+def range_looks_like_degrees(low: float, high: float) -> bool:
+    """Whether the ends of an angle's range in radians are more likely degrees.
+
+    Each end a whole number of 10 or more, or zero, and the range as wide
+    as such a number: (0, 360), (-90, 90); but not beyond a hundred
+    thousand, which no one sweeps in degrees (and every float that large is
+    whole).
+
+    >>> range_looks_like_degrees(0, 360), range_looks_like_degrees(0, 6.283185307179586)
+    (True, False)
+    """
+    return (all((looks_like_degrees(end) or end == 0) and abs(end) <= 1e5
+                for end in (low, high))
+            and looks_like_degrees(high - low))
+
+
+def degrees_hint(low: float, high: float) -> str:
+    """Say how many turns a range that looks like degrees is in radians.
+
+    >>> degrees_hint(0, 360)
+    'is 57.3 turns in radians, which angles are here (np.radians converts degrees)'
+    """
+    return (f"is {abs(high - low) / (2 * math.pi):.3g} turns in radians, which angles are "
+            "here (np.radians converts degrees)")
 
 
 def warn_of_degrees(message: str) -> None:

@@ -721,3 +721,29 @@ def test_degrees_given_where_radians_are_taken_are_warned_of():
         loaded = loads(SCRIPT_IN_DEGREES)
         loads(SCRIPT_IN_DEGREES.replace("range = [0, 360]", "range = [0, 1.7e+308]"))
     assert loaded.inputs["theta"].range[1] == pytest.approx(2 * np.pi)
+
+
+def test_sweeps_and_searches_given_degrees_are_warned_of():
+    """np.arange(0, 361) swept, or limits searched from 0 to 360, are 57 turns in radians."""
+    c = Construction()
+    c.input("theta")
+    c.fixed("O", 0, 0)
+    c.polar("A", "O", 10, "theta")
+    for call in (lambda: geokin.sweep(c, np.arange(0, 361)),
+                 lambda: geokin.sweep(c, {"theta": np.linspace(-90, 90, 7)})):
+        with pytest.warns(geokin.DegreesWarning, match=r"sweep: input 'theta' runs from -?\d+ "
+                          r"to \d+, which is \d+(\.\d+)? turns in radians") as caught:
+            call()
+        assert caught[0].filename == __file__
+    with pytest.warns(geokin.DegreesWarning, match="limits of 'theta': a search range of 0 to "
+                      "360 is 57.3 turns in radians") as caught:
+        geokin.limits(c, search_range=(0, 360))
+    assert caught[0].filename == __file__
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        geokin.sweep(c, np.linspace(0, 2 * np.pi, 9))
+        geokin.sweep(c, np.arange(0, 4))  # 3 rad: a radian value
+        geokin.sweep(c, [40.0])  # one sample: a single angle, not a sweep
+        geokin.sweep(c, np.linspace(0, 3e5, 5))  # beyond any sweep in degrees
+        geokin.limits(c, search_range=(0, 6))
+        geokin.sweep(loads(SCRIPT_IN_DEGREES))  # a script's own range
