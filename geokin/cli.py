@@ -1359,11 +1359,22 @@ def run_tolerance(args: argparse.Namespace) -> int:
         _print_lines(_tolerance_text(result, construction, _assignments(args.set, "--set")))
     if not result.assembled.any():
         raise AssemblyError("no variant assembles at every sample"
+                            + _nominal_failure(construction, result.nominal)
                             + ("; no picture is drawn" if plotting is not None else ""))
     if plotting is not None:
         fig, _ = plotting.figure_tolerance(result, output=args.histogram)
         print(escape(f"wrote {plotting.save(fig, args.output)}"), file=sys.stderr)
     return 0
+
+
+def _nominal_failure(construction: Construction, nominal: Sweep) -> str:
+    """Say where the nominal design of a study cannot be assembled, if anywhere, and what to do."""
+    if nominal.valid.all():
+        return ""
+    i = int(np.argmin(nominal.valid))
+    return (f", nor does the nominal design (at {_sample_text(construction, nominal, i)}, node "
+            f"{quote(nominal.failed_node[i])}: {nominal.failure_reason[i]}): sweep where it "
+            "assembles with --range (geokin analyze gives its limits)")
 
 
 # -- the program ---------------------------------------------------------------------

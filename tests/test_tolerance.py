@@ -409,8 +409,11 @@ def test_no_picture_is_drawn_of_a_study_where_nothing_assembles(capsys, tmp_path
     status, _, err = run(capsys, "tolerance", FOURBAR, "--set", "c=2", "--tol", "a=0.01",
                          "-n", "20", "-o", path)
     assert status == 1 and not path.exists()
-    assert err == (f"geokin: error: {FOURBAR}: no variant assembles at every sample; no "
-                   "picture is drawn\n")
+    # c = 2 is shorter than the crank's reach: the nominal design misses at theta2 = 0
+    assert err == (f"geokin: error: {FOURBAR}: no variant assembles at every sample, nor does "
+                   "the nominal design (at theta2 = 0 deg, node 'B': no intersection: the "
+                   "curves do not meet): sweep where it assembles with --range (geokin analyze "
+                   "gives its limits); no picture is drawn\n")
 
 
 @pytest.mark.parametrize("argv, message", [
@@ -653,6 +656,24 @@ def test_a_tolerance_that_crosses_zero_is_warned_of(capsys):
     status, _, err = run(capsys, "tolerance", str(CONSTRUCTIONS / "slider_crank_inclined.toml"),
                          "--tol", "beta=40", "-n", "50")
     assert status == 0 and err == ""
+
+
+def test_a_study_over_more_than_the_nominal_design_reaches_says_so_and_what_to_do(capsys):
+    """The triple rocker turns its input within its limits only, not the declared full turn."""
+    script = str(CONSTRUCTIONS / "triple_rocker_crank.toml")
+    status, out, err = run(capsys, "tolerance", script, "--tol", "r2=0.05", "-n", "20",
+                           "--range", 0, 360)
+    assert status == 1 and "0 of 20" in out
+    hi = float(geokin.limits(load(script)).intervals[0][1].value)
+    # the first sample past the limit, with samples one degree apart from 0
+    first = math.ceil(np.degrees(hi))
+    assert err.endswith(f"no variant assembles at every sample, nor does the nominal design "
+                        f"(at theta2 = {first} deg, node 'C': no intersection: the curves do not "
+                        "meet): sweep where it assembles with --range (geokin analyze gives its "
+                        "limits)\n")
+    status, _, _ = run(capsys, "tolerance", script, "--tol", "r2=0.05", "-n", "20",
+                       "--range", -130, 130)
+    assert status == 0
 
 
 def test_a_study_of_variants_that_never_assemble_says_so_in_one_line(capsys):
