@@ -1363,15 +1363,27 @@ CRANK_RTOL = 1e-9
 :func:`link_angles`."""
 
 
+INPUT_MOVES = 1e-6
+"""An angle input that moves less than this (radians) over a link's samples is
+taken to hold still, and turns no link (see :func:`link_angles`)."""
+
+
 def _in_turn_of(angle: np.ndarray, driving: np.ndarray, free: np.ndarray
                 ) -> tuple[np.ndarray, np.ndarray]:
     """Turn an angle by whole turns where it keeps a constant angle from ``driving``.
 
-    Along the last axis, in each row still ``free``: at every sample, also
+    Along the last axis, in each row still ``free`` where ``driving`` moves
+    over the angle's finite samples: at every sample, also
     across a gap that the angle could not be unwrapped across, the angle is
     then ``driving`` plus one constant in (-pi, pi]. Returns the angle and
     the rows it was turned in.
     """
+    # an input that does not move (one sample, or held) leaves every link at a
+    # constant angle from it: it turns none
+    found = np.isfinite(angle)
+    moving = np.where(found, driving, np.nan)
+    free = free & (np.fmax.reduce(moving, axis=-1, keepdims=True)
+                   - np.fmin.reduce(moving, axis=-1, keepdims=True) > INPUT_MOVES)
     between = angle - driving
     # whole turns apart from an element of its row (one of them: the least)
     apart = np.round((between - np.fmin.reduce(between, axis=-1, keepdims=True)) / (2 * np.pi))

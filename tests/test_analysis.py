@@ -394,6 +394,19 @@ def test_a_crank_reads_in_its_input_turn_across_a_gap_and_in_each_variant():
         assert np.isnan(angles["crank"][row][~found]).all()
 
 
+def test_an_input_that_does_not_move_turns_no_link():
+    """At one sample, or with an input held, every link keeps a constant angle from the
+    input: none is a crank for it, and each reads as atan2 gives it."""
+    s = sweep(crank_and_rocker_both_ways(), [np.radians(1000.0)])
+    for name, (a, b) in (("crank", ("O2", "A")), ("rocker", ("O4", "B"))):
+        d = s[b][0] - s[a][0]
+        assert link_angles(s)[name][0] == pytest.approx(np.arctan2(d[1], d[0]), abs=1e-12)
+    held = sweep(five_bar(), {"t1": np.linspace(0, 1, 5), "t2": np.full(5, 7.0)})
+    angles = link_angles(held)
+    np.testing.assert_allclose(angles["crank1"], held.inputs["t1"], rtol=0, atol=1e-9)
+    np.testing.assert_allclose(angles["crank2"], 7.0 - 2 * np.pi, rtol=0, atol=1e-9)
+
+
 def test_each_crank_of_a_five_bar_reads_in_the_turn_of_its_own_input():
     s = sweep(five_bar(second_turns=-2), {"t1": np.linspace(5, 5 + 2 * np.pi, 73),
                                            "t2": np.linspace(-3, -3 - 4 * np.pi, 73)})
