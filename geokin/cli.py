@@ -101,6 +101,7 @@ from .errors import (
     ConstructionError,
     GeokinError,
     ScriptError,
+    closest_name,
     did_you_mean,
     quote,
 )
@@ -1445,7 +1446,9 @@ class _Parser(argparse.ArgumentParser):
                 either = ", ".join(named[:-1]) + " or " if len(named) > 1 else ""
                 close = f"; did you mean {either}{named[-1]}?"
             else:
-                close = did_you_mean(name, longs)
+                # judged without the dashes every long option shares
+                best = closest_name(name[2:], [o[2:] for o in longs])
+                close = "" if best is None else f"; did you mean {quote('--' + best)}?"
         self.error(f"{who} has no option {quote(name)}{close}")
 
 

@@ -512,6 +512,11 @@ def test_every_sweep_refuses_a_step_that_is_not_positive(capsys, tmp_path, comma
     (["analyze", SIXBAR, "--jsno"], "analyze has no option '--jsno'; did you mean '--json'? "
                                     "(see 'geokin analyze --help')"),
     (["check", SIXBAR, "--json"], "check has no option '--json' (see 'geokin check --help')"),
+    # alike only in the dashes every long option starts with
+    (["tolerance", SIXBAR, "--circuit"], "tolerance has no option '--circuit' "
+                                         "(see 'geokin tolerance --help')"),
+    (["plot", SIXBAR, "--circiut"], "plot has no option '--circiut'; did you mean "
+                                    "'--circuit'? (see 'geokin plot --help')"),
     (["trace", SIXBAR, "-x"], "trace has no option '-x' (see 'geokin trace --help')"),
     (["trace", SIXBAR, "other.toml"], "trace does not take the argument 'other.toml' "
                                       "(see 'geokin trace --help')"),
