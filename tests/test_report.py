@@ -848,3 +848,16 @@ def test_transmission_extremes_of_a_full_turn_are_told_in_the_declared_turn():
     mu = analyze(c, degrees=True, start=97.0).transmission_angles["C"]
     assert sorted([mu.at_minimum["theta2"], mu.at_maximum["theta2"]]) == pytest.approx(
         [0.0, 180.0], abs=1e-3)
+
+
+@pytest.mark.parametrize("declared, expected", [((0.0, -2 * np.pi), [-180.0, 0.0]),
+                                                ((np.pi, -np.pi), [0.0, 180.0])])
+def test_transmission_extremes_are_told_in_the_turn_a_decreasing_range_runs(declared,
+                                                                           expected):
+    """A range run downwards from its start holds the turn below it, start included: the
+    crank-rocker's extremes (at 0 and 180 deg by the cosine rule) read in that turn."""
+    c = fourbar(40, 10, 35, 30)
+    c.inputs["theta2"] = dataclasses.replace(c.inputs["theta2"], range=declared)
+    mu = analyze(c, degrees=True).transmission_angles["C"]
+    assert sorted([mu.at_minimum["theta2"], mu.at_maximum["theta2"]]) == pytest.approx(
+        expected, abs=1e-3)

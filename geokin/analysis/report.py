@@ -1093,16 +1093,17 @@ def _in_declared_turn(compiled: Compiled, inputs: Mapping[str, InputReport],
                       values: Mapping[str, float]) -> dict[str, float]:
     """Return input values (radians) with each input that turns fully told in its first turn.
 
-    The turn from the start of its declared range: a circuit started
-    elsewhere gives a crank's angles some turns on.
+    The turn from the start of its declared range, the way the range runs:
+    a circuit started elsewhere gives a crank's angles some turns on.
     """
     told = dict(values)
     for name, value in values.items():
         if inputs[name].full_turn and compiled.inputs[name].kind == "angle":
-            low = min(compiled.inputs[name].range)
-            turned = (value - low) % (2 * math.pi)
+            start, end = compiled.inputs[name].range
+            sense = 1.0 if end >= start else -1.0
+            turned = (sense * (value - start)) % (2 * math.pi)
             # a turn short of the start by rounding is the start
-            told[name] = low + (0.0 if 2 * math.pi - turned <= ROUNDING else turned)
+            told[name] = start + sense * (0.0 if 2 * math.pi - turned <= ROUNDING else turned)
     return told
 
 
