@@ -1,11 +1,13 @@
 import dataclasses
 import re
+import warnings
 from pathlib import Path
 
 import numpy as np
 import pytest
 from mechanisms import five_bar, parallelograms_in_series
 
+import geokin
 from geokin import Construction, circuit, load, sweep
 from geokin.analysis import analyze
 from geokin.errors import AnalysisError
@@ -822,8 +824,23 @@ def test_a_start_copied_from_the_report_starts_at_that_interval_end():
             analyze(c, start=bad)
     # a whole number of radians far beyond a turn: most likely degrees
     with pytest.raises(AnalysisError, match=r"a start of 50 rad: .*; angles are in radians "
-                                            r"here \(degrees=True takes degrees\)"):
+                                            r"here \(degrees=True takes degrees\)"), \
+            pytest.warns(geokin.DegreesWarning, match="analyze: a start of 50 is 7.96 turns"):
         analyze(double_rocker(), start=50)
+
+
+def test_a_start_that_looks_like_degrees_is_warned_of_where_a_circuit_takes_it():
+    """45 rad lies in the crank-rocker's one interval, a full turn, seven turns on: taken,
+    with a warning at the call, since 45 is much likelier degrees."""
+    c = fourbar(40, 10, 35, 30)
+    with pytest.warns(geokin.DegreesWarning, match="analyze: a start of 45 is 7.16 turns in "
+                      r"radians.*degrees=True takes degrees") as caught:
+        analyze(c, start=45)
+    assert [w.filename for w in caught] == [__file__]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        analyze(c, start=0.75)
+        analyze(c, degrees=True, start=45)
 
 
 def test_a_crank_turned_otherwise_than_with_its_input_is_told_as_any_link():

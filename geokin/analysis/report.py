@@ -25,7 +25,7 @@ import numpy as np
 from ..circuits import Limits, circuit, describe_limit, limits, placed_in
 from ..construction import Compiled, Construction, Slider, as_compiled
 from ..engine import meeting_rtol, sweep
-from ..errors import AnalysisError, looks_like_degrees, quote
+from ..errors import AnalysisError, looks_like_degrees, quote, warn_of_degrees
 from ..kinematics import link_angles, slider_positions, sliders_off_guide
 from ..nodes import CircleCircle
 from ..results import Sweep, short_name
@@ -1132,6 +1132,9 @@ def _circuit_start(compiled: Compiled, found: Limits, entry: InputReport, start:
     unit = _input_unit(compiled, name, degrees)
     if not math.isfinite(start):
         raise AnalysisError(f"a start must be a finite number, got {start!r}")
+    if angle and not degrees and looks_like_degrees(start):
+        warn_of_degrees(f"analyze: a start of {start:g} is {start / (2 * math.pi):.3g} turns "
+                        "in radians, which angles are here (degrees=True takes degrees)")
     to_radians = math.radians if angle and degrees else float
     placed = placed_in(found, to_radians(start), angle, to_radians(START_SLACK))
     if placed is not None:
