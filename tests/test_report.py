@@ -878,3 +878,59 @@ def test_transmission_extremes_are_told_in_the_turn_a_decreasing_range_runs(decl
     mu = analyze(c, degrees=True).transmission_angles["C"]
     assert sorted([mu.at_minimum["theta2"], mu.at_maximum["theta2"]]) == pytest.approx(
         expected, abs=1e-3)
+
+
+@pytest.mark.parametrize("first", [0.3, 180.3])
+def test_transmission_extremes_at_the_seam_of_a_full_turn_are_placed_there(first):
+    """Swept from 0.3 deg, the crank-rocker's least transmission angle (at 0 deg by the
+    cosine rule) lies in the step across the seam of the turn, between its last sample and
+    its first: it is placed there, not at the first sample."""
+    c = fourbar(40, 10, 35, 30)
+    c.inputs["theta2"] = dataclasses.replace(c.inputs["theta2"],
+                                             range=(np.radians(first), np.radians(first + 360)))
+    mu = analyze(c, degrees=True).transmission_angles["C"]
+
+    def cosine_rule(theta):
+        d2 = 40**2 + 10**2 - 2 * 40 * 10 * np.cos(theta)
+        return np.degrees(np.arccos((35**2 + 30**2 - d2) / (2 * 35 * 30)))
+
+    assert (mu.minimum, mu.maximum) == pytest.approx((cosine_rule(0), cosine_rule(np.pi)),
+                                                     abs=1e-9)
+    assert mu.at_minimum["theta2"] % 360 == pytest.approx(0, abs=1e-6) or \
+        mu.at_minimum["theta2"] % 360 == pytest.approx(360, abs=1e-6)
+    assert mu.at_maximum["theta2"] % 360 == pytest.approx(180, abs=1e-6)
+
+
+def test_extremes_next_to_a_gap_of_two_inputs_swept_together_are_placed_at_its_edge():
+    """Two cranks of 20, 50 apart, turned opposite ways, with links of 32: the links fall in
+    line where the cranks' pins are 64 apart, and the motion stops. There the transmission
+    angle is 180 deg and the left link's angle is least; the edge is found here by bisection
+    on the pins' distance."""
+    c = Construction("five-bar")
+    c.input("t1")
+    c.input("t2", range=(0.0, -2 * np.pi))
+    c.fixed("O1", 0, 0)
+    c.fixed("O2", 50, 0)
+    c.polar("A", "O1", 20, "t1")
+    c.polar("B", "O2", 20, "t2")
+    c.circle_circle("C", ("A", "B"), (32, 32), branch="left")
+    c.link("left", "A", "C")
+    c.link("right", "B", "C")
+    report = analyze(c, degrees=True)
+
+    def pins(u):  # along the path: t1 = 2 pi u, t2 = -2 pi u
+        a = 20 * np.array([np.cos(2 * np.pi * u), np.sin(2 * np.pi * u)])
+        return a, np.array([50.0, 0.0]) + 20 * np.array([np.cos(2 * np.pi * u),
+                                                          -np.sin(2 * np.pi * u)])
+
+    lo, hi = 0.0, 0.25  # the pins 30 apart, then 68 apart
+    for _ in range(100):
+        middle = 0.5 * (lo + hi)
+        a, b = pins(middle)
+        lo, hi = (middle, hi) if np.hypot(*(b - a)) < 64 else (lo, middle)
+    a, b = pins(lo)
+    least = np.degrees(np.arctan2(*((a + b) / 2 - a)[::-1]))
+    mu = report.transmission_angles["C"]
+    assert mu.maximum == pytest.approx(180, abs=1e-4)
+    assert mu.at_maximum["t1"] % 180 == pytest.approx(360 * lo, abs=1e-6)
+    assert report.strokes["left.angle"].minimum == pytest.approx(least, abs=1e-5)

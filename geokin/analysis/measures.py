@@ -8,6 +8,7 @@ measures of a traced curve (:func:`curve_measures`). Angles are radians.
 from __future__ import annotations
 
 import math
+from collections.abc import Container, Mapping
 from dataclasses import dataclass, field
 from typing import cast
 
@@ -18,7 +19,8 @@ from numpy.typing import ArrayLike
 from ..compat import renamed_keywords
 from ..errors import AnalysisError
 
-__all__ = ["Curve", "Stroke", "curve_measures", "refine_extreme", "stroke", "time_ratio"]
+__all__ = ["Curve", "Stroke", "closing_turns", "curve_measures", "refine_extreme", "stroke",
+           "time_ratio"]
 
 # -- stroke and time ratio ----------------------------------------------------------
 
@@ -112,6 +114,38 @@ def refine_extreme(x: ArrayLike, y: ArrayLike) -> tuple[float, float]:
 
 
 @renamed_keywords(input="input_values")
+def closing_turns(inputs: Mapping[str, np.ndarray], angles: Container[str]
+                  ) -> dict[str, int] | None:
+    """Return how many whole turns each angle input ends on from its start, if all close.
+
+    A sweep's inputs close when every one ends where it began: an angle
+    input (named in ``angles``) any whole number of turns on, to rounding,
+    any other exactly. None where one does not, or over one sample.
+
+    Examples
+    --------
+    >>> closing_turns({"t": np.linspace(0, 4 * np.pi, 9)}, {"t"})
+    {'t': 2}
+    >>> closing_turns({"t": np.linspace(0, 1, 3), "s": np.ones(3)}, {"t"}) is None
+    True
+    """
+    turns = {}
+    for name, values in inputs.items():
+        if np.ndim(values) != 1 or len(values) < 2:
+            return None
+        travel = float(values[-1] - values[0])
+        if not math.isfinite(travel):
+            return None
+        if name in angles:
+            turned = travel / (2 * math.pi)
+            if abs(turned - round(turned)) > 1e-9 * max(1.0, abs(turned)):
+                return None
+            turns[name] = round(turned)
+        elif travel != 0:
+            return None
+    return turns
+
+
 def stroke(output: ArrayLike, input_values: ArrayLike, *, period: float = 2 * np.pi) -> Stroke:
     """Return the extremes, stroke and time ratio of an output over one input turn.
 

@@ -31,7 +31,7 @@ from ..nodes import CircleCircle
 from ..results import Sweep, short_name
 from ..terminal import one_line
 from .fourbar import ROLES, grashof, transmission_angles
-from .measures import curve_measures, refine_extreme, stroke
+from .measures import closing_turns, curve_measures, refine_extreme, stroke
 from .mobility import Mobility, cranks, degrees_of_freedom
 
 __all__ = [
@@ -835,6 +835,11 @@ _AROUND = np.array([-1.0, 0.0, 1.0])
 """A sample and its neighbours, by index."""
 
 
+EDGE_ROUNDS = 5
+"""How many times :meth:`_Steps.edge` evaluates the stretch about a limit again,
+each :data:`REFINE_SAMPLES` samples: a 128**5-th of a step is about 1e-12
+of a degree in a degree's step."""
+
 REFINE_SAMPLES = 129
 """How many samples of the mechanism :func:`_strokes` evaluates again along a
 step next to an extreme sample, to place the extreme inside it."""
@@ -953,14 +958,20 @@ class _Steps:
                       else np.arange(n, dtype=float))
         self.labels = {k: np.broadcast_to(b, (n,)) for k, b in motion.branches.items()}
         self.changes = {event.index for event in motion.events}  # in the step ending there
-        self.closed = (n > 2 and all(v[0] == v[-1] for v in self.inputs.values())
+        self.closed = (n > 2 and closing_turns(self.inputs, _angle_inputs(compiled)) is not None
                        and all(b[0] == b[-1] for b in self.labels.values()))
         self.dense: dict[int, tuple[np.ndarray, Sweep]] = {}
 
-    def about(self, i: int) -> list[int]:
-        """Return the steps that sample ``i`` ends or begins (not those of no length)."""
-        found = [i - 1] if i >= 1 else [self.n - 2] if self.closed else []
-        found += [i] if i <= self.n - 2 else [0] if self.closed else []
+    def about(self, i: int, across: bool = False) -> list[int]:
+        """Return the steps that sample ``i`` ends or begins (not those of no length).
+
+        With ``across``, over a closed circuit, the first sample also ends
+        the last step and the last sample begins the first: what is asked
+        of them comes back with the mechanism.
+        """
+        across = across and self.closed
+        found = [i - 1] if i >= 1 else [self.n - 2] if across else []
+        found += [i] if i <= self.n - 2 else [0] if across else []
         return [a for a in found if any(v[a] != v[a + 1] for v in self.inputs.values())]
 
     def evaluated(self, a: int) -> tuple[np.ndarray, Sweep]:
@@ -978,6 +989,37 @@ class _Steps:
             self.dense[a] = (np.linspace(self.along[start], self.along[end], REFINE_SAMPLES),
                              sweep(self.compiled, values, start_branches=branches))
         return self.dense[a]
+
+    def edge(self, a: int, inside: float, outside: float, value: float,
+             branches: Mapping[str, int], of: Callable[[Sweep], np.ndarray]
+             ) -> tuple[float, float]:
+        """Return where the assembled part of step ``a`` ends, and the output ``of`` there.
+
+        Between the parameters ``inside`` (assembled on ``branches``, the
+        output ``value`` there) and ``outside`` (not assembled), evaluated
+        again at :data:`REFINE_SAMPLES` samples :data:`EDGE_ROUNDS` times,
+        each time about the last assembled sample: an output near a limit
+        changes as the square root of the distance to it, and is only
+        placed there closely.
+        """
+        for _ in range(EDGE_ROUNDS):
+            x = np.linspace(inside, outside, REFINE_SAMPLES)
+            if len(self.inputs) == 1:
+                values = {name: x for name in self.inputs}
+            else:  # the steps' parameter is the sample's index
+                values = {name: v[a] + (x - a) * (v[a + 1] - v[a])
+                          for name, v in self.inputs.items()}
+            local = sweep(self.compiled, values, start_branches=branches)
+            found = np.asarray(of(local), dtype=float)
+            j = len(x) - 1 if np.isfinite(found).all() else int(np.argmin(np.isfinite(found))) - 1
+            if j < 0:  # not even the inside end, to rounding: as found before
+                break
+            inside, value = float(x[j]), float(found[j])
+            if j == len(x) - 1:
+                break
+            outside = float(x[j + 1])
+            branches = {k: int(np.broadcast_to(b, x.shape)[j]) for k, b in local.branches.items()}
+        return inside, value
 
     def inputs_at(self, where: float) -> dict[str, float]:
         """Return the inputs where the steps' parameter is ``where``."""
@@ -1002,19 +1044,40 @@ def _placed_extreme(values, sign, steps: _Steps, of: Callable[[Sweep], np.ndarra
     finite = np.where(np.isfinite(values), sign * values, -np.inf)
     i = int(np.argmax(finite))
     where, best = float(steps.along[i]), float(values[i])
-    for a in steps.about(i):
+    # the ends of a closed circuit are neighbours if the output comes back too (not one
+    # read off a part that turns at another rate)
+    back = values[-1] - values[0]
+    if is_angle:
+        back -= 2 * np.pi * np.round(back / (2 * np.pi))
+    across = bool(abs(back) <= ROUNDING * max(1.0, float(np.nanmax(np.abs(values)))))
+    for a in steps.about(i, across):
         x, local = steps.evaluated(a)
         dense = np.asarray(of(local), dtype=float)
-        if not np.isfinite(dense).all():
-            continue
+        assembled = np.isfinite(dense)
         if is_angle:
-            at = int(np.argmin(np.abs(x - steps.along[i])))
-            dense = dense + 2 * np.pi * np.round((best - dense[at]) / (2 * np.pi))
-        k = int(np.argmax(sign * dense))
-        if 0 < k < len(dense) - 1:
+            # on the sample's own turn, told by the dense sample nearest to it
+            if not assembled.any():
+                continue
+            near = np.where(assembled, np.abs(x - steps.along[i]), np.inf)
+            dense = dense + 2 * np.pi * np.round((best - dense[np.argmin(near)]) / (2 * np.pi))
+        # where part of the step cannot be assembled, the extreme of the part that can
+        k = int(np.argmax(np.where(assembled, sign * dense, -np.inf)))
+        if not assembled[k]:
+            continue
+        gap = next((g for g in (k - 1, k + 1) if 0 <= g < len(dense) and not assembled[g]),
+                   None)
+        if gap is not None:  # next to a part of the step that cannot be assembled: a limit
+            labels = {name: int(np.broadcast_to(b, x.shape)[k])
+                      for name, b in local.branches.items()}
+            place, found = steps.edge(a, float(x[k]), float(x[gap]), float(dense[k]), labels, of)
+            if is_angle:
+                found += 2 * np.pi * round((dense[k] - found) / (2 * np.pi))
+        elif 0 < k < len(dense) - 1:
             place, found = refine_extreme(x[k - 1:k + 2], dense[k - 1:k + 2])
-            if sign * found > sign * best:
-                where, best = place, found
+        else:  # at an end of the step
+            place, found = float(x[k]), float(dense[k])
+        if sign * found > sign * best:
+            where, best = place, found
     return where, best
 
 
@@ -1171,13 +1234,13 @@ def _swept_together(compiled: Compiled, motion: Sweep, value_of: Callable[[str],
 
 def _whole_turns(compiled: Compiled, motion: Sweep) -> bool:
     """Whether the motion's one input is an angle that ends whole turns (not 0) on."""
-    if len(compiled.inputs) != 1:
-        return False
-    name, declared = next(iter(compiled.inputs.items()))
-    x = motion.inputs[name]
-    travel = (x[-1] - x[0]) / (2 * np.pi)
-    return bool(declared.kind == "angle" and round(travel) != 0
-                and abs(travel - round(travel)) <= ROUNDING)
+    turns = closing_turns(motion.inputs, _angle_inputs(compiled))
+    return len(compiled.inputs) == 1 and turns is not None and any(turns.values())
+
+
+def _angle_inputs(compiled: Compiled) -> set[str]:
+    """Return the names of a construction's angle inputs."""
+    return {name for name, declared in compiled.inputs.items() if declared.kind == "angle"}
 
 
 def _returning(compiled: Compiled, motion: Sweep, off: Mapping[str, float]) -> dict[str, bool]:

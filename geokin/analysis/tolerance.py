@@ -49,6 +49,7 @@ from ..engine import input_arrays, sweep
 from ..errors import AnalysisError, ConstructionError, GeokinError, did_you_mean, quote
 from ..frozen import Frozen
 from ..results import Sweep, short_name
+from .measures import closing_turns
 
 __all__ = [
     "BLOCK_VARIANTS",
@@ -306,19 +307,9 @@ def _closes(compiled: Compiled, inputs: Mapping[str, np.ndarray]) -> bool:
     Only then may an output's first and last samples be one configuration,
     each the other's neighbour (:func:`_between_samples`).
     """
-    turned = False
-    for name, values in inputs.items():
-        travel = float(values[-1] - values[0]) if len(values) > 1 else 0.0
-        if not math.isfinite(travel):
-            return False
-        if compiled.inputs[name].kind == "angle":
-            turns = travel / (2 * math.pi)
-            if abs(turns - round(turns)) > 1e-9 * max(1.0, abs(turns)):
-                return False
-            turned = turned or round(turns) != 0
-        elif travel != 0:
-            return False
-    return turned
+    angles = {name for name, declared in compiled.inputs.items() if declared.kind == "angle"}
+    turns = closing_turns(inputs, angles)
+    return turns is not None and any(turns.values())
 
 
 def _between_samples(values: Callable[[np.ndarray], np.ndarray], picked: np.ndarray, n: int,
