@@ -720,8 +720,9 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
     values = np.concatenate([p[0] if i == 0 else p[0][1:] for i, p in enumerate(passes)])
     per_sample = {k: np.concatenate([p[1][k] if i == 0 else p[1][k][1:]
                                      for i, p in enumerate(passes)]) for k in labels}
-    solved = {k: np.concatenate([p[2][k] if i == 0 else p[2][k][1:]
-                                 for i, p in enumerate(passes)]) for k in groups}
+    solved = {k: _nearest_solved(np.concatenate([p[2][k] if i == 0 else p[2][k][1:]
+                                                 for i, p in enumerate(passes)]))
+              for k in groups}
     inputs = {k: np.full(len(values), v) for k, v in held.items()}
     inputs[name] = values
     result = evaluate(compiled, inputs, len(values), {**per_sample, **solved}, track=False)
@@ -774,6 +775,22 @@ def _continuing(compiled, name, held, last_pass, limit: Limit, folded: str | Non
 def _solved(rows: np.ndarray) -> np.ndarray:
     """Return the samples of a pass where a group's solution was found."""
     return np.flatnonzero(np.isfinite(rows).all(axis=1))
+
+
+def _nearest_solved(rows: np.ndarray) -> np.ndarray:
+    """Return each group solution of a circuit, or where unsolved the one before it.
+
+    The continuation along a pass may stop a sample short of a fold, where
+    the group's Jacobian is all but singular; the circuit's samples are
+    then each solved by Newton from these, and the sample at the fold from
+    the solution next to it converges. Rows before the first solution take
+    that one.
+    """
+    solved = np.isfinite(rows).all(axis=1)
+    if solved.all() or not solved.any():
+        return rows
+    before = np.maximum.accumulate(np.where(solved, np.arange(len(rows)), -1))
+    return rows[np.where(before >= 0, before, np.argmax(solved))]
 
 
 def _last_solved(rows: np.ndarray) -> np.ndarray:
