@@ -113,7 +113,6 @@ def refine_extreme(x: ArrayLike, y: ArrayLike) -> tuple[float, float]:
     return float(x0 + t * h), float(poly(t))
 
 
-@renamed_keywords(input="input_values")
 def closing_turns(inputs: Mapping[str, np.ndarray], angles: Container[str]
                   ) -> dict[str, int] | None:
     """Return how many whole turns each angle input ends on from its start, if all close.
@@ -146,6 +145,7 @@ def closing_turns(inputs: Mapping[str, np.ndarray], angles: Container[str]
     return turns
 
 
+@renamed_keywords(input="input_values")
 def stroke(output: ArrayLike, input_values: ArrayLike, *, period: float = 2 * np.pi) -> Stroke:
     """Return the extremes, stroke and time ratio of an output over one input turn.
 
