@@ -306,7 +306,8 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
                    lengths: np.ndarray, start: np.ndarray):
     """Follow one assembly along the samples, from a sketch at the first.
 
-    The first sample where Newton from ``start`` converges begins the path.
+    The first sample where Newton from ``start`` converges begins the path,
+    followed from there to the last sample and back to the first.
     Each later sample starts from the last solution found: samples are
     solved a chunk at a time (up to :data:`MAX_CHUNK`, growing while all
     succeed), all from the chunk's starting solution, with at most
@@ -359,6 +360,11 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
             break
     if not begun:
         return z, margin, singular
+    if i > 0:
+        # the samples before it are followed back from it, the assembly the sketch picked
+        back = np.arange(i, -1, -1)
+        z[back], margin[back], singular[back] = continue_along(
+            system, unknowns, *_rows(known, lengths, back), z[i])
     last = i
     chunk = 8
     j = i + 1

@@ -529,3 +529,22 @@ def test_analyze_reaches_a_triads_folds_and_finds_its_path_closed():
     crank = report.strokes["crank.angle"]
     assert (crank.minimum, crank.maximum) == pytest.approx((low, high), abs=1e-9)
     assert report.curves["E"].closed
+
+
+def test_a_group_is_followed_back_from_where_its_sketch_first_fits():
+    """With AB = 2 the Stephenson III's sketch fits no assembly before theta = 78 deg:
+    Newton from it converges first there. The triad is followed from there to the end of
+    the turn and back to its start, on one assembly: every sample keeps every length, and
+    no step jumps."""
+    text = (ROOT / "constructions" / "stephenson3.toml").read_text().replace(
+        '\nAB = "hypot(0.4, -2.8)"\n', "\nAB = 2\n")
+    c = geokin.loads(text)
+    s = geokin.sweep(c)
+    assert s.valid.all()
+    lengths = c.compile().parameters
+    for a, b, name in (("F", "D", "FD"), ("F", "E", "FE"), ("D", "E", "DE"), ("C", "A", "CA"),
+                       ("C", "B", "CB"), ("A", "B", "AB"), ("D", "A", "DA"), ("E", "B", "EB")):
+        np.testing.assert_allclose(np.hypot(*(s[a] - s[b]).T), lengths[name], atol=1e-9)
+    for p in ("D", "E", "A", "B"):
+        steps = np.hypot(*np.diff(s[p], axis=0).T)
+        assert steps.max() < 5 * np.median(steps) + 1e-9, p
