@@ -363,8 +363,9 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
     if i > 0:
         # the samples before it are followed back from it, the assembly the sketch picked
         back = np.arange(i, -1, -1)
+        known_back, lengths_back = _rows(known, lengths, back)
         z[back], margin[back], singular[back] = continue_along(
-            system, unknowns, *_rows(known, lengths, back), z[i])
+            system, unknowns, known_back, lengths_back, z[i])
     last = i
     chunk = 8
     j = i + 1
