@@ -119,10 +119,17 @@ def test_an_input_with_the_name_of_a_column_is_refused_not_overwritten():
         columns(s, [], motion=motion(s))
 
 
-def test_a_motion_of_another_sweep_is_refused():
+def test_a_motion_of_another_sweep_is_refused_and_of_the_same_sweep_made_twice_taken():
     c = a_crank("theta")
-    with pytest.raises(ValueError, match="motion is of another sweep"):
-        columns(sweep(c, [0.0, 1.0]), motion=motion(sweep(c, [0.0, 1.0])))
+    s = sweep(c, [0.0, 1.0, 2.0])
+    own = columns(s, motion=motion(s))
+    again = columns(s, motion=motion(sweep(c, [0.0, 1.0, 2.0])))
+    assert own.keys() == again.keys()
+    for name in own:
+        np.testing.assert_array_equal(own[name], again[name])
+    for other in ([0.0, 1.0, 2.5], [0.0, 1.0]):
+        with pytest.raises(ValueError, match="motion is of another sweep"):
+            columns(s, motion=motion(sweep(c, other)))
 
 
 def test_an_unknown_point_is_named():

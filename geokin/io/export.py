@@ -193,7 +193,7 @@ def columns(sweep: Sweep, points: Sequence[str] | None = None, *, motion: Motion
     (['theta', 'valid', 'crank.angle'], array([  0.,  90., 180.]))
     """
     n = len(sweep)
-    if motion is not None and motion.sweep is not sweep:
+    if motion is not None and not _same_motion(motion.sweep, sweep):
         raise ValueError("motion is of another sweep: compute it with geokin.motion(sweep)")
     compiled = sweep.construction
     declared_links = [link.name for link in compiled.links]
@@ -265,6 +265,20 @@ def columns(sweep: Sweep, points: Sequence[str] | None = None, *, motion: Motion
                 add(f"{slider}.velocity", motion.slider_velocity[slider])
                 add(f"{slider}.acceleration", motion.slider_acceleration[slider])
     return table
+
+
+def _same_motion(a: Sweep, b: Sweep) -> bool:
+    """Whether two sweeps are one motion: the same, or of one construction alike throughout.
+
+    Two sweeps of a construction at the same inputs, parameters and branches
+    are the same motion, made twice.
+    """
+    def alike(x: Mapping[str, np.ndarray], y: Mapping[str, np.ndarray]) -> bool:
+        return x.keys() == y.keys() and all(np.array_equal(x[k], y[k]) for k in x)
+
+    return a is b or (a.construction is b.construction and alike(a.inputs, b.inputs)
+                      and alike(a.parameters, b.parameters) and alike(a.branches, b.branches)
+                      and np.array_equal(a.valid, b.valid))
 
 
 def _arrays(table: Mapping[str, ArrayLike]) -> dict[str, np.ndarray]:
