@@ -720,9 +720,9 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
     values = np.concatenate([p[0] if i == 0 else p[0][1:] for i, p in enumerate(passes)])
     per_sample = {k: np.concatenate([p[1][k] if i == 0 else p[1][k][1:]
                                      for i, p in enumerate(passes)]) for k in labels}
-    solved = {k: _nearest_solved(np.concatenate([p[2][k] if i == 0 else p[2][k][1:]
-                                                 for i, p in enumerate(passes)]))
-              for k in groups}
+    solved = {k: np.concatenate([_nearest_solved(p[2][k]) if i == 0
+                                 else _nearest_solved(p[2][k])[1:]
+                                 for i, p in enumerate(passes)]) for k in groups}
     inputs = {k: np.full(len(values), v) for k, v in held.items()}
     inputs[name] = values
     result = evaluate(compiled, inputs, len(values), {**per_sample, **solved}, track=False)
@@ -778,13 +778,13 @@ def _solved(rows: np.ndarray) -> np.ndarray:
 
 
 def _nearest_solved(rows: np.ndarray) -> np.ndarray:
-    """Return each group solution of a circuit, or where unsolved the one before it.
+    """Return each group solution of a pass, or where unsolved the one before it in the pass.
 
     The continuation along a pass may stop a sample short of a fold, where
     the group's Jacobian is all but singular; the circuit's samples are
     then each solved by Newton from these, and the sample at the fold from
-    the solution next to it converges. Rows before the first solution take
-    that one.
+    the solution before it, on the same assembly, converges. Rows before
+    the pass's first solution take that one.
     """
     solved = np.isfinite(rows).all(axis=1)
     if solved.all() or not solved.any():

@@ -304,7 +304,7 @@ def _blend(known, lengths, i, j, t):
 
 def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
                    lengths: np.ndarray, start: np.ndarray):
-    """Follow one assembly along the samples, from a sketch at the first.
+    """Follow one assembly along the samples, from a sketch where it first fits.
 
     The first sample where Newton from ``start`` converges begins the path,
     followed from there to the last sample and back to the first.
@@ -337,7 +337,8 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
     margin = np.full(n, np.nan)
     scale = _scale(lengths, known)
     start = np.asarray(start, dtype=float).reshape(1, width)
-    # the first sample that Newton from the sketch solves: those before stay unsolved
+    # the first sample that Newton from the sketch solves: those before are followed
+    # back from it
     i = 0
     first_rows = np.arange(n)
     finite = np.isfinite(lengths).all(axis=1)
@@ -425,6 +426,15 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
                 singular[rows[:at]] = singular_rows(system, unknowns, data, length, z[last],
                                                     at)
                 z[rows[at]], margin[rows[at]] = again[at], m[at]
+                gap = np.flatnonzero(~np.isfinite(z[last + 1:rows[at]]).all(axis=1))
+                if gap.size:
+                    # the gap's far side, followed back from where the assembly resumes
+                    back = np.arange(rows[at], last + gap[0], -1)
+                    known_back, lengths_back = _rows(known, lengths, back)
+                    found_back, margin_back, singular_back = continue_along(
+                        system, unknowns, known_back, lengths_back, z[rows[at]])
+                    z[back[1:]], margin[back[1:]] = found_back[1:], margin_back[1:]
+                    singular[back[1:]] = singular_back[1:]
                 last = int(rows[at])
                 j = last + 1
                 resumed = True

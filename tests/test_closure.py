@@ -14,6 +14,7 @@ from hypothesis import assume, given
 from hypothesis import strategies as st
 
 import geokin
+from geokin.engine import evaluate
 from geokin.errors import ConstructionError
 
 ROOT = __import__("pathlib").Path(__file__).resolve().parents[1]
@@ -548,3 +549,15 @@ def test_a_group_is_followed_back_from_where_its_sketch_first_fits():
     for p in ("D", "E", "A", "B"):
         steps = np.hypot(*np.diff(s[p], axis=0).T)
         assert steps.max() < 5 * np.median(steps) + 1e-9, p
+    # no limit where the sketch first fits: the crank turns fully
+    assert geokin.limits(c).full_turn
+    # after a variant it is followed on its own samples as alone, before them too: each
+    # path resumes where Newton from the last solution converges, and is followed back
+    # from there
+    compiled = c.compile()
+    theta = np.linspace(0, 2 * np.pi, 73)
+    nominal = geokin.load(ROOT / "constructions" / "stephenson3.toml").compile()
+    both = evaluate(compiled, {"theta": theta}, 146, paths=2,
+                    parameters={"AB": np.array([nominal.parameters["AB"], 2.0])})
+    assert both.valid.all()
+    np.testing.assert_allclose(both["D"][73:], geokin.sweep(c, theta)["D"], atol=1e-9)

@@ -837,8 +837,8 @@ _AROUND = np.array([-1.0, 0.0, 1.0])
 
 EDGE_ROUNDS = 5
 """How many times :meth:`_Steps.edge` evaluates the stretch about a limit again,
-each :data:`REFINE_SAMPLES` samples: a 128**5-th of a step is about 1e-12
-of a degree in a degree's step."""
+each :data:`REFINE_SAMPLES` samples: a 128**5-th of a step, 3e-11 of a
+degree in a degree's step."""
 
 REFINE_SAMPLES = 129
 """How many samples of the mechanism :func:`_strokes` evaluates again along a
