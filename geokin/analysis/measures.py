@@ -10,7 +10,6 @@ from __future__ import annotations
 import math
 from collections.abc import Container, Mapping
 from dataclasses import dataclass, field
-from typing import cast
 
 import numpy as np
 import shapely
@@ -441,6 +440,42 @@ def _turn_per_sample(runs) -> float:
     return float(np.median(np.concatenate(turns))) if turns else 0.0
 
 
+def _segments_near(points: np.ndarray, starts: np.ndarray, steps: np.ndarray,
+                   reach: float) -> tuple[np.ndarray, np.ndarray]:
+    """Return every pair of a point and a segment within ``reach`` of it, by the point.
+
+    Each segment is tried against the points its span along x, widened by
+    ``reach``, holds (found in the points sorted by x); no geometry is made
+    of the segments.
+
+    Examples
+    --------
+    >>> at, through = _segments_near(np.array([[1.0, 0.0], [5.0, 5.0]]),
+    ...                              np.array([[0.0, 0.0], [1.0, -1.0]]),
+    ...                              np.array([[2.0, 0.0], [0.0, 2.0]]), 1e-9)
+    >>> at.tolist(), through.tolist()
+    ([0, 0], [0, 1])
+    """
+    by_x = np.argsort(points[:, 0], kind="stable")
+    xs = points[by_x, 0]
+    ends = starts + steps
+    first = np.searchsorted(xs, np.minimum(starts[:, 0], ends[:, 0]) - reach, side="left")
+    count = np.searchsorted(xs, np.maximum(starts[:, 0], ends[:, 0]) + reach,
+                            side="right") - first
+    segment = np.repeat(np.arange(len(starts)), count)
+    within = np.arange(count.sum()) - np.repeat(np.cumsum(count) - count, count)
+    point = by_x[np.repeat(first, count) + within]
+    # the distance from each point to the nearest point of its segment
+    offset = points[point] - starts[segment]
+    step = steps[segment]
+    along = np.clip(np.einsum("ij,ij->i", offset, step) / np.einsum("ij,ij->i", step, step),
+                    0.0, 1.0)
+    gap = offset - along[:, None] * step
+    near = np.hypot(gap[:, 0], gap[:, 1]) <= reach
+    order = np.lexsort((segment[near], point[near]))
+    return point[near][order], segment[near][order]
+
+
 def _double_points(noded, runs, closed: bool, least_angle=GRAZING_ANGLE) -> np.ndarray:
     """Nodes where three or more pieces of the noded curve end, crossing each other.
 
@@ -469,17 +504,13 @@ def _double_points(noded, runs, closed: bool, least_angle=GRAZING_ANGLE) -> np.n
     steps = np.concatenate([part[1] for part in parts])
     turns = np.concatenate([part[2] for part in parts]).max(axis=1)
     units = steps / np.hypot(steps[:, 0], steps[:, 1])[:, None]
-    # shapely gives an array of lines for an array of coordinates
-    lines = cast(np.ndarray, shapely.linestrings(np.stack([starts, starts + steps], axis=1)))
-    tree = shapely.STRtree(lines)
-    # a node lies on its segments to the rounding of the coordinates (about 1 here, the
-    # curve scaled by its largest), or of the curve's own extent if that is larger
+    # a node lies on its segments to a billionth of the curve's extent (the curve is
+    # scaled to about 1 here: never below the rounding of its coordinates)
     extent = float(np.ptp(starts, axis=0).max(initial=0.0))
     reach = max(1e-9 * extent, 64 * np.finfo(float).eps)
-    at, through = tree.query(shapely.points(nodes), predicate="dwithin", distance=reach)
+    at, through = _segments_near(np.array(nodes, dtype=float).reshape(-1, 2), starts, steps,
+                                 reach)
     # every two segments through a node, and the steepest crossing at each node
-    order = np.argsort(at, kind="stable")
-    at, through = at[order], through[order]
     size = np.bincount(at, minlength=len(nodes))
     first = np.cumsum(size) - size
     count = size[at]  # the segments through the node of each pair, for each pair
