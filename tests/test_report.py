@@ -704,6 +704,15 @@ def test_two_inputs_at_different_speeds_get_the_extremes_of_a_dense_sweep_of_the
         assert found.maximum == pytest.approx(values.max(), abs=1e-6)
 
 
+def test_where_transmission_extremes_of_several_inputs_lie_reads_as_two_lists():
+    report = analyze(five_bar(second_turns=-2), degrees=True)
+    mu = report.transmission_angles["C"]
+    line = next(line for line in report.to_text().splitlines() if "transmission" in line)
+    low, high = ((f"t1 = {at['t1']:.4f} deg, t2 = {at['t2']:.4f} deg")
+                 for at in (mu.at_minimum, mu.at_maximum))
+    assert line.endswith(f"(at {low}; and at {high})")
+
+
 def double_rocker():
     """A Grashof double rocker (ground 100, input 60, coupler 30, output 80): two circuits."""
     c = Construction("double rocker")

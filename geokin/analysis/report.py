@@ -553,8 +553,9 @@ class Report:
             lines.append(f"four-bar {'-'.join(bar.points)} ({sides}): {bar.named}; "
                          f"{turning} {verb} fully")
         for node, mu in self.transmission_angles.items():
-            where = " and ".join(self._inputs_text(at, angles, lengths)
-                                 for at in (mu.at_minimum, mu.at_maximum))
+            # several inputs' values are a list of their own: the two apart by more than "and"
+            where = ("; and at " if len(mu.at_minimum) > 1 else " and ").join(
+                self._inputs_text(at, angles, lengths) for at in (mu.at_minimum, mu.at_maximum))
             lines.append(f"transmission angle at {node}: {mu.minimum:.2f} to "
                          f"{mu.maximum:.2f}{angles} (at {where})")
         for label, s in self.strokes.items():
