@@ -28,6 +28,7 @@ from .errors import (
     ConstructionError,
     DegreesWarning,
     GeokinError,
+    RadiansWarning,
     ScriptError,
 )
 from .io import dump, load, loads
@@ -49,6 +50,7 @@ __all__ = [
     "Link",
     "Motion",
     "Parameter",
+    "RadiansWarning",
     "Report",
     "ScriptError",
     "Slider",

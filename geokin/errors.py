@@ -117,6 +117,28 @@ class DegreesWarning(UserWarning):
     """
 
 
+class RadiansWarning(UserWarning):
+    """An input's range in a script looks like radians: scripts take degrees.
+
+    A range as wide as a whole number of quarter turns in radians, to a
+    thousandth (6.283 for a turn), with no end a whole number but zero:
+    ``range = [0, 6.283]`` sweeps 6.3 degrees. ``[0, 360]`` is a full turn.
+    """
+
+
+def range_looks_like_radians(low: float, high: float) -> bool:
+    """Whether the ends of an angle's range in degrees are more likely radians.
+
+    >>> range_looks_like_radians(0, 6.283), range_looks_like_radians(-1.5708, 1.5708)
+    (True, True)
+    >>> range_looks_like_radians(0, 6), range_looks_like_radians(0, 360)
+    (False, False)
+    """
+    quarters = abs(high - low) / (math.pi / 2)
+    return (0.5 <= quarters <= 8.01 and abs(quarters - round(quarters)) <= 1e-3 * quarters
+            and all(end == 0 or not float(end).is_integer() for end in (low, high)))
+
+
 def looks_like_degrees(angle: float) -> bool:
     """Whether an angle in radians is more likely degrees given by mistake.
 
@@ -157,11 +179,16 @@ def degrees_hint(low: float, high: float) -> str:
 
 def warn_of_degrees(message: str) -> None:
     """Warn with a :class:`DegreesWarning`, pointing at the first caller outside geokin."""
+    warn_outside(message, DegreesWarning)
+
+
+def warn_outside(message: str, category: type[Warning]) -> None:
+    """Warn, pointing at the first caller outside geokin: the user's line."""
     frame: FrameType | None = sys._getframe(1)
     level = 2
     while frame is not None and str(frame.f_globals.get("__name__", "")).startswith("geokin."):
         frame, level = frame.f_back, level + 1
-    warnings.warn(message, DegreesWarning, stacklevel=level)
+    warnings.warn(message, category, stacklevel=level)
 
 
 class BudgetError(GeokinError):

@@ -2,6 +2,7 @@
 
 import math
 import pathlib
+import warnings
 
 import numpy as np
 import pytest
@@ -115,6 +116,43 @@ def test_angles_are_degrees_in_scripts_and_radians_in_the_construction():
     # angle expressions see the input in degrees; the angle field is converted
     result = sweep(c, {"theta": np.radians([0.0, 90.0]), "s": 0.0})
     np.testing.assert_allclose(result["A"], [[0, 10], [-10, 0]], atol=1e-12)
+
+
+RANGE_SCRIPT = """\
+[inputs.theta]
+range = [LOW, HIGH]
+
+[inputs.s]
+kind = "length"
+range = [0, 6.283]
+
+[points]
+O = { op = "fixed", at = [0, 0] }
+A = { op = "polar", origin = "O", distance = "10 + s", angle = "theta" }
+"""
+
+
+@pytest.mark.parametrize("low, high, turns", [(0, 6.283, "1 turn"), (-1.5708, 1.5708, "0.5 turns"),
+                                               (0, 12.566, "2 turns"), (3.14159, 0, "0.5 turns")])
+def test_an_input_range_in_radians_in_a_script_is_warned_of(low, high, turns):
+    """A script's angles are degrees: [0, 6.283] sweeps 6.3 degrees, not a turn."""
+    text = RANGE_SCRIPT.replace("LOW", str(low)).replace("HIGH", str(high))
+    with pytest.warns(geokin.RadiansWarning) as caught:
+        c = loads(text, source="five.toml")
+    assert [str(w.message) for w in caught] == [
+        f"five.toml:2: [inputs] theta.range: a range of {low:g} to {high:g} degrees is {turns} "
+        "in radians, but a script's angles are degrees ([0, 360] is a full turn)"]
+    assert caught[0].filename == __file__  # at the call that loads it
+    assert c.inputs["theta"].range == pytest.approx((math.radians(low), math.radians(high)))
+
+
+@pytest.mark.parametrize("low, high", [(0, 360), (0, 6), (-90, 90), (0, 7.5), (1, 7.283)])
+def test_an_input_range_in_degrees_is_not_taken_for_radians(low, high):
+    """Whole degrees, a width no quarter turn in radians, or an end a whole number other
+    than zero: degrees as written. A length input's range is never an angle."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        loads(RANGE_SCRIPT.replace("LOW", str(low)).replace("HIGH", str(high)))
 
 
 def test_a_loaded_script_lists_its_angles_in_degrees_with_the_unit():

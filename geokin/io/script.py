@@ -143,7 +143,15 @@ from collections.abc import Mapping
 
 from ..budgets import MAX_SCRIPT_BYTES
 from ..construction import MAX_SAMPLES, Construction
-from ..errors import ConstructionError, DegreesWarning, ScriptError, did_you_mean
+from ..errors import (
+    ConstructionError,
+    DegreesWarning,
+    RadiansWarning,
+    ScriptError,
+    did_you_mean,
+    range_looks_like_radians,
+    warn_outside,
+)
 from ..expressions import BinOp, Call, Expr, Name, Neg, Number
 from ..nodes import NODE_KINDS, Closure, Key, Node
 from ..terminal import clip_message, escape, shorten
@@ -347,13 +355,19 @@ class _Reader:
 
     # -- errors --
 
-    def fail(self, table: str, entry: str | None, message: str, sub: str | None = None):
-        """Return a ScriptError at ``[table] entry.sub``."""
+    def place(self, table: str, entry: str | None, sub: str | None = None
+              ) -> tuple[str, str | None, int | None]:
+        """Say where ``[table] entry.sub`` is, as messages do; also give its key and line."""
         key = entry if sub is None else f"{entry}.{sub}" if entry else sub
         line = self.locate(table, entry, sub)
         where = _where(self.source) + (f":{line}" if line else "")
-        place = f"[{escape(shorten(table))}]" + (f" {escape(shorten(key))}" if key else "")
-        return _error(f"{where}: {place}: {clip_message(message)}", source=self.source,
+        return (f"{where}: [{escape(shorten(table))}]" + (f" {escape(shorten(key))}" if key
+                                                         else ""), key, line)
+
+    def fail(self, table: str, entry: str | None, message: str, sub: str | None = None):
+        """Return a ScriptError at ``[table] entry.sub``."""
+        place, key, line = self.place(table, entry, sub)
+        return _error(f"{place}: {clip_message(message)}", source=self.source,
                       table=table, key=key, line=line)
 
     def fail_on(self, pattern: str, message: str):
@@ -604,6 +618,12 @@ class _Reader:
                                     + (plain if isinstance(end, str) else ""),
                                     sub=f"range[{i}]")
             options["range"] = tuple(scale(v) for v in lo_hi)
+            if kind == "angle" and range_looks_like_radians(*lo_hi):
+                turns = f"{abs(lo_hi[1] - lo_hi[0]) / (2 * math.pi):.3g}"
+                warn_outside(f"{self.place('inputs', name, 'range')[0]}: a range of "
+                             f"{lo_hi[0]:g} to {lo_hi[1]:g} degrees is {turns} "
+                             f"turn{'' if turns == '1' else 's'} in radians, but a script's "
+                             "angles are degrees ([0, 360] is a full turn)", RadiansWarning)
         if "samples" in spec and "step" in spec:
             raise self.fail("inputs", name, "give either samples or step, not both", sub="step")
         if "samples" in spec:
