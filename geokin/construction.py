@@ -270,6 +270,21 @@ class Compiled(Frozen):
         """Return the point names in evaluation order."""
         return tuple(step.node.name for step in self.steps)
 
+    @property
+    def angle_inputs(self) -> frozenset[str]:
+        """Return the names of the angle inputs (the others are lengths).
+
+        Examples
+        --------
+        >>> c = Construction()
+        >>> c.input("t")
+        >>> c.input("s", kind="length", range=(0, 1))
+        >>> sorted(c.compile().angle_inputs)
+        ['t']
+        """
+        return frozenset(name for name, declared in self.inputs.items()
+                         if declared.kind == "angle")
+
     def as_list(self) -> list[tuple]:
         """Return the steps as plain tuples ``(name, kind, points..., branch)``.
 

@@ -1433,8 +1433,7 @@ def link_angles(sweep: Sweep) -> dict[str, np.ndarray]:
     array([300., 330.])
     """
     compiled = sweep.construction
-    driving = [values for name, values in sweep.inputs.items()
-               if compiled.inputs[name].kind == "angle"]
+    driving = [values for name, values in sweep.inputs.items() if name in compiled.angle_inputs]
     result = {}
     for link in compiled.links:
         d = sweep.points[link.points[1]] - sweep.points[link.points[0]]

@@ -174,7 +174,7 @@ def cranks(construction: Construction | Compiled) -> tuple[Crank, ...]:
     (Crank(origin='O', tip='A', input_name='theta', on_link=True, grounded=True),)
     """
     compiled = as_compiled(construction)
-    angles = {name for name, declared in compiled.inputs.items() if declared.kind == "angle"}
+    angles = compiled.angle_inputs
     links = [set(link.points) for link in compiled.links]
     found = []
     for step in compiled.steps:

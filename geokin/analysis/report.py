@@ -959,7 +959,7 @@ class _Steps:
                       else np.arange(n, dtype=float))
         self.labels = {k: np.broadcast_to(b, (n,)) for k, b in motion.branches.items()}
         self.changes = {event.index for event in motion.events}  # in the step ending there
-        self.closed = (n > 2 and closing_turns(self.inputs, _angle_inputs(compiled)) is not None
+        self.closed = (n > 2 and closing_turns(self.inputs, compiled.angle_inputs) is not None
                        and all(b[0] == b[-1] for b in self.labels.values()))
         self.dense: dict[int, tuple[np.ndarray, Sweep]] = {}
 
@@ -1235,13 +1235,9 @@ def _swept_together(compiled: Compiled, motion: Sweep, value_of: Callable[[str],
 
 def _whole_turns(compiled: Compiled, motion: Sweep) -> bool:
     """Whether the motion's one input is an angle that ends whole turns (not 0) on."""
-    turns = closing_turns(motion.inputs, _angle_inputs(compiled))
+    turns = closing_turns(motion.inputs, compiled.angle_inputs)
     return len(compiled.inputs) == 1 and turns is not None and any(turns.values())
 
-
-def _angle_inputs(compiled: Compiled) -> set[str]:
-    """Return the names of a construction's angle inputs."""
-    return {name for name, declared in compiled.inputs.items() if declared.kind == "angle"}
 
 
 def _returning(compiled: Compiled, motion: Sweep, off: Mapping[str, float]) -> dict[str, bool]:

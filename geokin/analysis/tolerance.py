@@ -307,8 +307,7 @@ def _closes(compiled: Compiled, inputs: Mapping[str, np.ndarray]) -> bool:
     Only then may an output's first and last samples be one configuration,
     each the other's neighbour (:func:`_between_samples`).
     """
-    angles = {name for name, declared in compiled.inputs.items() if declared.kind == "angle"}
-    turns = closing_turns(inputs, angles)
+    turns = closing_turns(inputs, compiled.angle_inputs)
     return turns is not None and any(turns.values())
 
 
