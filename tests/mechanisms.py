@@ -140,11 +140,11 @@ def slider_crank_closed_form(theta, r, rod, e, omega=1.0):
     return x, dx * omega, ddx * omega**2
 
 
-def five_bar(second_turns=1):
-    """Two cranks of 20 on pivots 50 apart, driven together, and links of 60 meeting at C.
+def five_bar(second_turns=1, links=60):
+    """Two cranks of 20 on pivots 50 apart, driven together, and links meeting at C.
 
     The second crank turns ``second_turns`` times while the first turns once
-    (clockwise for a negative number).
+    (clockwise for a negative number); the links are ``links`` long.
     """
     c = Construction("five-bar")
     c.input("t1")
@@ -153,7 +153,7 @@ def five_bar(second_turns=1):
     c.fixed("O2", 50, 0)
     c.polar("A", "O1", 20, "t1")
     c.polar("B", "O2", 20, "t2")
-    c.circle_circle("C", ("A", "B"), (60, 60), branch="left")
+    c.circle_circle("C", ("A", "B"), (links, links), branch="left")
     c.link("crank1", "O1", "A")
     c.link("crank2", "O2", "B")
     c.link("left", "A", "C")

@@ -915,17 +915,7 @@ def test_extremes_next_to_a_gap_of_two_inputs_swept_together_are_placed_at_its_e
     line where the cranks' pins are 64 apart, and the motion stops. There the transmission
     angle is 180 deg and the left link's angle is least; the edge is found here by bisection
     on the pins' distance."""
-    c = Construction("five-bar")
-    c.input("t1")
-    c.input("t2", range=(0.0, -2 * np.pi))
-    c.fixed("O1", 0, 0)
-    c.fixed("O2", 50, 0)
-    c.polar("A", "O1", 20, "t1")
-    c.polar("B", "O2", 20, "t2")
-    c.circle_circle("C", ("A", "B"), (32, 32), branch="left")
-    c.link("left", "A", "C")
-    c.link("right", "B", "C")
-    report = analyze(c, degrees=True)
+    report = analyze(five_bar(second_turns=-1, links=32), degrees=True)
 
     def pins(u):  # along the path: t1 = 2 pi u, t2 = -2 pi u
         a = 20 * np.array([np.cos(2 * np.pi * u), np.sin(2 * np.pi * u)])
