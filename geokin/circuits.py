@@ -327,7 +327,7 @@ def limits(construction: Construction | Compiled | Sweep, input_name: str | None
         lo, hi = sorted(map(float, search_range))
         if declared.kind == "angle" and range_looks_like_degrees(lo, hi):
             warn_of_degrees(f"limits of {name!r}: a search range of {lo:g} to {hi:g} "
-                            f"{degrees_hint(lo, hi)}")
+                            f"{degrees_hint(hi - lo)}")
     if samples < 3:
         raise ConstructionError(f"limits need at least 3 samples to bracket, got {samples}",
                                 node=name, field="samples")
@@ -612,9 +612,7 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
     declared = compiled.inputs[name]
     held = _held(compiled, name, at)
     if start is not None and declared.kind == "angle" and looks_like_degrees(start):
-        warn_of_degrees(f"circuit of {name!r}: a start of {start:g} is "
-                        f"{start / (2 * math.pi):.3g} turns in radians, which angles are here "
-                        "(np.radians converts degrees)")
+        warn_of_degrees(f"circuit of {name!r}: a start of {start:g} {degrees_hint(start)}")
     if start is None:
         start = declared.range[0]
         if not any(lo.value <= start <= hi.value for lo, hi in found.intervals):

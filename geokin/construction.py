@@ -777,7 +777,7 @@ class Construction:
         width = lo_hi[1] - lo_hi[0]
         if kind == "angle" and range_looks_like_degrees(*lo_hi):
             warn_of_degrees(f"input {quote(name)}: a range of {lo_hi[0]:g} to {lo_hi[1]:g} "
-                            f"{degrees_hint(*lo_hi)}")
+                            f"{degrees_hint(abs(width))}")
         if not np.isfinite(width):
             raise ConstructionError(f"the range from {lo_hi[0]:g} to {lo_hi[1]:g} is wider "
                                     "than floating-point numbers reach", node=name, field="range")
@@ -1198,9 +1198,8 @@ class Construction:
         for field_name in sorted(node.angle_fields()):
             value = values[field_name]
             if isinstance(value, Number) and looks_like_degrees(value.value):
-                warn_of_degrees(f"point {quote(name)}: an angle of {value.value:g} is "
-                             f"{value.value / (2 * math.pi):.3g} turns in radians, which "
-                             "angles are here (np.radians converts degrees)")
+                warn_of_degrees(f"point {quote(name)}: an angle of {value.value:g} "
+                                f"{degrees_hint(value.value)}")
         self.nodes[name] = node
 
     @staticmethod

@@ -1009,7 +1009,7 @@ def _warn_of_degrees(compiled: Compiled, inputs: Mapping[str, np.ndarray],
             low, high = float(values[0]), float(values[-1])
             if range_looks_like_degrees(low, high):
                 warn_of_degrees(f"sweep: input {name!r} runs from {low:g} to {high:g}, which "
-                                f"{degrees_hint(low, high)}")
+                                f"{degrees_hint(abs(high - low))}")
 
 
 def _repeated(values: np.ndarray, times: int) -> np.ndarray:

@@ -167,14 +167,15 @@ def range_looks_like_degrees(low: float, high: float) -> bool:
             and looks_like_degrees(high - low))
 
 
-def degrees_hint(low: float, high: float) -> str:
-    """Say how many turns a range that looks like degrees is in radians.
+def degrees_hint(angle: float, converts: str = "np.radians converts degrees") -> str:
+    """Say how many turns an angle (or a range's width) that looks like degrees is in radians.
 
-    >>> degrees_hint(0, 360)
+    ``converts`` says how to give degrees instead.
+
+    >>> degrees_hint(360)
     'is 57.3 turns in radians, which angles are here (np.radians converts degrees)'
     """
-    return (f"is {abs(high - low) / (2 * math.pi):.3g} turns in radians, which angles are "
-            "here (np.radians converts degrees)")
+    return f"is {angle / (2 * math.pi):.3g} turns in radians, which angles are here ({converts})"
 
 
 def warn_of_degrees(message: str) -> None:

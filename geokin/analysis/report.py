@@ -25,7 +25,7 @@ import numpy as np
 from ..circuits import Limits, circuit, describe_limit, limits, placed_in
 from ..construction import Compiled, Construction, Slider, as_compiled
 from ..engine import meeting_rtol, sweep
-from ..errors import AnalysisError, looks_like_degrees, quote, warn_of_degrees
+from ..errors import AnalysisError, degrees_hint, looks_like_degrees, quote, warn_of_degrees
 from ..kinematics import link_angles, slider_positions, sliders_off_guide
 from ..nodes import CircleCircle
 from ..results import Sweep, short_name
@@ -1196,16 +1196,16 @@ def _circuit_start(compiled: Compiled, found: Limits, entry: InputReport, start:
     unit = _input_unit(compiled, name, degrees)
     if not math.isfinite(start):
         raise AnalysisError(f"a start must be a finite number, got {start!r}")
-    if angle and not degrees and looks_like_degrees(start):
-        warn_of_degrees(f"analyze: a start of {start:g} is {start / (2 * math.pi):.3g} turns "
-                        "in radians, which angles are here (degrees=True takes degrees)")
+    in_degrees = angle and not degrees and looks_like_degrees(start)
+    if in_degrees:
+        warn_of_degrees(f"analyze: a start of {start:g} "
+                        f"{degrees_hint(start, 'degrees=True takes degrees')}")
     to_radians = math.radians if angle and degrees else float
     placed = placed_in(found, to_radians(start), angle, to_radians(START_SLACK))
     if placed is not None:
         return placed[1]
     spans = ", ".join(f"{lo:.6f} to {hi:.6f}{unit}" for lo, hi in entry.intervals)
-    hint = ("; angles are in radians here (degrees=True takes degrees)"
-            if angle and not degrees and looks_like_degrees(start) else "")
+    hint = "; angles are in radians here (degrees=True takes degrees)" if in_degrees else ""
     raise AnalysisError(f"a start of {start:.12g}{unit}: input {quote(name)} cannot be "
                         f"assembled there (it can from {spans or 'nowhere'}){hint}")
 
@@ -1237,7 +1237,6 @@ def _whole_turns(compiled: Compiled, motion: Sweep) -> bool:
     """Whether the motion's one input is an angle that ends whole turns (not 0) on."""
     turns = closing_turns(motion.inputs, compiled.angle_inputs)
     return len(compiled.inputs) == 1 and turns is not None and any(turns.values())
-
 
 
 def _returning(compiled: Compiled, motion: Sweep, off: Mapping[str, float]) -> dict[str, bool]:
