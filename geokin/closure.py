@@ -361,12 +361,18 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
             break
     if not begun:
         return z, margin, singular
-    if i > 0:
-        # the samples before it are followed back from it, the assembly the sketch picked
-        back = np.arange(i, -1, -1)
+
+    def follow_back(solved: int, stop: int) -> None:
+        """Follow the assembly from sample ``solved`` back to sample ``stop``."""
+        back = np.arange(solved, stop - 1, -1)
         known_back, lengths_back = _rows(known, lengths, back)
-        z[back], margin[back], singular[back] = continue_along(
-            system, unknowns, known_back, lengths_back, z[i])
+        found, found_margin, found_singular = continue_along(
+            system, unknowns, known_back, lengths_back, z[solved])
+        z[back[1:]], margin[back[1:]] = found[1:], found_margin[1:]
+        singular[back[1:]] = found_singular[1:]
+
+    if i > 0:  # the samples before it, on the assembly the sketch picked
+        follow_back(i, 0)
     last = i
     chunk = 8
     j = i + 1
@@ -427,14 +433,8 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
                                                     at)
                 z[rows[at]], margin[rows[at]] = again[at], m[at]
                 gap = np.flatnonzero(~np.isfinite(z[last + 1:rows[at]]).all(axis=1))
-                if gap.size:
-                    # the gap's far side, followed back from where the assembly resumes
-                    back = np.arange(rows[at], last + gap[0], -1)
-                    known_back, lengths_back = _rows(known, lengths, back)
-                    found_back, margin_back, singular_back = continue_along(
-                        system, unknowns, known_back, lengths_back, z[rows[at]])
-                    z[back[1:]], margin[back[1:]] = found_back[1:], margin_back[1:]
-                    singular[back[1:]] = singular_back[1:]
+                if gap.size:  # the gap's far side, from where the assembly resumes
+                    follow_back(int(rows[at]), last + 1 + int(gap[0]))
                 last = int(rows[at])
                 j = last + 1
                 resumed = True
