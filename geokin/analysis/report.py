@@ -1005,12 +1005,7 @@ class _Steps:
         """
         for _ in range(EDGE_ROUNDS):
             x = np.linspace(inside, outside, REFINE_SAMPLES)
-            if len(self.inputs) == 1:
-                values = {name: x for name in self.inputs}
-            else:  # the steps' parameter is the sample's index
-                values = {name: v[a] + (x - a) * (v[a + 1] - v[a])
-                          for name, v in self.inputs.items()}
-            local = sweep(self.compiled, values, start_branches=branches)
+            local = sweep(self.compiled, self._on_step(a, x), start_branches=branches)
             found = np.asarray(of(local), dtype=float)
             j = len(x) - 1 if np.isfinite(found).all() else int(np.argmin(np.isfinite(found))) - 1
             if j < 0:  # not even the inside end, to rounding: as found before
@@ -1024,11 +1019,15 @@ class _Steps:
 
     def inputs_at(self, where: float) -> dict[str, float]:
         """Return the inputs where the steps' parameter is ``where``."""
+        return {name: float(value) for name, value in
+                self._on_step(min(int(where), self.n - 2), where).items()}
+
+    def _on_step(self, a: int, where):
+        """Return the inputs on step ``a`` where the steps' parameter is ``where`` (numbers)."""
         if len(self.inputs) == 1:
             return {name: where for name in self.inputs}
-        i = min(int(where), self.n - 2)
-        part = where - i
-        return {name: float(v[i] + part * (v[i + 1] - v[i])) for name, v in self.inputs.items()}
+        # the parameter is the sample's index
+        return {name: v[a] + (where - a) * (v[a + 1] - v[a]) for name, v in self.inputs.items()}
 
 
 def _placed_extreme(values, sign, steps: _Steps, of: Callable[[Sweep], np.ndarray],
