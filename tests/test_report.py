@@ -713,14 +713,17 @@ def test_where_transmission_extremes_of_several_inputs_lie_reads_as_two_lists():
     assert line.endswith(f"(at {low}; and at {high})")
 
 
-def double_rocker():
-    """A Grashof double rocker (ground 100, input 60, coupler 30, output 80): two circuits."""
+def double_rocker(angle="theta", branch="left"):
+    """A Grashof double rocker (ground 100, input 60, coupler 30, output 80): two circuits.
+
+    The input link stands at ``angle`` (an expression of the input theta).
+    """
     c = Construction("double rocker")
     c.input("theta")
     c.fixed("O2", 0, 0)
     c.fixed("O4", 100, 0)
-    c.polar("A", "O2", 60, "theta")
-    c.circle_circle("B", ("A", "O4"), (30, 80), branch="left")
+    c.polar("A", "O2", 60, angle)
+    c.circle_circle("B", ("A", "O4"), (30, 80), branch=branch)
     c.link("input", "O2", "A")
     c.link("coupler", "A", "B")
     c.link("output", "O4", "B")
@@ -853,18 +856,15 @@ def test_a_start_that_looks_like_degrees_is_warned_of_where_a_circuit_takes_it()
 
 
 def test_a_crank_turned_otherwise_than_with_its_input_is_told_as_any_link():
-    """A crank at -theta does not read as theta does: its swing is centred on zero."""
-    c = Construction("double rocker, crank at -theta")
-    c.input("theta")
-    c.fixed("O2", 0, 0)
-    c.fixed("O4", 100, 0)
-    c.polar("A", "O2", 60, "-theta")
-    c.circle_circle("B", ("A", "O4"), (30, 80), branch="right")
-    c.link("input", "O2", "A")
-    c.link("output", "O4", "B")
+    """A crank at -theta does not read as theta does: its swing is centred on zero, the
+    input's interval (where the pin is 50 to 110 from O4, by the cosine rule) negated."""
+    c = double_rocker(angle="-theta", branch="right")
+    low, high = (np.degrees(np.arccos((100**2 + 60**2 - d**2) / (2 * 100 * 60)))
+                 for d in (50, 110))
     for start in (None, -300.0):
         swing = analyze(c, degrees=True, start=start).strokes["input.angle"]
         assert -180 < 0.5 * (swing.minimum + swing.maximum) <= 180
+        assert (swing.minimum, swing.maximum) == pytest.approx((-high, -low), abs=1e-6)
 
 
 def test_transmission_extremes_of_a_full_turn_are_told_in_the_declared_turn():
