@@ -7,7 +7,6 @@ of each link against time. matplotlib is imported inside the functions.
 
 from __future__ import annotations
 
-import textwrap
 from collections.abc import Iterable, Mapping
 from typing import TYPE_CHECKING
 
@@ -17,7 +16,7 @@ from numpy.typing import ArrayLike
 from ..errors import GeokinError, did_you_mean
 from ..kinematics import Motion
 from ..results import Sweep
-from .layout import TITLE_WIDTH, length_unit, shown_text
+from .layout import broken_title, length_unit, shown_text
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -292,5 +291,5 @@ def figure_kinematics(motion: Motion, *, links: Iterable[str] | None = None,
         # flagged: the rates there may be less accurate than stated
         heading += f" (rates not drawn at {count} flagged sample{'' if count == 1 else 's'})"
     # already shown as text: broken into lines, not escaped again
-    fig.suptitle(textwrap.fill(heading, TITLE_WIDTH, break_on_hyphens=False), parse_math=False)
+    fig.suptitle(broken_title(heading), parse_math=False)
     return fig, axes

@@ -664,7 +664,15 @@ def title_text(text: object, width: int = TITLE_WIDTH) -> str:
     a four-bar a four-bar a four-bar a four-bar a four-bar a four-bar a four-bar
     a four-bar a four-bar a four-bar
     """
-    return textwrap.fill(shown_text(text), width, break_on_hyphens=False)
+    return broken_title(shown_text(text), width)
+
+
+def broken_title(shown: str, width: int = TITLE_WIDTH) -> str:
+    """Return a title already shown as text (:func:`shown_text`) on lines of ``width`` at most.
+
+    Lines break at spaces only, never at a hyphen inside a name.
+    """
+    return textwrap.fill(shown, width, break_on_hyphens=False)
 
 
 def title_width(ax) -> int:
