@@ -347,15 +347,18 @@ def curve_measures(points: ArrayLike, *, tol: float | None = None) -> Curve:
     if closed:
         faces = shapely.get_parts(shapely.polygonize(shapely.get_parts(noded)))
         area = float(sum(f.area for f in faces))
-    least_angle = min(max(GRAZING_ANGLE, 3 * _turn_per_sample(runs)), MOST_ANGLE)
+    segments = [_segments(run, closed) for run in runs]
+    least_angle = min(max(GRAZING_ANGLE, 3 * _turn_per_sample(segments)), MOST_ANGLE)
     return Curve(length / unit, closed, _unscaled_area(signed, unit),
                  _unscaled_area(area, unit), bounds,
-                 _double_points(noded, runs, closed, least_angle) / unit,
-                 _unscaled_area(_chord_areas(runs, closed), unit) if closed else np.nan)
+                 _double_points(noded, segments, least_angle) / unit,
+                 _unscaled_area(_chord_areas(segments), unit) if closed else np.nan)
 
 
-def _chord_areas(runs, closed: bool) -> float:
+def _chord_areas(segments) -> float:
     """Return the sum of the areas between each segment and the arc it stands for.
+
+    ``segments`` are each run's :func:`_segments`.
 
     An arc of curvature k cut off by a chord of length c encloses about
     k c**3 / 12 with it; k is taken as the path's turn across the segment
@@ -367,12 +370,11 @@ def _chord_areas(runs, closed: bool) -> float:
     >>> t = np.linspace(0, 2 * np.pi, 101)
     >>> ring = np.c_[np.cos(t), np.sin(t)]
     >>> missed = np.pi - 50 * np.sin(2 * np.pi / 100)  # by the inscribed 100-gon
-    >>> round(float(_chord_areas([ring], True) / missed), 3)
+    >>> round(float(_chord_areas([_segments(ring, True)]) / missed), 3)
     1.0
     """
     total = 0.0
-    for run in runs:
-        _, steps, turns = _segments(run, closed)
+    for _, steps, turns in segments:
         chords = np.hypot(steps[:, 0], steps[:, 1])
         total += float(np.sum(0.5 * turns.sum(axis=1) * chords * chords)) / 12
     return total
@@ -427,16 +429,13 @@ MOST_ANGLE = np.radians(20.0)
 """The largest angle a crossing needs, however much the path turns between samples."""
 
 
-def _turn_per_sample(runs) -> float:
-    """Return the median angle the polyline turns through from one segment to the next."""
-    turns = []
-    for run in runs:
-        steps = np.diff(run, axis=0)
-        steps = steps[np.hypot(*steps.T) > 0]
-        if len(steps) >= 2:
-            a, b = steps[:-1], steps[1:]
-            turns.append(np.abs(np.arctan2(a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0],
-                                           np.einsum("ij,ij->i", a, b))))
+def _turn_per_sample(segments) -> float:
+    """Return the median angle the polyline turns through from one segment to the next.
+
+    ``segments`` are each run's :func:`_segments`; the turn where a closed
+    run's ends join is left out.
+    """
+    turns = [part[2][:-1, 1] for part in segments if len(part[1]) >= 2]
     return float(np.median(np.concatenate(turns))) if turns else 0.0
 
 
@@ -476,13 +475,13 @@ def _segments_near(points: np.ndarray, starts: np.ndarray, steps: np.ndarray,
     return point[near][order], segment[near][order]
 
 
-def _double_points(noded, runs, closed: bool, least_angle=GRAZING_ANGLE) -> np.ndarray:
+def _double_points(noded, segments, least_angle=GRAZING_ANGLE) -> np.ndarray:
     """Nodes where three or more pieces of the noded curve end, crossing each other.
 
     A crossing ends four pieces; an end of an open curve ends one, the
     joined ends of a closed curve two. How steeply the curve crosses itself
-    at a node is told by the segments of ``runs`` through it (the pieces
-    noding leaves there may be too short to have a direction): more than
+    at a node is told by the segments through it, each run's :func:`_segments`
+    (the pieces noding leaves there may be too short to have a direction): more than
     ``least_angle``, and more than 1.5 times the turn of the path at the
     ends of those segments, for two chords of one arc, as where a path runs
     back over itself sampled differently, cross at up to the arc's turn
@@ -499,10 +498,9 @@ def _double_points(noded, runs, closed: bool, least_angle=GRAZING_ANGLE) -> np.n
     nodes = [key for key, count in ends.items() if count >= 3]
     if not nodes:
         return np.empty((0, 2))
-    parts = [_segments(run, closed) for run in runs]
-    starts = np.concatenate([part[0] for part in parts])
-    steps = np.concatenate([part[1] for part in parts])
-    turns = np.concatenate([part[2] for part in parts]).max(axis=1)
+    starts = np.concatenate([part[0] for part in segments])
+    steps = np.concatenate([part[1] for part in segments])
+    turns = np.concatenate([part[2] for part in segments]).max(axis=1)
     units = steps / np.hypot(steps[:, 0], steps[:, 1])[:, None]
     # a node lies on its segments to a billionth of the curve's extent (the curve is
     # scaled to about 1 here: never below the rounding of its coordinates)
