@@ -42,7 +42,7 @@ from .errors import (
     warn_of_degrees,
 )
 from .frozen import Frozen
-from .nodes import NO_INTERSECTION, SINGULAR
+from .nodes import NO_INTERSECTION, OFF_LINE, REASONS, SINGULAR
 from .results import BranchEvent, Sweep, short_name
 
 __all__ = ["LIMIT_TOLERANCE", "Limit", "Limits", "circuit", "limits", "placed_in"]
@@ -78,6 +78,9 @@ class Limit:
     nodes: tuple[str, ...] = ()
     """Every node whose roots meet at this limit, ``node`` first (a mechanism may
     have several dyads reaching their toggles together); empty for other kinds."""
+    reason: str = ""
+    """For an "end": what stops the node there, in words ("its root leaves its
+    segment", or one of :data:`~geokin.nodes.REASONS`); empty for other kinds."""
 
 
 @dataclass(frozen=True)
@@ -166,11 +169,12 @@ def _strictly_valid(result: Sweep) -> np.ndarray:
     return ok
 
 
-def _what_stops(result: Sweep, i: int) -> tuple[str, str, tuple[str, ...]]:
-    """Return the first node not strictly assembled at sample i, and how.
+def _what_stops(result: Sweep, i: int) -> tuple[str, str, tuple[str, ...], str]:
+    """Return the first node not strictly assembled at sample i, how, and why.
 
     The third item lists every node whose roots no longer exist there: those
-    tangent at the limit, the first node first.
+    tangent at the limit, the first node first; the fourth says what stops
+    a node that is not tangent (:attr:`Limit.reason`).
     """
     n = result.valid.shape
     tangent = tuple(node for node, margin in result.margins.items()
@@ -179,18 +183,24 @@ def _what_stops(result: Sweep, i: int) -> tuple[str, str, tuple[str, ...]]:
         node = step.node.name
         if not result.valid[i] and result.failed_step[i] == step.index:
             # two roots that meet, or a closure group at a singular position: a toggle
-            kind = ("tangent" if result.reason_code[i] in (NO_INTERSECTION, SINGULAR)
-                    else "end")
-            return node, kind, _first(node, tangent) if kind == "tangent" else ()
+            code = int(result.reason_code[i])
+            if code in (NO_INTERSECTION, SINGULAR):
+                return node, "tangent", _first(node, tangent), ""
+            return node, "end", (), _leaves(step.node) if code == OFF_LINE else REASONS[code]
         margin = result.margins.get(node)
         if margin is not None and np.broadcast_to(margin, n)[i] < 0:
-            return node, "tangent", _first(node, tangent)
+            return node, "tangent", _first(node, tangent), ""
         t = result.line_parameters.get(node)
         if t is not None:
             t = np.broadcast_to(t, n)[i]
             if not step.node.low <= t <= step.node.high:
-                return node, "end", ()
-    return "", "end", ()
+                return node, "end", (), _leaves(step.node)
+    return "", "end", (), ""
+
+
+def _leaves(node) -> str:
+    """Say that a node's root leaves its ray or its segment."""
+    return f"its root leaves its {'ray' if node.high == np.inf else 'segment'}"
 
 
 def _first(node: str, nodes: tuple[str, ...]) -> tuple[str, ...]:
@@ -693,10 +703,11 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
             values[[0, -1]] = a, b
             return values
 
-        initial = dict(labels)
+        initial = searched = dict(labels)
         position, target = start, hi
         across = None
         for count in range(1, 9):  # four toggles at most bring any branches back
+            upward = target is hi
             labels = run(stretch(position, target.value, labels, across), labels, across)
             if groups:
                 across = _continuing(compiled, name, held, passes[-1], target)
@@ -707,11 +718,16 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
                     sheets[node] ^= 1
                     folds.append((len(passes) - 1, node, sheets[node]))
                     across = _continuing(compiled, name, held, passes[-1], target, node)
-            position, target = target.value, (lo if target is hi else hi)
+            if labels != searched and not groups:
+                lo, hi = _interval_on(compiled, name, at, labels, target.value, (lo, hi))
+                searched = labels
+            position, target = target.value, (lo if upward else hi)
             # a circuit reaches both ends: at an end that is no toggle (of the searched
-            # range, or of a ray) the branches stay, and the other end is still to come
-            if count >= 2 and labels == initial and not any(sheets.values()):
-                # back on the starting branches: run on to the start and stop
+            # range, or of a ray) the branches stay, and the other end is still to come;
+            # it is closed once back on the starting branches heading up, as it set out
+            # (heading down, it has yet to pass the start and reach the lower end)
+            if count >= 2 and target is hi and labels == initial and not any(sheets.values()):
+                # run on to the start and stop
                 run(stretch(position, start, labels, across), labels, across)
                 break
     # each pass starts where the one before ended: drop the repeated sample
@@ -736,6 +752,30 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
                                   f"assembly {sheet}"))
     events.sort(key=lambda e: e.index)
     return replace(result, events=tuple(events))
+
+
+def _interval_on(compiled, name, at, labels, value, ends) -> tuple[Limit, Limit]:
+    """Return the interval the input moves in on branches ``labels``, from ``value``.
+
+    Past a toggle the branches change, and with them where the motion ends:
+    on its new branch a root may leave its segment before the end the old
+    branch reached. The interval's ends are moved by whole turns to the turn
+    of ``value``; ``ends`` where no interval on these branches holds it.
+    """
+    found = limits(compiled, name, at=at, start_branches=labels)
+    angle = compiled.inputs[name].kind == "angle"
+    placed = placed_in(found, value, angle, LIMIT_SLACK)
+    if found.full_turn or placed is None:
+        return ends
+    (lo, hi), near = placed
+    shift = 2 * math.pi * round((value - near) / (2 * math.pi)) if angle else 0.0
+    return replace(lo, value=lo.value + shift), replace(hi, value=hi.value + shift)
+
+
+LIMIT_SLACK = 1e-9
+"""How far (radians or length units) a toggle may lie from the end of the
+interval of the branches it leads to: both ends are bisected to
+:data:`LIMIT_TOLERANCE`."""
 
 
 def _continuing(compiled, name, held, last_pass, limit: Limit, folded: str | None = None):
@@ -870,4 +910,5 @@ def describe_limit(limit: Limit) -> str:
         return "end of the searched range"
     if limit.kind == "tangent":
         return f"node {limit.node!r} becomes tangent (toggle)"
-    return f"node {limit.node!r}: its root leaves its ray or segment, or it degenerates"
+    reason = limit.reason or "its root leaves its ray or segment, or it degenerates"
+    return f"node {limit.node!r}: {reason}"

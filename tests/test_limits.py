@@ -7,7 +7,7 @@ from mechanisms import R1, R2, R3, R4, coupler_fourbar, fourbar, triple_rocker
 import geokin
 from geokin import AssemblyError, Construction, ConstructionError, sweep
 from geokin.analysis import grashof
-from geokin.circuits import circuit, limits
+from geokin.circuits import circuit, describe_limit, limits
 
 # closed forms of seed 000's triple rocker limits (see test_kinematics for the constructions)
 CRANK = np.arccos((R1**2 + R2**2 - (R3 + R4) ** 2) / (2 * R1 * R2))
@@ -133,6 +133,56 @@ def test_limits_and_circuit_for_a_line_circle_toggle():
     np.testing.assert_allclose(np.hypot(*(s["P"] - s["A"]).T), 5, rtol=1e-12)
     np.testing.assert_allclose(s["P"][:, 1], 8)
     np.testing.assert_allclose(s["P"][0], s["P"][-1], atol=1e-9)
+
+
+def test_a_circuit_turns_back_where_the_branch_past_a_toggle_leaves_its_segment():
+    """B slides in a slot x = 15, |y| <= 15, at 12 from a crank pin of radius 10.
+
+    On the first branch the crank swings from where B reaches the slot's lower end
+    (A 12 from (15, -15): -45 + 16.87 deg) up to the toggle (cos theta = 0.3); past
+    the toggle, on the second branch, B reaches the upper end at 45 + 16.87 deg, long
+    before the first branch's lower limit: the crank turns back there, passes the
+    toggle again and swings down on the first branch.
+    """
+    c = Construction("slot")
+    c.input("t")
+    c.fixed("O", 0, 0)
+    c.fixed("S1", 15, -15)
+    c.fixed("S2", 15, 15)
+    c.polar("A", "O", 10, "t")
+    c.segment_circle("B", ("S1", "S2"), "A", 12, branch="first")
+    s = circuit(c, start=0.0)
+    # A at 10 from O and 12 from a slot end (15, +-15) lies at +-45 deg +- this
+    reach = np.degrees(np.arccos((100 + 450 - 144) / (2 * 10 * np.sqrt(450))))
+    toggle = np.degrees(np.arccos(0.3))
+    t = np.degrees(s.inputs["t"])
+    turns = t[np.flatnonzero(np.diff(np.sign(np.diff(t)))) + 1]
+    np.testing.assert_allclose(turns, [toggle, 45 + reach, toggle, -45 + reach], atol=1e-8)
+    assert s.valid.all() and t[0] == t[-1] == 0
+    assert [(e.before, e.after) for e in s.events] == [("first", "second"), ("second", "first")]
+    np.testing.assert_allclose(np.hypot(*(s["B"] - s["A"]).T), 12, rtol=1e-12)
+    assert np.abs(s["B"][:, 0] - 15).max() < 1e-12 and np.abs(s["B"][:, 1]).max() < 15 + 1e-9
+    # a motion, not a jump across poses it cannot take
+    assert np.hypot(*np.diff(s["B"], axis=0).T).max() < 0.2
+    low, high = limits(c).intervals[0]
+    assert (low.kind, high.kind) == ("end", "tangent")
+    assert describe_limit(low) == "node 'B': its root leaves its segment"
+
+
+def test_a_limit_where_circles_become_concentric_says_so():
+    """A five-bar's second crank (cranks 15 on pivots 30 apart, the first at 0) brings
+    its pin onto the first's at 180 deg: the circles of the coupler joint are concentric."""
+    c = Construction("five-bar")
+    c.input("t1")
+    c.input("t2")
+    c.fixed("O1", 0, 0)
+    c.fixed("O2", 30, 0)
+    c.polar("A", "O1", 15, "t1")
+    c.polar("B", "O2", 15, "t2")
+    c.circle_circle("P", ("A", "B"), (30, 30), branch="left")
+    [(low, high)] = limits(c, "t2", at={"t1": 0.0}).intervals
+    assert abs(high.value - np.pi) < 1e-9 and high.kind == "end"
+    assert "coincident centres" in describe_limit(high)
 
 
 def test_a_parallelogram_stays_a_parallelogram_round_its_circuit():
