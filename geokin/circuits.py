@@ -570,10 +570,13 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
 
     Starting at ``start``, the input runs up to the upper limit of its
     assemblable interval. At a tangent limit the tangent node changes branch
-    and the input runs back down to the lower limit, where the same happens,
-    until the configuration returns to the start. At an end that is not a
-    tangency (a slider at the end of its guide) the input reverses on the
-    same branches. An input that turns fully makes one turn.
+    and the input runs back down to the lower limit of the interval on the
+    new branches (a root may leave its segment sooner on one branch than on
+    the other), where the same happens, until the configuration returns to
+    the start. At an end that is not a tangency (a slider at the end of its
+    guide) the input reverses on the same branches. An input that turns
+    fully makes one turn, the way its declared range runs (clockwise for a
+    range such as (2 pi, 0)).
 
     Parameters
     ----------
@@ -680,8 +683,9 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
 
     sheets = dict.fromkeys(groups, 0)
     folds: list[tuple[int, str, int]] = []  # a group passing its fold at a pass's end
-    if found.full_turn:
-        run(np.linspace(start, start + 2 * np.pi, samples_per_pass), labels)
+    if found.full_turn:  # one turn the way the declared range runs
+        turn = 2 * np.pi if declared.range[1] >= declared.range[0] else -2 * np.pi
+        run(np.linspace(start, start + turn, samples_per_pass), labels)
     else:
         # samples evenly spaced along the motion: first a fine sampling evenly spaced in
         # phi, where input = centre + radius * sin(phi), which crowds towards the limits

@@ -335,8 +335,21 @@ def test_stroke_rejects_bad_input():
     t = np.linspace(0, np.pi, 10)
     with pytest.raises(ValueError, match="less than one turn"):
         stroke(np.sin(t), t)
-    with pytest.raises(ValueError, match="increase"):
-        stroke(np.sin(t), t[::-1])
+    with pytest.raises(ValueError, match="increase or decrease"):
+        stroke(np.sin(t), np.r_[t[:5], t[4::-1]])
+
+
+def test_a_stroke_over_a_turn_the_other_way_runs_its_time_ratio_with_the_samples():
+    """y = sin(t) + 0.25 sin(2t) peaks at cos t = (sqrt 3 - 1) / 2 (t = 1.1961) and
+    bottoms at minus that: turning t from 2 pi down to 0, it rises from its trough to its
+    peak in 2 pi - 2 * 1.1961 rad of travel and falls in the rest of the turn."""
+    t = np.linspace(2 * np.pi, 0, 3601)
+    peak = np.arccos((np.sqrt(3) - 1) / 2)
+    found = stroke(np.sin(t) + 0.25 * np.sin(2 * t), t)
+    assert found.back == pytest.approx(2 * peak, rel=1e-9)
+    assert found.time_ratio == pytest.approx((2 * np.pi - 2 * peak) / (2 * peak), rel=1e-9)
+    assert found.input_at_max == pytest.approx(peak, abs=1e-9)
+    assert found.input_at_min == pytest.approx(2 * np.pi - peak, abs=1e-9)
 
 
 # -- link angles -----------------------------------------------------------------------------------

@@ -126,6 +126,28 @@ def test_the_quick_returns_strokes_and_time_ratios_match_the_closed_form():
     assert block.strokes_per_turn == 2 and block.time_ratio is None
 
 
+def test_a_crank_turning_clockwise_makes_the_other_stroke_of_a_quick_return_slower(tmp_path):
+    """Seed 001's quick return declared over [360, 0] degrees: its crank turns clockwise,
+    so the lever swings left in 180 - 2 beta degrees of crank and back in 180 + 2 beta
+    (beta = asin(r2 / r1)), and every time ratio is the inverse of the turn the other way."""
+    text = (CONSTRUCTIONS / "quick_return.toml").read_text()
+    assert text.count("range = [0, 360]") == 1
+    script = tmp_path / "clockwise.toml"
+    script.write_text(text.replace("range = [0, 360]", "range = [360, 0]"))
+    construction = load(script)
+    assert (np.diff(circuit(construction).inputs["theta2"]) < 0).all()
+    strokes = analyze(construction).strokes
+    beta = np.arcsin(40 / 60)
+    slow = (np.pi + 2 * beta) / (np.pi - 2 * beta)
+    lever = strokes["lever.angle"]
+    assert lever.time_ratio == pytest.approx(1 / slow, rel=5e-7)
+    assert lever.slower_stroke == "max->min"
+    for ram in (strokes["B.x"], strokes["ram.position"]):
+        assert ram.time_ratio == pytest.approx(slow, rel=5e-7)
+        assert ram.slower_stroke == "min->max"
+    assert lever.minimum == pytest.approx(np.pi / 2 - beta, abs=1e-9)
+
+
 def test_the_text_gives_the_time_ratio_at_least_1_and_the_slower_stroke():
     """Seed 001's quick return: (180 + alpha) / (180 - alpha), alpha = 2 asin(r2 / r1), the
     lever slower from its minimum to its maximum angle, the ram slower coming back."""

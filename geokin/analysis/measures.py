@@ -37,8 +37,9 @@ class Stroke:
     stroke : float
         ``maximum - minimum``.
     forward, back : float
-        The input travelled (increasing) from the minimum to the maximum, and
-        from the maximum back to the minimum; they add up to one turn.
+        The input travelled (the way it turns) from the minimum to the
+        maximum, and from the maximum back to the minimum; they add up to
+        one turn.
     time_ratio : float
         ``forward / back``: for a constant input speed, the time of the
         forward stroke (minimum to maximum) over that of the return.
@@ -155,8 +156,9 @@ def stroke(output: ArrayLike, input_values: ArrayLike, *, period: float = 2 * np
         extremes are refined between samples by a quartic through the five
         samples around each (:func:`refine_extreme`).
     input_values : array_like, shape (N,)
-        The input, increasing over at least one full ``period`` (the last
-        sample may repeat the first one turn later). NaN outputs are left out.
+        The input, increasing or decreasing over at least one full ``period``
+        (the last sample may repeat the first one turn later): time runs
+        along the samples. NaN outputs are left out.
     period : float
         One turn of the input.
 
@@ -177,8 +179,12 @@ def stroke(output: ArrayLike, input_values: ArrayLike, *, period: float = 2 * np
     x = np.asarray(input_values, dtype=float)
     if x.shape != y.shape or x.ndim != 1:
         raise AnalysisError("output and input must be one-dimensional arrays of one length")
-    if np.any(np.diff(x) <= 0):
-        raise AnalysisError("the input must increase from sample to sample")
+    steps = np.diff(x)
+    backwards = x.size > 1 and bool(np.all(steps < 0))
+    if backwards:  # turning the other way: time runs with -x
+        x = -x
+    elif np.any(steps <= 0):
+        raise AnalysisError("the input must increase or decrease from sample to sample")
     keep = x < x[0] + period - 1e-12 * period
     span = x[-1] - x[0]
     step = np.max(np.diff(x)) if len(x) > 1 else np.inf
@@ -201,6 +207,8 @@ def stroke(output: ArrayLike, input_values: ArrayLike, *, period: float = 2 * np
     x_max, y_max = extreme(int(np.nanargmax(y)))
     forward = float((x_max - x_min) % period)
     back = period - forward
+    if backwards:
+        x_min, x_max = -x_min, -x_max
     return Stroke(float(y_min), float(y_max), float(x_min), float(x_max),
                   float(y_max - y_min), forward, float(back), forward / back)
 

@@ -653,7 +653,8 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False,
     """Analyse a construction: mobility, limits, four-bars, transmission, strokes, curves.
 
     The motion analysed is the whole circuit of the input (one turn if it
-    turns fully; otherwise from limit to limit on both sides of each
+    turns fully, the way its declared range runs, which sets which stroke
+    of an output is slower; otherwise from limit to limit on both sides of each
     toggle, see :func:`geokin.circuit`); with several inputs, the sweep of
     them all together over their declared ranges, sample by sample, which
     is one path through their combinations (the report says so). An input
@@ -1290,12 +1291,12 @@ def _strokes(compiled: Compiled, motion: Sweep, angle: Callable[[Any], float],
         return {}
     name, declared = next(iter(compiled.inputs.items()))
     single = len(compiled.inputs) == 1
-    # one turn of the input, forwards: through change points too, where the branches
+    # one turn of the input, either way: through change points too, where the branches
     # swap as the mechanism runs on smoothly
     x = motion.inputs[name]
     turns = bool(single and declared.kind == "angle" and motion.valid.all() and len(x) > 2
-                 and abs((x[-1] - x[0]) / (2 * np.pi) - 1) <= ROUNDING
-                 and np.all(np.diff(x) > 0))
+                 and abs(abs(x[-1] - x[0]) / (2 * np.pi) - 1) <= ROUNDING
+                 and (np.all(np.diff(x) > 0) or np.all(np.diff(x) < 0)))
     # each output's values, whether it is an angle, how to read it off another sweep,
     # and the points it is read from
     outputs: dict[str, tuple[np.ndarray, bool, Callable[[Sweep], np.ndarray],
