@@ -105,7 +105,7 @@ from .errors import (
     did_you_mean,
     quote,
 )
-from .expressions import BinOp, Call, Expr, Name, Neg
+from .expressions import names_only_within
 from .io import (
     EXPORT_FORMATS,
     columns,
@@ -1144,30 +1144,11 @@ def _angle_parameters(compiled: Compiled) -> set[str]:
     """Return the parameters that scripts give in degrees, and only so.
 
     A script's angle is read in degrees, and the loader converts it with
-    ``radians(...)``: a parameter is in degrees where it stands in such a
-    call (through arithmetic, not through another function: in
-    ``radians(degrees(asin(e / h)))`` the lengths e and h are not angles).
-    One that also appears anywhere else is not counted.
+    ``radians(...)``: a parameter is in degrees where it stands only in
+    such calls (:func:`~geokin.expressions.names_only_within`).
     """
-    in_degrees: set[str] = set()
-    elsewhere: set[str] = set()
-
-    def walk(expr: Expr, degrees: bool) -> None:
-        if isinstance(expr, Name):
-            (in_degrees if degrees else elsewhere).add(expr.name)
-        elif isinstance(expr, Neg):
-            walk(expr.operand, degrees)
-        elif isinstance(expr, BinOp):
-            walk(expr.left, degrees)
-            walk(expr.right, degrees)
-        elif isinstance(expr, Call):
-            for argument in expr.args:
-                walk(argument, expr.function == "radians")
-
-    for step in compiled.steps:
-        for value in step.node.value_fields().values():
-            walk(value, False)
-    return (in_degrees - elsewhere) & compiled.parameters.keys()
+    values = [value for step in compiled.steps for value in step.node.value_fields().values()]
+    return names_only_within(values, "radians") & compiled.parameters.keys()
 
 
 SIGN_CHANGE_WARNING = 1e-3

@@ -72,6 +72,7 @@ __all__ = [
     "ValueLike",
     "as_expr",
     "look_alike",
+    "names_only_within",
     "normal_name",
     "parse",
     "script_degrees",
@@ -353,6 +354,38 @@ class Call(Expr):
 
 ValueLike: TypeAlias = Expr | float | str
 """What a construction takes as a value: a number, an expression's text or an :class:`Expr`."""
+
+
+def names_only_within(exprs: Iterable[Expr], function: str) -> set[str]:
+    """Return the names that appear in ``exprs`` only within calls of ``function``.
+
+    Within through arithmetic, not through another function: in
+    ``radians(asin(e / h))`` the names e and h are not within ``radians``.
+
+    Examples
+    --------
+    >>> exprs = [parse("radians(beta + 2 * gamma)"), parse("radians(asin(e / h)) + gamma")]
+    >>> sorted(names_only_within(exprs, "radians"))
+    ['beta']
+    """
+    within: set[str] = set()
+    elsewhere: set[str] = set()
+
+    def walk(expr: Expr, inside: bool) -> None:
+        if isinstance(expr, Name):
+            (within if inside else elsewhere).add(expr.name)
+        elif isinstance(expr, Neg):
+            walk(expr.operand, inside)
+        elif isinstance(expr, BinOp):
+            walk(expr.left, inside)
+            walk(expr.right, inside)
+        elif isinstance(expr, Call):
+            for argument in expr.args:
+                walk(argument, expr.function == function)
+
+    for expr in exprs:
+        walk(expr, False)
+    return within - elsewhere
 
 
 # -- angles shown in degrees ----------------------------------------------------------

@@ -12,6 +12,7 @@ from mechanisms import coupler_fourbar, fourbar, sixbar
 
 import geokin
 from geokin import Construction, ConstructionError, GeokinError, ScriptError, sweep
+from geokin.cli import main
 from geokin.expressions import BinOp, Call, Name, Neg, Number, parse
 from geokin.io import OPS, dump, load, loads
 from geokin.nodes import NODE_KINDS
@@ -249,13 +250,40 @@ def test_dump_simplifies_obvious_angle_expressions():
     c = next(p for p in python_constructions() if p.name == "expressions")
     text = dump(c)
     for expected in ['angle = "theta"', 'angle = "theta + 90"',
-                     'angle = "2 * theta - degrees(alpha)"',
+                     'angle = "2 * theta - alpha"', 'alpha = { value = 17.188733853924695',
                      'angle = "30 + theta / 3"', 'angle = "-theta"', 'angle = -14.3239',
                      'angle = "degrees(theta) / 57"', 'distance = "2 + sin(radians(theta))"',
                      "range = [0, 3]", "samples = 119"]:
         assert expected in text, expected
     assert 'angle = "atan2(1, 2) * -theta"' in text
     assert 'angle = "degrees(theta) / 57"' in text
+
+
+def test_dump_writes_a_parameter_that_serves_only_as_an_angle_in_degrees(tmp_path, capsys):
+    """A script reads its angles in degrees, parameters among them: beta, an angle in
+    radians in Python, is written as 40 and read as 40 degrees by the command line;
+    gamma, also a length's factor, stays in radians and is converted where it is an angle."""
+    c = Construction("swing")
+    c.input("theta")
+    c.parameter("beta", np.radians(40))
+    c.parameter("gamma", 0.3)
+    c.fixed("O", 0, 0)
+    c.polar("A", "O", 10, "theta + beta")
+    c.polar("B", "A", 5, "2 * beta - pi / 3")
+    c.polar("C", "O", "10 * cos(gamma)", "gamma")
+    text = dump(c)
+    for expected in ["beta = 40\n", 'angle = "theta + beta"', 'angle = "2 * beta - 60"',
+                     "gamma = 0.3\n", 'angle = "degrees(gamma)"']:
+        assert expected in text, expected
+    theta = np.linspace(0, 2 * np.pi, 7)
+    a, b = sweep(c, theta), sweep(loads(text), theta)
+    for name in "ABC":
+        np.testing.assert_allclose(b[name], a[name], atol=1e-12, rtol=0)
+    assert dump(loads(text)) == text
+    script = tmp_path / "swing.toml"
+    script.write_text(text)
+    assert main(["tolerance", str(script), "--tol", "beta=0.5", "-n", "20"]) == 0
+    assert "beta = 40 +- 0.5 deg" in capsys.readouterr().out
 
 
 def test_dump_keeps_grouping_as_written():

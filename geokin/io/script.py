@@ -152,7 +152,7 @@ from ..errors import (
     range_looks_like_radians,
     warn_outside,
 )
-from ..expressions import BinOp, Call, Expr, Name, Neg, Number
+from ..expressions import BinOp, Call, Expr, Name, Neg, Number, names_only_within
 from ..nodes import NODE_KINDS, Closure, Key, Node
 from ..terminal import clip_message, escape, shorten
 from ..units import script_degrees, to_script
@@ -783,6 +783,11 @@ def dump(construction: Construction) -> str:
         raise TypeError(f"expected a Construction, got {type(construction).__name__}")
     c = construction
     convert = _AngleRewriter(c, to_script=True)
+    # a parameter that stands only as an angle is written in degrees, as a script's
+    # angles are: beta = 40 and angle = "beta", not 0.698... and "degrees(beta)"
+    in_degrees = _radian_parameters(c, convert)
+    if in_degrees:
+        convert = _AngleRewriter(c, to_script=True, angle_parameters=in_degrees)
     out = ["[construction]", f"name = {_toml_string(c.name)}"]
     if c.description:
         out.append(f"description = {_toml_string(c.description)}")
@@ -793,11 +798,12 @@ def dump(construction: Construction) -> str:
     if c.parameters:
         out += ["", "[parameters]"]
         for p in c.parameters.values():
+            value = _toml_number(script_degrees(p.value) if p.name in in_degrees else p.value)
             if p.description:
-                out.append(f"{_toml_key(p.name)} = {{ value = {_toml_number(p.value)}, "
+                out.append(f"{_toml_key(p.name)} = {{ value = {value}, "
                            f"description = {_toml_string(p.description)} }}")
             else:
-                out.append(f"{_toml_key(p.name)} = {_toml_number(p.value)}")
+                out.append(f"{_toml_key(p.name)} = {value}")
     for i in c.inputs.values():
         low, high = (_toml_number(to_script(i, v)) for v in i.range)
         out += ["", f"[inputs.{_toml_key(i.name)}]", f"kind = {_toml_string(i.kind)}",
@@ -835,6 +841,17 @@ def dump(construction: Construction) -> str:
             out.append(f"{_toml_key(s.name)} = {{ point = {_toml_string(s.point)}, "
                        f"along = {_toml_list(s.along)} }}")
     return "\n".join(out) + "\n"
+
+
+def _radian_parameters(construction: Construction, convert: _AngleRewriter) -> set[str]:
+    """Return the parameters that every field written to a script takes in ``degrees(...)``.
+
+    Such a parameter holds radians and serves only as an angle: written in
+    degrees, it reads as a script's angles do.
+    """
+    values = [value for node in construction.nodes.values()
+              for value in convert.node(node).value_fields().values()]
+    return names_only_within(values, "degrees") & construction.parameters.keys()
 
 
 def script_steps(construction: Construction) -> str:
@@ -939,8 +956,11 @@ class _AngleRewriter:
     ``theta + 90``), so a script read and written again is the same text.
     """
 
-    def __init__(self, construction: Construction, *, to_script: bool):
-        self.angles = frozenset(n for n, i in construction.inputs.items() if i.kind == "angle")
+    def __init__(self, construction: Construction, *, to_script: bool,
+                 angle_parameters: frozenset[str] | set[str] = frozenset()):
+        # angle parameters: parameters that hold an angle in the script's unit, as inputs do
+        self.angles = frozenset(n for n, i in construction.inputs.items()
+                                if i.kind == "angle") | angle_parameters
         self.to_script = to_script
         # how an angle input reads on the other side, and how an angle field is wrapped
         self.read, self.wrap = ("radians", "degrees") if to_script else ("degrees", "radians")
