@@ -28,6 +28,7 @@ from .errors import (
     ConstructionError,
     DegreesWarning,
     GeokinError,
+    PairingWarning,
     RadiansWarning,
     ScriptError,
 )
@@ -49,6 +50,7 @@ __all__ = [
     "Limits",
     "Link",
     "Motion",
+    "PairingWarning",
     "Parameter",
     "RadiansWarning",
     "Report",

@@ -126,6 +126,16 @@ class RadiansWarning(UserWarning):
     """
 
 
+class PairingWarning(UserWarning):
+    """A script's second input declares samples or a speed a sweep cannot keep.
+
+    Several inputs are swept together, sample by sample: the first input's
+    samples (or step) say how many there are, and its range at its speed
+    how long the sweep takes; every other input covers its range over the
+    same samples in the same time.
+    """
+
+
 def range_looks_like_radians(low: float, high: float) -> bool:
     """Whether the ends of an angle's range in degrees are more likely radians.
 

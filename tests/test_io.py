@@ -156,6 +156,51 @@ def test_an_input_range_in_degrees_is_not_taken_for_radians(low, high):
         loads(RANGE_SCRIPT.replace("LOW", str(low)).replace("HIGH", str(high)))
 
 
+FIVE_BAR = """
+[inputs.t1]
+range = [0, 360]
+samples = 361
+speed = 360
+
+[inputs.t2]
+range = [90, 270]
+SECOND
+
+[points]
+O1 = { op = "fixed", at = [0, 0] }
+O2 = { op = "fixed", at = [30, 0] }
+A = { op = "polar", origin = "O1", distance = 15, angle = "t1" }
+B = { op = "polar", origin = "O2", distance = 15, angle = "t2" }
+P = { op = "circle_circle", centers = ["A", "B"], radii = [30, 30], branch = "left" }
+"""
+
+
+@pytest.mark.parametrize("second, warned", [
+    ("samples = 181", "five.toml:9: [inputs] t2.samples: input 't2' is swept together with the "
+                      "first input, 't1', over its 361 samples, not over 181"),
+    ("step = 2", "five.toml:9: [inputs] t2.step: input 't2' is swept together with the first "
+                 "input, 't1', over its 361 samples, not over 91"),
+    ("speed = 360", "five.toml:9: [inputs] t2.speed: input 't2' moves at 180 deg/s, not its "
+                    "declared 360: swept together with the first input, 't1', it covers its "
+                    "range in the 1 s that 't1' takes")])
+def test_samples_or_a_speed_a_second_input_cannot_keep_are_warned_of(second, warned):
+    """Inputs are swept together: the first sets the samples and the clock. t2 covers its
+    180 degrees in the 1 s t1 takes for 360: at 180 deg/s, as its pin's speed shows."""
+    with pytest.warns(geokin.PairingWarning) as caught:
+        c = loads(FIVE_BAR.replace("SECOND", second), source="five.toml")
+    assert [str(w.message) for w in caught] == [warned]
+    m = geokin.motion(sweep(c))
+    assert len(m.time) == 361
+    np.testing.assert_allclose(np.hypot(*m.velocity["B"].T), 15 * np.pi, rtol=1e-6)
+
+
+@pytest.mark.parametrize("second", ["", "samples = 361", "speed = 180", "step = 0.5"])
+def test_samples_and_a_speed_a_second_input_keeps_are_not_warned_of(second):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        loads(FIVE_BAR.replace("SECOND", second))
+
+
 def test_a_loaded_script_lists_its_angles_in_degrees_with_the_unit():
     """The step list of the construction reads in degrees; script_steps (for geokin check)
     as the script has it, the angle input in degrees too."""

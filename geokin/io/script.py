@@ -142,13 +142,15 @@ import warnings
 from collections.abc import Mapping
 
 from ..budgets import MAX_SCRIPT_BYTES
-from ..construction import MAX_SAMPLES, Construction
+from ..construction import MAX_SAMPLES, Construction, whole_steps
 from ..errors import (
     ConstructionError,
     DegreesWarning,
+    PairingWarning,
     RadiansWarning,
     ScriptError,
     did_you_mean,
+    quote,
     range_looks_like_radians,
     warn_outside,
 )
@@ -523,6 +525,7 @@ class _Reader:
                 self.declare(c, "inputs", name, self.input, value)
             for name, value in data.get("points", {}).items():
                 self.declare(c, "points", name, self.point, value)
+        self.warn_of_pairing(c, data.get("inputs", {}))
         for name, value in data.get("groups", {}).items():
             self.declare(c, "groups", name, self.group, value)
         for name, value in data.get("links", {}).items():
@@ -655,6 +658,37 @@ class _Reader:
                                 f"{MAX_SAMPLES:,} samples a default sweep may have",
                                 sub="step")
         c.input(name, kind, **options)
+
+    def warn_of_pairing(self, c, specs) -> None:
+        """Warn of samples or a speed that an input after the first declares in vain.
+
+        Inputs are swept together (:class:`~geokin.PairingWarning`): the first
+        sets how many samples there are and how long they take.
+        """
+        first, *others = c.inputs.values()  # read: the names are checked
+        if not others:
+            return
+        count = _sample_count(first)
+        seconds = abs(first.range[1] - first.range[0]) / first.speed
+        for inp in others:
+            spec = specs[inp.name]
+            if ("samples" in spec or "step" in spec) and _sample_count(inp) != count:
+                key = "samples" if "samples" in spec else "step"
+                warn_outside(f"{self.place('inputs', inp.name, key)[0]}: input "
+                             f"{quote(inp.name)} is swept together with the first input, "
+                             f"{quote(first.name)}, over its {count:,} samples, not over "
+                             f"{_sample_count(inp):,}", PairingWarning)
+            if "speed" in spec and seconds > 0:
+                rate = to_script(inp, abs(inp.range[1] - inp.range[0]) / seconds)
+                declared = to_script(inp, inp.speed)
+                if not math.isclose(rate, declared, rel_tol=1e-9):
+                    unit = "deg/s" if inp.kind == "angle" else "per second"
+                    warn_outside(f"{self.place('inputs', inp.name, 'speed')[0]}: input "
+                                 f"{quote(inp.name)} moves at {rate:.6g} {unit}, not its "
+                                 f"declared {declared:.6g}: swept together with the "
+                                 f"first input, {quote(first.name)}, it covers its range in "
+                                 f"the {seconds:.6g} s that {quote(first.name)} takes",
+                                 PairingWarning)
 
     def point(self, c, name, spec):
         spec = self.table_value("points", name, spec, '{ op = "fixed", at = [0, 0] }')
@@ -852,6 +886,13 @@ def _radian_parameters(construction: Construction, convert: _AngleRewriter) -> s
     values = [value for node in construction.nodes.values()
               for value in convert.node(node).value_fields().values()]
     return names_only_within(values, "degrees") & construction.parameters.keys()
+
+
+def _sample_count(inp) -> int:
+    """Return how many samples an input's declared range has, by samples or by step."""
+    if inp.step is None:
+        return inp.samples
+    return math.floor(whole_steps(inp.range[0], inp.range[1], inp.step)) + 1
 
 
 def script_steps(construction: Construction) -> str:
