@@ -48,6 +48,25 @@ def test_triple_rocker_report_has_its_limits_dof_and_class():
     assert report.curves["C"].closed
 
 
+def test_a_loop_whose_input_turns_fully_only_alone_says_so():
+    """A crank-rocker (ground 4, crank 1, coupler 4, rocker 3) whose rocker pin B carries
+    a dyad to F = (1, 4) of 1 and 1.5: E exists only while B is within 2.5 of F, which
+    the rocker's swing from (4, 3) to (2, 2.24) crosses, so the crank cannot turn fully."""
+    c = Construction("crank-rocker with a dyad")
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 4, 0)
+    c.fixed("F", 1, 4)
+    c.polar("A", "O2", 1, "theta")
+    c.circle_circle("B", ("A", "O4"), (4, 3), branch="left")
+    c.circle_circle("E", ("B", "F"), (1, 1.5), branch="left")
+    report = analyze(c, degrees=True)
+    assert not report.inputs["theta"].full_turn
+    assert report.four_bars[0].turning == ("input",)
+    assert ("four-bar O2-A-B-O4 (ground 4, input 1, coupler 4, output 3): crank-rocker "
+            "(GCRR); input turns fully in this loop alone") in report.to_text().splitlines()
+
+
 def test_crank_rocker_turns_fully_and_has_a_time_ratio():
     report = analyze(fourbar(40, 10, 35, 30))
     assert report.inputs["theta2"].full_turn

@@ -546,12 +546,16 @@ class Report:
             lines.append(f"input {name}: assemblable from {spans}")
             for limit in entry.limits:
                 lines.append(f"  limit at {limit.value:.6f}{unit}: {limit.meaning}")
+        # a loop's input may turn fully where the mechanism's, held back by other nodes,
+        # cannot: the loop's classes are its own
+        held_back = len(self.inputs) == 1 and not next(iter(self.inputs.values())).full_turn
         for bar in self.four_bars:
             sides = ", ".join(f"{role} {bar.lengths[role]:g}" for role in ROLES)
             turning = ", ".join(bar.turning) or "no link"
             verb = "turn" if len(bar.turning) > 1 else "turns"
+            alone = " in this loop alone" if held_back and "input" in bar.turning else ""
             lines.append(f"four-bar {'-'.join(bar.points)} ({sides}): {bar.named}; "
-                         f"{turning} {verb} fully")
+                         f"{turning} {verb} fully{alone}")
         for node, mu in self.transmission_angles.items():
             # several inputs' values are a list of their own: the two apart by more than "and"
             where = ("; and at " if len(mu.at_minimum) > 1 else " and ").join(
