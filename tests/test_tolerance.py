@@ -723,6 +723,9 @@ def test_a_nominal_without_a_stroke_beside_variants_with_one(capsys, tmp_path):
     c = load(FOURBAR).compile().with_parameters({"a": 13.01})
     t = tolerance(c, {"a": 0.05}, n=300)
     assert spread_output(t) != "crank.angle"
+    # the crank, found everywhere but turning a design that cannot, has no stroke either
+    assert "crank.angle" in t.strokes
+    assert all(math.isnan(spread.nominal) for spread in t.strokes.values())
     import matplotlib.pyplot as plt
 
     from geokin.plotting.tolerance import plot_histogram

@@ -1169,8 +1169,12 @@ def tolerance(construction: Construction | Compiled, tolerances: Mapping[str, fl
     outputs = _outputs(compiled)
     references = {o.name: _reference(nominal, o) for o in outputs}
     closed = _closes(compiled, inputs)
+    # a stroke of a design that does not assemble at every sample is none, as a variant's
+    # is: a crank that cannot turn has no stroke of 360 degrees
+    whole = bool(np.asarray(nominal.valid).all())
     nominal_strokes = {o.name: float(_strokes(nominal.points.coords, o, references[o.name],
-                                              closed=closed)[0]) for o in outputs}
+                                              closed=closed)[0]) if whole else math.nan
+                       for o in outputs}
     study = _Study(compiled, inputs, checked, distribution, seed, studied,
                    {p: np.asarray(nominal[p]) for p in studied}, outputs, references,
                    PERCENTILE_VARIANTS, SAMPLE_PATHS, closed)
