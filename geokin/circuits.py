@@ -629,14 +629,18 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
     if start is None:
         start = declared.range[0]
         if not any(lo.value <= start <= hi.value for lo, hi in found.intervals):
-            # the middle of the interval that overlaps the declared range the most
+            # the middle of the interval that overlaps the declared range the most; of
+            # several that overlap as much (to rounding), the first the range meets
             a, b = sorted(declared.range)
 
             def overlap(interval):
                 lo, hi = interval
                 return min(hi.value, b) - max(lo.value, a)
 
-            lo, hi = max(found.intervals, key=overlap)
+            most = max(map(overlap, found.intervals))
+            met = (found.intervals if declared.range[0] <= declared.range[1]
+                   else found.intervals[::-1])
+            lo, hi = next(i for i in met if overlap(i) >= most - 1e-9 * max(1.0, abs(most)))
             start = 0.5 * (lo.value + hi.value)
     placed = placed_in(found, start, declared.kind == "angle")
     if placed is None:

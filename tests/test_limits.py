@@ -277,6 +277,21 @@ def test_a_circuit_starts_on_the_interval_the_declared_range_covers():
                                np.degrees(np.arccos([1875 / 2400, 475 / 2400])), atol=1e-6)
 
 
+@pytest.mark.parametrize("declared, positive", [((0, 2 * np.pi), True),
+                                                ((2 * np.pi, 0), False)])
+def test_of_two_mirrored_intervals_a_circuit_takes_the_one_its_range_meets_first(declared,
+                                                                                positive):
+    """Chebyshev's double rocker (ground 20, crank 25, coupler 10, rocker 25) assembles in
+    two mirrored intervals, 36.87..101.54 deg and its negative, equally inside a declared
+    full turn that starts at neither: the turn from 0 meets the positive one first, the
+    turn from 360 down the other."""
+    c = fourbar(20, 25, 10, 25, range=declared)
+    low = np.arccos(0.8)  # where crank and coupler fold: |A - O4| = 15
+    theta = np.mod(circuit(c).inputs["theta"], 2 * np.pi)
+    assert np.all((theta > np.pi) != positive)
+    np.testing.assert_allclose(min(theta.min(), 2 * np.pi - theta.max()), low, atol=1e-9)
+
+
 def test_limits_and_circuit_take_start_branches_as_sweep_does():
     c = triple_rocker("crank")
     assert limits(c, start_branches={"C": "right"}).held_branches == {"C": 1}
