@@ -109,6 +109,11 @@ class Parameter:
     description: str = ""
 
 
+def default_speed(kind: str) -> float:
+    """Return an input's speed where none is given: a turn, or one length unit, a second."""
+    return 2 * np.pi if kind == "angle" else 1.0
+
+
 @dataclass(frozen=True)
 class Input:
     """A driving variable: an angle (radians) or a length.
@@ -796,7 +801,7 @@ class Construction:
                                         f"the range, more than the {MAX_SAMPLES:,} a default "
                                         "sweep may have", node=name, field="step")
         if speed is None:
-            speed = 2 * np.pi if kind == "angle" else 1.0
+            speed = default_speed(kind)
         speed = _number(speed, node=name, field="speed")
         low, high = prim.SCALE_RANGE
         if not low <= speed <= high:

@@ -142,7 +142,7 @@ import warnings
 from collections.abc import Mapping
 
 from ..budgets import MAX_SCRIPT_BYTES
-from ..construction import MAX_SAMPLES, Construction, whole_steps
+from ..construction import MAX_SAMPLES, Construction, Input, default_speed, whole_steps
 from ..errors import (
     ConstructionError,
     DegreesWarning,
@@ -665,9 +665,9 @@ class _Reader:
         Inputs are swept together (:class:`~geokin.PairingWarning`): the first
         sets how many samples there are and how long they take.
         """
-        first, *others = c.inputs.values()  # read: the names are checked
-        if not others:
+        if len(c.inputs) < 2:
             return
+        first, *others = c.inputs.values()
         count = _sample_count(first)
         seconds = abs(first.range[1] - first.range[0]) / first.speed
         for inp in others:
@@ -778,8 +778,12 @@ def dump(construction: Construction) -> str:
     angle inputs appear in degrees, and each angle field is rewritten, for
     example ``theta + pi / 2`` as ``theta + 90``, or wrapped in
     ``degrees(...)`` with the angle inputs referenced as ``radians(name)``
-    where no simpler form is known. A construction read from a script is
-    written back as the script it was read from.
+    where no simpler form is known. A parameter that serves only as an
+    angle is written in degrees too, its uses as an angle input's. A
+    construction read from a script is written back as the script it was
+    read from, but for such a parameter, and for the samples and speed of
+    an input after the first, written only where they are not the defaults
+    (the first input's set them: :class:`~geokin.PairingWarning`).
 
     Parameters
     ----------
@@ -838,15 +842,19 @@ def dump(construction: Construction) -> str:
                            f"description = {_toml_string(p.description)} }}")
             else:
                 out.append(f"{_toml_key(p.name)} = {value}")
-    for i in c.inputs.values():
+    for position, i in enumerate(c.inputs.values()):
         low, high = (_toml_number(to_script(i, v)) for v in i.range)
         out += ["", f"[inputs.{_toml_key(i.name)}]", f"kind = {_toml_string(i.kind)}",
                 f"range = [{low}, {high}]"]
+        # the first input's samples and speed set every input's (PairingWarning): a later
+        # one's are written only where they are not the defaults, as someone gave them
+        later = position > 0
         if i.step is not None:
             out.append(f"step = {_toml_number(to_script(i, i.step))}")
-        else:
+        elif not later or i.samples != Input.samples:
             out.append(f"samples = {i.samples}")
-        out.append(f"speed = {_toml_number(to_script(i, i.speed))}")
+        if not later or i.speed != default_speed(i.kind):
+            out.append(f"speed = {_toml_number(to_script(i, i.speed))}")
     points = [node for node in c.nodes.values() if not isinstance(node, Closure)]
     if points:
         out += ["", "[points]"]
