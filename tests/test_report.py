@@ -67,6 +67,26 @@ def test_a_loop_whose_input_turns_fully_only_alone_says_so():
             "(GCRR); input turns fully in this loop alone") in report.to_text().splitlines()
 
 
+def test_a_crank_declared_over_a_quarter_turn_is_analysed_over_a_whole_one_and_says_so():
+    """The report's figures are of the circuit: for a crank that turns fully, one turn,
+    whatever range it is declared over; the rocker's swing is the cosine rule's."""
+    c = Construction("crank-rocker")
+    c.input("theta2", range=(0, np.pi / 2))
+    c.fixed("A", 0, 0)
+    c.fixed("D", 40, 0)
+    c.polar("B", "A", 10, "theta2")
+    c.circle_circle("C", ("B", "D"), (35, 30), branch="left")
+    c.link("follower", "D", "C")
+    report = analyze(c, degrees=True)
+    assert report.warnings == ("input 'theta2' turns fully: the figures below are of one "
+                               "whole turn, not of its declared range (0 to 90 deg)",)
+    # the rocker's extremes: crank and coupler stretched out (45) and folded (25)
+    swing = [np.degrees(np.arccos((900 + 1600 - d * d) / 2400)) for d in (25, 45)]
+    rocker = report.strokes["follower.angle"]
+    np.testing.assert_allclose([180 - rocker.maximum, 180 - rocker.minimum], swing, atol=1e-6)
+    assert analyze(fourbar(40, 10, 35, 30), degrees=True).warnings == ()
+
+
 def test_crank_rocker_turns_fully_and_has_a_time_ratio():
     report = analyze(fourbar(40, 10, 35, 30))
     assert report.inputs["theta2"].full_turn

@@ -726,6 +726,12 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False,
         if start is not None:
             start = _circuit_start(compiled, found_limits[name], inputs[name], start, degrees)
         motion = circuit(compiled, start=start)
+        low, high = compiled.inputs[name].range
+        if found_limits[name].full_turn and abs(high - low) < 2 * np.pi * (1 - 1e-9):
+            unit = _input_unit(compiled, name, degrees)
+            warnings.append(f"input {quote(name)} turns fully: the figures below are of one "
+                            f"whole turn, not of its declared range ({angle(low):g} to "
+                            f"{angle(high):g}{unit})")
         if len(inputs[name].intervals) > 1:
             warnings.append(_which_circuit(compiled, name, len(inputs[name].intervals),
                                            motion.inputs[name], value_of(name), degrees))
