@@ -356,6 +356,35 @@ def test_frames_checked(tmp_path):
         gp.animate(sweep(four_bar(), samples(5)), tmp_path / "a.gif", fps=0)
 
 
+def test_the_status_of_one_picture_moves_off_the_mechanism():
+    """Chebyshev's double rocker at 200 deg, where it cannot be assembled: its last pose,
+    at 101.5 deg, reaches into the upper left corner, where a four-line status would
+    cover the crank pin; the status goes to a corner that covers no bar, path or label."""
+    c = Construction("Chebyshev")
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 20, 0)
+    c.polar("A", "O2", 25, "theta")
+    c.circle_circle("B", ("A", "O4"), (10, 25), branch="right")
+    c.along("P", ("A", "B"), 5)
+    c.link("crank", "O2", "A")
+    c.link("coupler", "A", "P", "B")
+    c.link("rocker", "O4", "B")
+    c.trace("P")
+    s = sweep(c)
+    fig = matplotlib.figure.Figure(figsize=gp.FIGSIZE, layout="constrained")
+    ax = gp.plot_mechanism(s, 200, ax=fig.add_subplot())
+    status = ax.texts[-1]
+    assert "cannot be assembled at 'B'" in status.get_text()
+    fig.draw_without_rendering()
+    box = status.get_window_extent()
+    crossed = [a for a in [*ax.lines, *ax.patches]
+               if a.get_visible() and a.get_transform().transform_path(
+                   a.get_path()).intersects_bbox(box, filled=False)]
+    labels = [t for t in ax.texts[:-1] if t.get_visible() and t.get_window_extent().overlaps(box)]
+    assert crossed == [] and labels == []
+
+
 def test_invalid_samples_plot_and_animate(tmp_path, small_frames):
     s = sweep(four_bar(crank=30.0), samples(37))  # cannot reach around theta = 180°
     assert s.valid.any() and not s.valid.all()

@@ -60,7 +60,7 @@ import os
 import pathlib
 import textwrap
 from collections.abc import Iterable
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Literal
 
 import numpy as np
 
@@ -284,6 +284,56 @@ class Scene:
             artist.set_alpha(0.2 * (alpha or 1.0) if faded else alpha)
         for artist in (self.joints, self.loose, self.reference_marks):
             artist.set_alpha(0.2 if faded else None)
+
+    def place_status(self) -> None:
+        """Move the status box to the corner where it covers the least of the drawing.
+
+        Of the four corners of the axes, the first (upper left, upper right,
+        lower left, lower right) whose box crosses the fewest paths, bars and
+        labels drawn; for one picture, once its view is set. (An animation
+        keeps it in one place.)
+        """
+        from matplotlib.lines import Line2D
+        from matplotlib.patches import Patch
+        from matplotlib.text import Text
+        from matplotlib.transforms import Bbox
+
+        ax, status = self.ax, self.status
+        figure = ax.get_figure(root=True)
+        if not status.get_text() or figure is None:
+            return
+        # the view and the axes' place as they will be drawn (a layout engine moves them)
+        figure.draw_without_rendering()
+        # the text's extent and the pad of its box, a few points
+        extent = status.get_window_extent().padded(4 * figure.dpi / 72)
+        width, height, frame = extent.width, extent.height, ax.bbox
+        paths, boxes = [], []
+        for artist in [*self.trace_lines, *self.mechanism, self.joints, self.loose]:
+            if not artist.get_visible():
+                continue
+            if isinstance(artist, Text):
+                boxes.append(artist.get_window_extent())
+            elif isinstance(artist, Line2D | Patch):
+                paths.append(artist.get_transform().transform_path(artist.get_path()))
+        corners: dict[str, tuple[float, float, Literal["left", "right"],
+                                 Literal["top", "bottom"]]] = {
+            "upper left": (0.015, 0.985, "left", "top"),
+            "upper right": (0.985, 0.985, "right", "top"),
+            "lower left": (0.015, 0.015, "left", "bottom"),
+            "lower right": (0.985, 0.015, "right", "bottom")}
+
+        def covered(corner):
+            x, y, ha, va = corners[corner]
+            x0 = frame.x0 + x * frame.width - (width if ha == "right" else 0.0)
+            y0 = frame.y0 + y * frame.height - (height if va == "top" else 0.0)
+            box = Bbox.from_bounds(x0, y0, width, height)
+            return (sum(path.intersects_bbox(box, filled=False) for path in paths)
+                    + sum(box.overlaps(other) for other in boxes))
+
+        x, y, ha, va = corners[min(corners, key=covered)]
+        status.set_position((x, y))
+        status.set_horizontalalignment(ha)
+        status.set_verticalalignment(va)
 
     def _draw_pose(self, at, pose):
         """Draw the points at ``at`` (name to x, y); what is not finite there is hidden."""
@@ -648,6 +698,7 @@ def plot_mechanism(sweep: Sweep, index: int | None = None, *, ax: Axes | None = 
     scene = Scene(sweep, ax, traces)
     scene.update(index)
     setup_axes(ax, scene.layout, title)
+    scene.place_status()
     if scene.drawn_paths:
         ax.legend(handles=scene.drawn_paths, loc="best", fontsize=9, framealpha=0.9)
     return ax
