@@ -711,6 +711,12 @@ def test_plot_input_output():
     np.testing.assert_allclose(line.get_xdata(), np.degrees(s.input_values))
     assert np.isnan(line.get_ydata()[~s.valid]).all()
     assert ax.get_xlabel() == "theta (deg)"
+    # the one curve's label names the y axis; of two, the legend tells them apart
+    assert ax.get_ylabel() == "rocker angle"
+    fig, ax = plt.subplots()
+    gp.plot_input_output(s, {"x": s["B"][:, 0], "y": s["B"][:, 1]}, ax=ax, ylabel="B (mm)")
+    assert ax.get_ylabel() == "B (mm)"
+    assert [t.get_text() for t in ax.get_legend().get_texts()] == ["x", "y"]
     with pytest.raises(GeokinError, match="one value per sample"):
         gp.plot_input_output(s, angle[:5], ax=ax)
 

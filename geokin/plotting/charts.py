@@ -26,11 +26,12 @@ __all__ = ["figure_kinematics", "plot_input_output", "wrap_degrees"]
 
 
 def plot_input_output(sweep: Sweep, outputs: Mapping[str, ArrayLike] | ArrayLike, *,
-                      ax: Axes | None = None) -> Axes:
+                      ax: Axes | None = None, ylabel: str | None = None) -> Axes:
     """Plot quantities of a sweep against its input, in degrees for an angle.
 
     The x axis is labelled with the input's unit: "theta (deg)" for an
-    angle, the construction's length unit for a length input.
+    angle, the construction's length unit for a length input; the y axis
+    with ``ylabel``, or the label of the one curve there is.
 
     Parameters
     ----------
@@ -40,6 +41,9 @@ def plot_input_output(sweep: Sweep, outputs: Mapping[str, ArrayLike] | ArrayLike
         drawn unlabelled. Samples that cannot be assembled are left out.
     ax : matplotlib.axes.Axes, optional
         Where to draw; the current axes by default.
+    ylabel : str, optional
+        The y axis's label; by default the label of the one curve, if one
+        labelled curve is drawn, and none otherwise.
 
     Returns
     -------
@@ -59,8 +63,8 @@ def plot_input_output(sweep: Sweep, outputs: Mapping[str, ArrayLike] | ArrayLike
     >>> s = sweep(c)
     >>> fig, ax = plt.subplots()
     >>> ax = plot_input_output(s, {"x of A": s["A"][:, 0]}, ax=ax)
-    >>> ax.get_xlabel(), len(ax.get_lines())
-    ('theta (deg)', 1)
+    >>> ax.get_xlabel(), ax.get_ylabel(), len(ax.get_lines())
+    ('theta (deg)', 'x of A', 1)
     >>> plt.close(fig)
     """
     if ax is None:
@@ -88,6 +92,10 @@ def plot_input_output(sweep: Sweep, outputs: Mapping[str, ArrayLike] | ArrayLike
         y = np.where(sweep.valid, y, np.nan)
         ax.plot(x, y, label=label)
     ax.set_xlabel(shown_text(xlabel), parse_math=False)
+    if ylabel is None and len(curves) == 1:
+        ylabel = next(iter(curves))
+    if ylabel is not None:
+        ax.set_ylabel(shown_text(str(ylabel)), parse_math=False)
     ax.grid(True, color="#dddddd", lw=0.8)
     if any(label is not None for label in curves):
         ax.legend(fontsize=9)
