@@ -339,6 +339,25 @@ def test_offset_slider_crank_stroke():
     assert stroke > 2 * r
 
 
+def test_the_boom_follows_its_cylinder_by_the_cosine_rule():
+    """|O-C| = 50, |O-R| = 60 and |C-R| = s: the boom's angle is atan2(-40, 30) plus the
+    angle at O of that triangle; the tip T lies 200 along it, the barrel's X 35 along C-R."""
+    c = load("boom_cylinder")
+    s = sweep(c)
+    length = s.inputs["s"]
+    phi = math.atan2(-40, 30) + np.arccos((60**2 + 50**2 - length**2) / (2 * 60 * 50))
+    np.testing.assert_allclose(s["T"], 200 * np.c_[np.cos(phi), np.sin(phi)], atol=1e-11)
+    np.testing.assert_allclose(distance(s, "C", "R"), length, rtol=1e-13)
+    np.testing.assert_allclose(distance(s, "C", "X"), 35, rtol=1e-13)
+    report = analysis.analyze(c, degrees=True)
+    boom = report.strokes["boom.angle"]
+    np.testing.assert_allclose([boom.minimum, boom.maximum], np.degrees(phi[[0, -1]]),
+                               atol=1e-9)
+    assert report.strokes["rod.position"].stroke == pytest.approx(60, abs=1e-9)
+    mobility = analysis.degrees_of_freedom(c)
+    assert (mobility.moving_links, mobility.lower_pairs, mobility.dof) == (3, 4, 1)
+
+
 def inclined_closed_form(theta, r=20.0, rod=70.0, e=10.0, beta=math.pi / 6):
     """B and the rod point P of the inclined offset slider-crank, from the loop by hand.
 
