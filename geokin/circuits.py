@@ -410,8 +410,28 @@ def _limits_of_variants(compiled, name, grid, held, start, turn, varied, count):
             result.append(Limits(name, (), False, held_branches))
             continue
         result.append(_intervals(name, declared, grid, turn, ok[variant],
-                                 found[ends[variant]:ends[variant + 1]], held_branches))
+                                 found[ends[variant]:ends[variant + 1]], held_branches,
+                                 _closes_round(probe, variant, samples)))
     return result
+
+
+SEAM_RTOL = 1e-6
+"""How close (times the mechanism's size) the closure groups' solutions at the two
+ends of a searched turn must be for the turn to close on one assembly."""
+
+
+def _closes_round(probe: Sweep, variant: int, samples: int) -> bool:
+    """Whether a turn's search ends on the assembly it began on, for the closure groups.
+
+    Two-root nodes keep their branches along the search, and so come back
+    round; a closure group is followed along it, and after a gap may go on
+    on another assembly, which the turn's end does not join to its start.
+    """
+    ends = assembly_guesses(probe, np.array([variant * samples, (variant + 1) * samples - 1]))
+    if not ends:
+        return True
+    size = max(float(np.max(np.abs(v[0]))) for v in ends.values())
+    return all(bool(np.all(np.abs(v[1] - v[0]) <= SEAM_RTOL * size)) for v in ends.values())
 
 
 ROUNDING_GAP_PROBES = 17
@@ -538,10 +558,15 @@ def _join_rounding_gaps(compiled: Compiled, name: str, held: Mapping[str, float]
     return joined, ok
 
 
-def _intervals(name, declared, grid, turn, ok, found, held_branches) -> Limits:
-    """Pair the limits found along a search into assemblable intervals."""
+def _intervals(name, declared, grid, turn, ok, found, held_branches,
+               closes_round: bool = True) -> Limits:
+    """Pair the limits found along a search into assemblable intervals.
+
+    Over a turn, the stretches through its two ends are one interval where
+    the search ``closes_round`` (:func:`_closes_round`).
+    """
     lo, hi = float(grid[0]), float(grid[-1])
-    if ok.all() and turn:
+    if ok.all() and turn and closes_round:
         # it turns fully: every value is assemblable, the declared range included
         lo, hi = min(lo, *declared.range), max(hi, *declared.range)
         ends = (Limit(lo, None, "range"), Limit(hi, None, "range"))
@@ -553,7 +578,7 @@ def _intervals(name, declared, grid, turn, ok, found, held_branches) -> Limits:
     if ok[-1]:
         bounds.append(Limit(hi, None, "range"))
     intervals = [(bounds[i], bounds[i + 1]) for i in np.arange(0, len(bounds), 2)]
-    if turn and ok[0] and ok[-1] and len(intervals) > 1:
+    if turn and closes_round and ok[0] and ok[-1] and len(intervals) > 1:
         # the stretches through both ends of the turn are one interval
         last_lo, first_hi = intervals[-1][0], intervals[0][1]
         wrapped = (replace(last_lo, value=last_lo.value - 2 * np.pi), first_hi)

@@ -303,7 +303,8 @@ def _blend(known, lengths, i, j, t):
 
 
 def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
-                   lengths: np.ndarray, start: np.ndarray):
+                   lengths: np.ndarray, start: np.ndarray,
+                   path_starts: np.ndarray | None = None):
     """Follow one assembly along the samples, from a sketch where it first fits.
 
     The first sample where Newton from ``start`` converges begins the path,
@@ -320,7 +321,14 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
     to it is cut into pieces (the known points and distances interpolated
     linearly between the two samples), halving each piece that fails, at
     most :data:`MAX_SUBSTEPS` pieces. A step that cannot be crossed leaves
-    its sample unsolved; later samples restart from the last solution.
+    its sample unsolved; later samples resume where Newton from the last
+    solution converges, past a sample where it does not (up to there the
+    equations have solutions the path could not reach: another assembly's,
+    as past a fold, where the assembly followed ends and others go on), and
+    an assembly that, followed back, was there all along is another one,
+    whose samples stay unsolved. ``path_starts`` are the samples where a
+    new path begins (design variants, one after the other): the first
+    sample of each resumes at once.
 
     Returns
     -------
@@ -390,6 +398,7 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
         predicted = _solve(jac, f_next)
         miss = np.max(np.abs(found - previous - predicted), axis=1)
         ok &= miss <= JUMP_RATIO * np.max(np.abs(predicted), axis=1) + 1e-9 * scale
+        ok &= _comes_back(system, unknowns, prev_data, found, previous, scale)
         _, jac_found = _residual_jacobian(system, unknowns, data, length, found)
         m = margins(jac_found)
         ok &= m >= SINGULAR_MARGIN
@@ -419,22 +428,39 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
             singular[j] = stop_margin < NEAR_SINGULAR
             j += 1
         # a gap: the samples after it resume the assembly where Newton from the last
-        # solution converges, as a two-root node resumes its branch; tried a block at a time
+        # solution converges, as a two-root node resumes its branch, tried a block at a
+        # time; on the same path only past a sample where it does not
         resumed = False
+        apart = False
         while j < n and not resumed:
             rows = np.arange(j, min(j + MAX_CHUNK, n))
             data, length = _rows(known, lengths, rows)
             again, ok, m = newton(system, unknowns, data, length,
                                   np.repeat(z[last][None], rows.size, axis=0))
             ok &= m >= SINGULAR_MARGIN
+            path = _path_start(path_starts, rows)
+            same = path <= last
+            if not apart:
+                unsolved = np.flatnonzero(~ok & same)
+                apart = unsolved.size > 0
+                ok[:unsolved[0] if apart else int(same.sum())] = False
             if ok.any():
                 at = int(np.argmax(ok))
                 singular[rows[:at]] = singular_rows(system, unknowns, data, length, z[last],
                                                     at)
                 z[rows[at]], margin[rows[at]] = again[at], m[at]
-                gap = np.flatnonzero(~np.isfinite(z[last + 1:rows[at]]).all(axis=1))
+                begin = max(last + 1, int(path[at]))
+                gap = np.flatnonzero(~np.isfinite(z[begin:rows[at]]).all(axis=1))
                 if gap.size:  # the gap's far side, from where the assembly resumes
-                    follow_back(int(rows[at]), last + 1 + int(gap[0]))
+                    follow_back(int(rows[at]), begin + int(gap[0]))
+                if same[at] and np.isfinite(z[last + 1]).all():
+                    # followed back, it reaches the sample after the last solution: it
+                    # was there all along, another assembly; the samples stay unsolved
+                    # until a gap of its own
+                    stretch = slice(last + 1, int(rows[at]) + 1)
+                    z[stretch], margin[stretch], singular[stretch] = np.nan, np.nan, True
+                    j, apart = int(rows[at]) + 1, False
+                    continue
                 last = int(rows[at])
                 j = last + 1
                 resumed = True
@@ -443,6 +469,13 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
                                                rows.size)
                 j = int(rows[-1]) + 1
     return z, margin, singular
+
+
+def _path_start(path_starts: np.ndarray | None, rows: np.ndarray) -> np.ndarray:
+    """Return the sample where the path of each of ``rows`` begins."""
+    if path_starts is None:
+        return np.zeros(rows.size, dtype=int)
+    return path_starts[np.searchsorted(path_starts, rows, side="right") - 1]
 
 
 def stalls_singular(system: System, unknowns: Sequence[str], known: Mapping,
@@ -505,6 +538,26 @@ def singular_rows(system, unknowns, known, lengths, z_last, count):
     return ~(margins(jac) >= NEAR_SINGULAR)
 
 
+COME_BACK_RTOL = 1e-6
+"""How close (times the group's size) Newton from a solution, at the sample before,
+must come back to the solution there for the two to be one assembly."""
+
+
+def _comes_back(system, unknowns, before, found, previous, scale) -> np.ndarray:
+    """Say which solutions continue the solutions before them: Newton comes back.
+
+    Newton at the sample before (``before``: its known points and lengths),
+    from each solution ``found``, must converge to the solution there,
+    ``previous``. Near a fold the linear prediction of a step is too long
+    to tell a jump to another assembly; this tells it: from a solution of
+    another assembly Newton converges to that assembly's solution at the
+    sample before, not to the one followed.
+    """
+    back, ok, _ = _iterate(system, unknowns, before[0], before[1], found, scale,
+                           CHUNK_ITERATIONS)
+    return ok & (np.max(np.abs(back - previous), axis=1) <= COME_BACK_RTOL * scale)
+
+
 def _substeps(system, unknowns, known, lengths, i, j, z_i, scale):
     """Cross the step from sample i (solved: z_i) to sample j in pieces.
 
@@ -525,6 +578,7 @@ def _substeps(system, unknowns, known, lengths, i, j, z_i, scale):
         ok &= np.isfinite(found).all(axis=1)
         ok &= (np.max(np.abs(found - z[None] - predicted), axis=1)
                <= JUMP_RATIO * np.max(np.abs(predicted), axis=1) + 1e-9 * scale)
+        ok &= _comes_back(system, unknowns, (previous, prev_length), found, z[None], scale)
         _, jac_found = _residual_jacobian(system, unknowns, data, length, found)
         m = float(margins(jac_found)[0]) if ok[0] else np.nan
         if ok[0] and m >= SINGULAR_MARGIN:

@@ -376,15 +376,17 @@ def _step_values(step: _PlannedStep, env) -> Mapping:
     return values
 
 
-def _candidates(step: _PlannedStep, coords, values, origin, guess=None, sketch=None):
+def _candidates(step: _PlannedStep, coords, values, origin, guess=None, sketch=None,
+                paths=1):
     if step.node.continued:
-        # followed along the samples, or solved from a guess per sample (held): its
-        # guesses and sketch are absolute positions, shifted like the points
+        # followed along the samples (each path on its own), or solved from a guess per
+        # sample (held): its guesses and sketch are absolute positions, shifted like the
+        # points
         if guess is not None and origin is not None:
             guess = np.asarray(guess, dtype=float) - np.tile(origin, np.shape(guess)[1] // 2)
-        # mypy: candidates of a continued node take the guess and the origin
+        # mypy: candidates of a continued node take the guess, the origin and the paths
         cand = step.node.candidates(coords, values, guess=guess,  # type: ignore[call-arg]
-                                    origin=origin, sketch=sketch)
+                                    origin=origin, sketch=sketch, paths=paths)
         if cand.also:
             coords.update(cand.also)
         return cand
@@ -615,7 +617,7 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
             if node.continued:  # all samples at once: it follows them as a path
                 cand = _candidates(step, coords, values, origin,
                                    None if held is None else held.get(node.name),
-                                   None if sketches is None else sketches.get(node.name))
+                                   None if sketches is None else sketches.get(node.name), paths)
                 if tracker is not None:
                     found = {**(cand.also or {}), node.name: (cand.x[0], cand.y[0])}
                     tracker.solutions[node.name] = np.column_stack([

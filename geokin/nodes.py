@@ -820,12 +820,13 @@ class Closure(Node):
 
     def candidates(self, coords: Coords, values: Values, guess: np.ndarray | None = None,
                    origin: tuple[float, float] | None = None,
-                   sketch: np.ndarray | None = None) -> Candidates:
+                   sketch: np.ndarray | None = None, paths: int = 1) -> Candidates:
         """Return the point's position; the first point solves the whole group.
 
         Without ``guess`` the group is followed along the samples from its
         sketch ``near`` (or from ``sketch``: absolute positions, x and y of
-        every point of the group, as a circuit passes them); with
+        every point of the group, as a circuit passes them), the samples
+        being ``paths`` paths of equal length one after the other; with
         ``guess`` (N, 2k) each sample is solved from its own.
         """
         if not self.solves:
@@ -845,8 +846,9 @@ class Closure(Node):
                 sketch = np.asarray(self.near if sketch is None else sketch, dtype=float).ravel()
                 if origin is not None:
                     sketch = sketch - np.tile(origin, len(self.points))
-                z, margin, singular = solver.continue_along(system, self.points, known, table,
-                                                            sketch)
+                z, margin, singular = solver.continue_along(
+                    system, self.points, known, table, sketch,
+                    np.arange(0, n, max(n // paths, 1)) if paths > 1 else None)
             else:
                 guess = np.asarray(guess, dtype=float)
                 z, _, margin = solver.newton(system, self.points, known, table, guess)

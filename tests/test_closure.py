@@ -561,3 +561,96 @@ def test_a_group_is_followed_back_from_where_its_sketch_first_fits():
                     parameters={"AB": np.array([nominal.parameters["AB"], 2.0])})
     assert both.valid.all()
     np.testing.assert_allclose(both["D"][73:], geokin.sweep(c, theta)["D"], atol=1e-9)
+
+
+STEPHENSON_PAIRS = (("F", "D", "FD"), ("F", "E", "FE"), ("D", "E", "DE"), ("C", "A", "CA"),
+                    ("C", "B", "CB"), ("A", "B", "AB"), ("D", "A", "DA"), ("E", "B", "EB"))
+
+
+def _triad_jacobian(s, i, lengths):
+    """The Jacobian of the triad's eight distance equations in D, E, A, B at sample i,
+    by central differences: its smallest singular value is zero at a fold."""
+    names = "DEAB"
+    z = np.concatenate([np.asarray(s[p])[i] for p in names])
+    fixed = {p: np.asarray(s[p])[i] for p in "FC"}
+
+    def residual(z):
+        at = {**fixed, **{p: z[2 * k:2 * k + 2] for k, p in enumerate(names)}}
+        return np.array([np.hypot(*(at[a] - at[b])) - lengths[n] for a, b, n in STEPHENSON_PAIRS])
+
+    h = 1e-6
+    return np.column_stack([(residual(z + h * e) - residual(z - h * e)) / (2 * h)
+                            for e in np.eye(8)])
+
+
+def test_a_group_at_its_fold_stops_rather_than_jump_to_another_assembly():
+    """A Stephenson III whose triad folds at theta = 0.9292: past the fold its assembly
+    is gone, though others go on. The sweep keeps every length, never moves a point far
+    between samples, and stops at the fold, where the triad's Jacobian is singular."""
+    lengths = {"GF": 1.1247, "FD": 2.5826, "FE": 2.5029, "DE": 2.5582, "CA": 2.2633,
+               "CB": 1.8292, "AB": 2.4434, "DA": 2.7345, "EB": 2.8767}
+    c = geokin.load(ROOT / "constructions" / "stephenson3.toml").compile().with_parameters(
+        lengths)
+    theta = np.linspace(0, 2 * np.pi, 3601)
+    s = geokin.sweep(c, theta)
+    ok = s.valid
+    for a, b, name in STEPHENSON_PAIRS:
+        np.testing.assert_allclose(np.hypot(*(s[a] - s[b]).T)[ok], lengths[name], atol=1e-9)
+    moves = np.max([np.hypot(*np.diff(s[p], axis=0).T) for p in "DEAB"], axis=0)
+    assert np.nanmax(moves) < 20 * np.nanmedian(moves)
+    last = int(np.argmin(ok)) - 1  # the last sample before the first gap
+    assert 0.92 < theta[last] < 0.93 and not ok[last + 1]
+    singular = np.linalg.svd(_triad_jacobian(s, last, lengths), compute_uv=False)
+    inside = np.linalg.svd(_triad_jacobian(s, 0, lengths), compute_uv=False)
+    assert singular[-1] < 0.05 * inside[-1]
+
+
+def test_a_group_over_coarse_steps_never_takes_the_mirror_assembly():
+    """A double crank's coupler joint as a one-point group, swept a quarter turn a step:
+    Newton from one sample converges on the mirror assembly at the next. What the group
+    gives, it gives on its own assembly, the circle intersection to the right of A->O4."""
+    def four_bar(group):
+        c = geokin.Construction("double crank")
+        c.input("theta")
+        c.fixed("O2", 0, 0)
+        c.fixed("O4", 2.75, 0)
+        c.polar("A", "O2", 5.3125, "theta")
+        if group:
+            c.closure("dyad", ["B"], [("A", "B", 4.5), ("O4", "B", 6.5)],
+                      near={"B": (8.3, 3.3)})
+        else:
+            c.circle_circle("B", ("A", "O4"), (4.5, 6.5), branch="right")
+        return c
+
+    def right_of(theta):  # B by hand: the circles about A (4.5) and O4 (6.5)
+        a = 5.3125 * np.c_[np.cos(theta), np.sin(theta)]
+        u = np.array([2.75, 0.0]) - a
+        d = np.hypot(*u.T)[:, None]
+        m = (d * d + 4.5**2 - 6.5**2) / (2 * d)
+        h = np.sqrt(4.5**2 - m * m)
+        return a + m * u / d + h * np.c_[u[:, 1], -u[:, 0]] / d
+
+    for theta in (np.radians([0, 90, 180, 270, 360]), np.radians(np.arange(361.0))):
+        s = geokin.sweep(four_bar(True), theta)
+        assert s.valid[0]
+        np.testing.assert_allclose(s["B"][s.valid], right_of(theta)[s.valid], atol=1e-9)
+    assert s.valid.all()  # a degree a step: the whole turn
+
+
+def test_a_turn_searched_for_a_group_joins_its_ends_only_on_one_assembly():
+    """With GF = 3 the Stephenson III's assembly at theta = 0 folds at +-1.8484; the
+    search over [0, 2 pi] resumes past its gap on another assembly, which its end at
+    2 pi does not join to the start: no limit of the assembly at 0 lies in (-1.6, 0),
+    where it sweeps, and its circuit comes back to where it began."""
+    c = geokin.load(ROOT / "constructions" / "stephenson3.toml").compile().with_parameters(
+        {"GF": 3.0})
+    assert geokin.sweep(c, np.linspace(0, -1.6, 161)).valid.all()
+    # the interval that holds theta = 0 is that assembly's
+    [(low, high)] = [(lo, hi) for lo, hi in geokin.limits(c).intervals
+                     if lo.value <= 0 <= hi.value]
+    assert not (low.kind == "tangent" and -1.6 < low.value < 0)
+    assert high.kind == "tangent" and high.value > 1.6
+    s = geokin.circuit(c)
+    assert s.valid.all()
+    for p in "DEAB":
+        np.testing.assert_allclose(s[p][-1], s[p][0], atol=1e-9)
