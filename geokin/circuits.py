@@ -40,6 +40,7 @@ from .errors import (
     looks_like_degrees,
     range_looks_like_degrees,
     warn_of_degrees,
+    warn_outside,
 )
 from .frozen import Frozen
 from .nodes import NO_INTERSECTION, OFF_LINE, REASONS, SINGULAR
@@ -719,9 +720,9 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
         # samples evenly spaced along the motion: first a fine sampling evenly spaced in
         # phi, where input = centre + radius * sin(phi), which crowds towards the limits
         # where the motion runs fastest; then resampled to equal steps of the motion
-        centre, radius = 0.5 * (lo.value + hi.value), 0.5 * (hi.value - lo.value)
-
         def stretch(a, b, labels, across):
+            # about the interval the pass runs in, which a toggle may have changed
+            centre, radius = 0.5 * (lo.value + hi.value), 0.5 * (hi.value - lo.value)
             pa, pb = (np.arcsin(np.clip((v - centre) / radius, -1, 1)) for v in (a, b))
             count = max(2, int(np.ceil(abs(pb - pa) / np.pi * samples_per_pass)) + 1)
             fine = centre + radius * np.sin(np.linspace(pa, pb, 8 * count))
@@ -739,7 +740,10 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
         initial = searched = dict(labels)
         position, target = start, hi
         across = None
-        for count in range(1, 9):  # four toggles at most bring any branches back
+        # every state of the branches and sheets, both ways, at either end of an interval
+        # (its ends change with the branches): more passes than these cannot close
+        most = 4 * 2 ** min(len(labels) + len(groups), 10) + 4
+        for count in range(1, most + 1):
             upward = target is hi
             labels = run(stretch(position, target.value, labels, across), labels, across)
             if groups:
@@ -759,10 +763,14 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
             # range, or of a ray) the branches stay, and the other end is still to come;
             # it is closed once back on the starting branches heading up, as it set out
             # (heading down, it has yet to pass the start and reach the lower end)
-            if count >= 2 and target is hi and labels == initial and not any(sheets.values()):
+            if (count >= 2 and target is hi and labels == initial and not any(sheets.values())
+                    and lo.value <= start <= hi.value):
                 # run on to the start and stop
                 run(stretch(position, start, labels, across), labels, across)
                 break
+        else:
+            warn_outside(f"circuit of {name!r}: not back where it began after {most} passes "
+                         "between limits; the motion is given as far as it went", UserWarning)
     # each pass starts where the one before ended: drop the repeated sample
     values = np.concatenate([p[0] if i == 0 else p[0][1:] for i, p in enumerate(passes)])
     per_sample = {k: np.concatenate([p[1][k] if i == 0 else p[1][k][1:]
@@ -793,16 +801,25 @@ def _interval_on(compiled, name, at, labels, value, ends) -> tuple[Limit, Limit]
     Past a toggle the branches change, and with them where the motion ends:
     on its new branch a root may leave its segment before the end the old
     branch reached. The interval's ends are moved by whole turns to the turn
-    of ``value``; ``ends`` where no interval on these branches holds it.
+    of ``value``. An interval narrower than the search's grid is looked for
+    again about ``value`` (a degree, or a 360th of a length input's range,
+    either way); ``ends`` where none on these branches holds it.
     """
-    found = limits(compiled, name, at=at, start_branches=labels)
-    angle = compiled.inputs[name].kind == "angle"
-    placed = placed_in(found, value, angle, LIMIT_SLACK)
-    if found.full_turn or placed is None:
-        return ends
-    (lo, hi), near = placed
-    shift = 2 * math.pi * round((value - near) / (2 * math.pi)) if angle else 0.0
-    return replace(lo, value=lo.value + shift), replace(hi, value=hi.value + shift)
+    declared = compiled.inputs[name]
+    angle = declared.kind == "angle"
+    reach = math.radians(1) if angle else abs(declared.range[1] - declared.range[0]) / 360
+    for search in (None, (value - reach, value + reach)):
+        try:
+            found = limits(compiled, name, at=at, start_branches=labels, search_range=search)
+        except AssemblyError:  # assembled on a sliver the search's grid steps over
+            continue
+        placed = placed_in(found, value, angle, LIMIT_SLACK)
+        if found.full_turn or placed is None:
+            continue
+        (lo, hi), near = placed
+        shift = 2 * math.pi * round((value - near) / (2 * math.pi)) if angle else 0.0
+        return replace(lo, value=lo.value + shift), replace(hi, value=hi.value + shift)
+    return ends
 
 
 LIMIT_SLACK = 1e-9

@@ -815,8 +815,8 @@ def test_start_picks_the_circuit_of_an_input_assembled_in_two_intervals(capsys, 
     for start, span in ((50, spans[0]), (300, spans[1])):
         status, out, err = run(capsys, "analyze", script, "--start", start)
         assert (status, err) == (0, "")
-        assert (f"warning: input 'theta' can be assembled in 2 intervals, each a circuit of "
-                f"its own: the figures below are of the one {span}") in out
+        assert (f"warning: input 'theta' can be assembled in 2 intervals on the branches it "
+                f"starts on: the figures below are of the circuit {span}") in out
         status, out, _ = run(capsys, "trace", script, "--circuit", "--start", start,
                              "--links", "crank")
         header, data = read_csv(out)

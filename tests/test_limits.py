@@ -169,6 +169,79 @@ def test_a_circuit_turns_back_where_the_branch_past_a_toggle_leaves_its_segment(
     assert describe_limit(low) == "node 'B': its root leaves its segment"
 
 
+def _crank_rocker_slot(ground, crank, coupler, rocker, branch, s1, s2, radius):
+    """A crank, a rocker's pin B, and C in a slot S1..S2 at ``radius`` from B."""
+    c = Construction("crank, rocker B, C in a slot")
+    c.input("t")
+    c.fixed("O", 0, 0)
+    c.fixed("O4", ground, 0)
+    c.fixed("S1", *s1)
+    c.fixed("S2", *s2)
+    c.polar("A", "O", crank, "t")
+    c.circle_circle("B", ("A", "O4"), (coupler, rocker), branch=branch)
+    c.segment_circle("C", ("S1", "S2"), "B", radius, branch="first")
+    return c, {("A", "B"): coupler, ("O4", "B"): rocker, ("B", "C"): radius}
+
+
+def _assert_a_motion_that_closes(c, s, lengths):
+    """Every sample assembled, every length kept, no point jumping, back where it began,
+    and every turn of the input at a limit: a hair beyond it, on the branches held
+    there, the mechanism cannot be assembled."""
+    assert s.valid.all()
+    for (p, q), length in lengths.items():
+        np.testing.assert_allclose(np.hypot(*(s[p] - s[q]).T), length, rtol=1e-9)
+    moves = np.max([np.hypot(*np.diff(s[p], axis=0).T) for p in "ABC"], axis=0)
+    assert moves.max() < 0.05 * np.abs(np.stack([s[p] for p in "ABC"])).max()
+    for p in "ABC":
+        np.testing.assert_allclose(s[p][-1], s[p][0], atol=1e-9)
+    t = s.inputs["t"]
+    step = np.diff(t)
+    for i in np.flatnonzero(step[:-1] * step[1:] < 0) + 1:
+        held = {k: int(np.broadcast_to(v, t.shape)[i]) for k, v in s.branches.items()}
+        beyond = geokin.engine.evaluate(
+            c, {"t": np.array([t[i] + np.sign(step[i - 1]) * 1e-7])}, 1, held=held, track=False)
+        assert not beyond.valid[0], np.degrees(t[i])
+
+
+def test_a_circuit_back_on_its_branches_in_another_interval_runs_on_to_its_own():
+    """On B left and C first this mechanism assembles on 27.07..27.94 and 54.57..83.50
+    deg, on B right on 27.07..83.50: started at 69 deg, the circuit comes back to its
+    starting branches in the first interval, and must go on to the second before it
+    closes, never across the gap between them."""
+    c, lengths = _crank_rocker_slot(7.355, 7.923, 3.282, 6.900, "left", (4.324, -9.286),
+                                    (6.827, 0.298), 6.663)
+    _assert_a_motion_that_closes(c, circuit(c, start=np.radians(69)), lengths)
+
+
+def test_a_circuit_takes_as_many_passes_as_its_toggles_and_slot_ends_need():
+    """A rocker's two toggles and a slot's two ends: thirteen passes before the circuit
+    from 63.27 deg is back where it began."""
+    c, lengths = _crank_rocker_slot(9.4005, 3.7919, 4.0937, 6.4475, "right",
+                                    (-0.8658, -8.3040), (-3.3626, 8.5416), 7.4070)
+    s = circuit(c, start=np.radians(63.27))
+    _assert_a_motion_that_closes(c, s, lengths)
+    step = np.diff(s.inputs["t"])
+    assert 1 + np.count_nonzero(step[:-1] * step[1:] < 0) > 8
+
+
+def test_a_circuit_turns_back_on_a_sliver_narrower_than_the_search_grid():
+    """Past each of C's toggles, on its other branch, C leaves its slot within 0.03 deg:
+    a stretch the 0.05-deg grid of a whole turn's search steps over, looked for again
+    about the toggle; the circuit turns back there instead of striding across."""
+    c = Construction("crank, rocker B, C in a slot")
+    c.input("t", range=(np.radians(473.9307874), np.radians(113.9307874)))
+    c.fixed("O", 0, 0)
+    c.fixed("O4", 8.850196129433217, 0)
+    c.polar("A", "O", 2.4715565112133637, "t")
+    c.circle_circle("B", ("A", "O4"), (9.79139419035821, 8.638282361636161), branch="right")
+    c.fixed("S1", 8.25141437125678, -8.48023037679857)
+    c.fixed("S2", 10.220435770269045, 0.4719047894613091)
+    c.segment_circle("C", ("S1", "S2"), "B", 3.5784199636267866, branch="second")
+    lengths = {("A", "B"): 9.79139419035821, ("O4", "B"): 8.638282361636161,
+               ("B", "C"): 3.5784199636267866}
+    _assert_a_motion_that_closes(c, circuit(c), lengths)
+
+
 def test_a_limit_where_circles_become_concentric_says_so():
     """A five-bar's second crank (cranks 15 on pivots 30 apart, the first at 0) brings
     its pin onto the first's at 180 deg: the circles of the coupler joint are concentric."""

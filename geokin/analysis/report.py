@@ -1222,12 +1222,17 @@ def _circuit_start(compiled: Compiled, found: Limits, entry: InputReport, start:
 
 def _which_circuit(compiled: Compiled, name: str, count: int, path: np.ndarray,
                    convert: Callable[[Any], float], degrees: bool) -> str:
-    """Say which of an input's ``count`` intervals the analysed circuit runs in."""
+    """Say where the analysed circuit runs, of an input assembled in ``count`` intervals.
+
+    The intervals are those of the branches the circuit starts on; past a
+    toggle it may run on in an interval of other branches.
+    """
     unit = _input_unit(compiled, name, degrees)
     low, high = convert(np.min(path)), convert(np.max(path))
-    return (f"input {quote(name)} can be assembled in {count} intervals, each a circuit of "
-            f"its own: the figures below are of the one from {low:.6f} to {high:.6f}{unit} "
-            "(start= in Python or --start on the command line picks another)")
+    return (f"input {quote(name)} can be assembled in {count} intervals on the branches it "
+            f"starts on: the figures below are of the circuit from {low:.6f} to "
+            f"{high:.6f}{unit} (start= in Python or --start on the command line picks "
+            "another)")
 
 
 def _swept_together(compiled: Compiled, motion: Sweep, value_of: Callable[[str], Callable],
