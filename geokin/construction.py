@@ -155,8 +155,20 @@ class Input:
         if samples is not None:
             _check_samples(samples, node=self.name, field="samples")
         if samples is None and self.step is not None:
-            return lo + self.step * np.arange(math.floor(whole_steps(lo, hi, self.step)) + 1)
+            return lo + self.step * np.arange(self.sample_count())
         return np.linspace(lo, hi, samples or self.samples)
+
+    def sample_count(self) -> int:
+        """Return how many samples the default sweep has, by ``samples`` or by ``step``.
+
+        Examples
+        --------
+        >>> Input("s", kind="length", range=(0.0, 1.0), step=0.4).sample_count()
+        3
+        """
+        if self.step is None:
+            return self.samples
+        return math.floor(whole_steps(self.range[0], self.range[1], self.step)) + 1
 
 
 def describe_input(inp: Input, units: str = "") -> str:

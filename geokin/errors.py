@@ -127,12 +127,14 @@ class RadiansWarning(UserWarning):
 
 
 class PairingWarning(UserWarning):
-    """A script's second input declares samples or a speed a sweep cannot keep.
+    """A script's later input declares samples or a speed its declared sweep cannot keep.
 
-    Several inputs are swept together, sample by sample: the first input's
-    samples (or step) say how many there are, and its range at its speed
-    how long the sweep takes; every other input covers its range over the
-    same samples in the same time.
+    A sweep of the declared ranges (``sweep(c)``, the command line) moves
+    several inputs together, sample by sample: the first input's samples
+    (or step) say how many there are, and its range at its speed how long
+    the sweep takes; every other input covers its range over the same
+    samples in the same time. (Given values of its own in Python, or made
+    the driver of ``motion``, an input keeps its declarations.)
     """
 
 

@@ -176,13 +176,14 @@ P = { op = "circle_circle", centers = ["A", "B"], radii = [30, 30], branch = "le
 
 
 @pytest.mark.parametrize("second, warned", [
-    ("samples = 181", "five.toml:9: [inputs] t2.samples: input 't2' is swept together with the "
-                      "first input, 't1', over its 361 samples, not over 181"),
-    ("step = 2", "five.toml:9: [inputs] t2.step: input 't2' is swept together with the first "
-                 "input, 't1', over its 361 samples, not over 91"),
-    ("speed = 360", "five.toml:9: [inputs] t2.speed: input 't2' moves at 180 deg/s, not its "
-                    "declared 360: swept together with the first input, 't1', it covers its "
-                    "range in the 1 s that 't1' takes")])
+    ("samples = 181", "five.toml:9: [inputs] t2.samples: a sweep of the declared ranges takes "
+                      "input 't2' with the first input, 't1', over its 361 samples, not over "
+                      "181"),
+    ("step = 2", "five.toml:9: [inputs] t2.step: a sweep of the declared ranges takes input "
+                 "'t2' with the first input, 't1', over its 361 samples, not over 91"),
+    ("speed = 360", "five.toml:9: [inputs] t2.speed: a sweep of the declared ranges moves input "
+                    "'t2' at 180 deg/s, not its declared 360: swept with the first input, 't1', "
+                    "it covers its range in the 1 s that 't1' takes")])
 def test_samples_or_a_speed_a_second_input_cannot_keep_are_warned_of(second, warned):
     """Inputs are swept together: the first sets the samples and the clock. t2 covers its
     180 degrees in the 1 s t1 takes for 360: at 180 deg/s, as its pin's speed shows."""
@@ -199,6 +200,47 @@ def test_samples_and_a_speed_a_second_input_keeps_are_not_warned_of(second):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         loads(FIVE_BAR.replace("SECOND", second))
+
+
+def test_a_first_input_by_step_sets_the_clock_by_the_samples_it_reaches():
+    """t1 every 7 degrees reaches 357 in 357 / 360 s: t2's half turn then runs at
+    181.5 deg/s, so speed = 180 is warned of and 181.51... is not; motion agrees."""
+    text = FIVE_BAR.replace("samples = 361\n", "step = 7\n")
+    with pytest.warns(geokin.PairingWarning, match="at 181.513 deg/s, not its declared 180"):
+        loads(text.replace("SECOND", "speed = 180"))
+    rate = 180 / (357 / 360)
+    c = loads(text.replace("SECOND", ""))
+    m = geokin.motion(sweep(c))
+    np.testing.assert_allclose(np.hypot(*m.velocity["B"].T), 15 * np.radians(rate), rtol=1e-6)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        loads(text.replace("SECOND", f"speed = {rate!r}"))
+
+
+def test_an_input_named_in_another_form_is_checked_for_pairing_without_error():
+    """A key in fullwidth letters is the name in plain ones: still found, and warned of."""
+    text = FIVE_BAR.replace("[inputs.t2]", '[inputs."\uff54\uff12"]')
+    with pytest.warns(geokin.PairingWarning, match="input 't2'"):
+        c = loads(text.replace("SECOND", "samples = 5"))
+    assert list(c.inputs) == ["t1", "t2"]
+
+
+def test_a_two_input_python_construction_dumped_reads_back_without_a_pairing_warning():
+    """Its later input's default samples and speed are left out of the script."""
+    c = Construction("five-bar")
+    c.input("t1")
+    c.input("t2", range=(0, np.pi))
+    c.fixed("O1", 0, 0)
+    c.fixed("O2", 30, 0)
+    c.polar("A", "O1", 15, "t1")
+    c.polar("B", "O2", 15, "t2")
+    text = dump(c)
+    later = text[text.index("[inputs.t2]"):text.index("[points]")]
+    assert "samples" not in later and "speed" not in later
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        again = loads(text)
+    assert again.inputs == c.inputs
 
 
 def test_a_loaded_script_lists_its_angles_in_degrees_with_the_unit():
@@ -329,6 +371,16 @@ def test_dump_writes_a_parameter_that_serves_only_as_an_angle_in_degrees(tmp_pat
     script.write_text(text)
     assert main(["tolerance", str(script), "--tol", "beta=0.5", "-n", "20"]) == 0
     assert "beta = 40 +- 0.5 deg" in capsys.readouterr().out
+
+
+def test_dump_keeps_in_radians_an_angle_parameter_too_large_for_degrees():
+    c = Construction("huge")
+    c.parameter("big", 1e307)
+    c.fixed("O", 0, 0)
+    c.polar("A", "O", 1, "big")
+    text = dump(c)
+    assert "big = 1e+307" in text and 'angle = "degrees(big)"' in text
+    assert loads(text).parameters["big"].value == 1e307
 
 
 def test_dump_keeps_grouping_as_written():

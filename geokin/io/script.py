@@ -142,7 +142,7 @@ import warnings
 from collections.abc import Mapping
 
 from ..budgets import MAX_SCRIPT_BYTES
-from ..construction import MAX_SAMPLES, Construction, Input, default_speed, whole_steps
+from ..construction import MAX_SAMPLES, Construction, Input, default_speed
 from ..errors import (
     ConstructionError,
     DegreesWarning,
@@ -660,7 +660,7 @@ class _Reader:
         c.input(name, kind, **options)
 
     def warn_of_pairing(self, c, specs) -> None:
-        """Warn of samples or a speed that an input after the first declares in vain.
+        """Warn of samples or a speed of an input after the first that a default sweep changes.
 
         Inputs are swept together (:class:`~geokin.PairingWarning`): the first
         sets how many samples there are and how long they take.
@@ -668,27 +668,29 @@ class _Reader:
         if len(c.inputs) < 2:
             return
         first, *others = c.inputs.values()
-        count = _sample_count(first)
-        seconds = abs(first.range[1] - first.range[0]) / first.speed
-        for inp in others:
-            spec = specs[inp.name]
-            if ("samples" in spec or "step" in spec) and _sample_count(inp) != count:
-                key = "samples" if "samples" in spec else "step"
-                warn_outside(f"{self.place('inputs', inp.name, key)[0]}: input "
-                             f"{quote(inp.name)} is swept together with the first input, "
+        count = first.sample_count()
+        low, high = first.range
+        span = high - low if first.step is None else (count - 1) * first.step
+        seconds = abs(span) / first.speed
+        # the inputs in the order the script declares them, with the keys it gives them
+        for (key, spec), inp in list(zip(specs.items(), c.inputs.values(), strict=True))[1:]:
+            if ("samples" in spec or "step" in spec) and inp.sample_count() != count:
+                given = "samples" if "samples" in spec else "step"
+                warn_outside(f"{self.place('inputs', key, given)[0]}: a sweep of the declared "
+                             f"ranges takes input {quote(inp.name)} with the first input, "
                              f"{quote(first.name)}, over its {count:,} samples, not over "
-                             f"{_sample_count(inp):,}", PairingWarning)
+                             f"{inp.sample_count():,}", PairingWarning)
             if "speed" in spec and seconds > 0:
                 rate = to_script(inp, abs(inp.range[1] - inp.range[0]) / seconds)
                 declared = to_script(inp, inp.speed)
                 if not math.isclose(rate, declared, rel_tol=1e-9):
-                    unit = "deg/s" if inp.kind == "angle" else "per second"
-                    warn_outside(f"{self.place('inputs', inp.name, 'speed')[0]}: input "
-                                 f"{quote(inp.name)} moves at {rate:.6g} {unit}, not its "
-                                 f"declared {declared:.6g}: swept together with the "
-                                 f"first input, {quote(first.name)}, it covers its range in "
-                                 f"the {seconds:.6g} s that {quote(first.name)} takes",
-                                 PairingWarning)
+                    unit = "deg/s" if inp.kind == "angle" else f"{c.units or 'units'}/s"
+                    warn_outside(f"{self.place('inputs', key, 'speed')[0]}: a sweep of the "
+                                 f"declared ranges moves input {quote(inp.name)} at "
+                                 f"{rate:.6g} {unit}, not its declared {declared:.6g}: "
+                                 f"swept with the first input, {quote(first.name)}, it covers "
+                                 f"its range in the {seconds:.6g} s that {quote(first.name)} "
+                                 "takes", PairingWarning)
 
     def point(self, c, name, spec):
         spec = self.table_value("points", name, spec, '{ op = "fixed", at = [0, 0] }')
@@ -893,14 +895,10 @@ def _radian_parameters(construction: Construction, convert: _AngleRewriter) -> s
     """
     values = [value for node in construction.nodes.values()
               for value in convert.node(node).value_fields().values()]
-    return names_only_within(values, "degrees") & construction.parameters.keys()
-
-
-def _sample_count(inp) -> int:
-    """Return how many samples an input's declared range has, by samples or by step."""
-    if inp.step is None:
-        return inp.samples
-    return math.floor(whole_steps(inp.range[0], inp.range[1], inp.step)) + 1
+    # one whose value in degrees is beyond the floats stays in radians
+    return {name for name in names_only_within(values, "degrees")
+            if name in construction.parameters
+            and math.isfinite(math.degrees(construction.parameters[name].value))}
 
 
 def script_steps(construction: Construction) -> str:
