@@ -108,6 +108,14 @@ FIGSIZE = (8.0, 6.0)
 SAVE_FORMATS = (".png", ".svg")
 _Z_TRACE, _Z_GROUND, _Z_LINK, _Z_SLIDER, _Z_JOINT, _Z_LABEL = 1, 2, 3, 4, 5, 6
 _LABEL_REACH = 1.1  # from a point to the middle of its label, about, in symbol sizes
+STATUS_CORNERS: dict[str, tuple[float, float, Literal["left", "right"],
+                                Literal["top", "bottom"]]] = {
+    "upper left": (0.015, 0.985, "left", "top"),
+    "upper right": (0.985, 0.985, "right", "top"),
+    "lower left": (0.015, 0.015, "left", "bottom"),
+    "lower right": (0.985, 0.015, "right", "bottom")}
+"""Where the status box may go, in axes fractions, with its alignment; an animation's
+stays in the first."""
 
 
 class Scene:
@@ -230,7 +238,8 @@ class Scene:
                 va="center", fontsize=10, fontweight="bold", color="#222222", zorder=_Z_LABEL,
                 bbox=dict(boxstyle="round,pad=0.15", fc="white", ec="none", alpha=0.75))
             self.mechanism.append(self.labels[name])
-        self.status = ax.text(0.015, 0.985, "", transform=ax.transAxes, ha="left", va="top",
+        x, y, ha, va = STATUS_CORNERS["upper left"]
+        self.status = ax.text(x, y, "", transform=ax.transAxes, ha=ha, va=va,
                               fontsize=10, zorder=_Z_LABEL + 1, parse_math=False,
                               bbox=dict(boxstyle="round,pad=0.3", fc="white", ec="#bbbbbb",
                                         alpha=0.9))
@@ -293,44 +302,40 @@ class Scene:
         labels drawn; for one picture, once its view is set. (An animation
         keeps it in one place.)
         """
+        from matplotlib.backends.backend_agg import RendererAgg
         from matplotlib.lines import Line2D
         from matplotlib.patches import Patch
         from matplotlib.text import Text
         from matplotlib.transforms import Bbox
 
         ax, status = self.ax, self.status
-        figure = ax.get_figure(root=True)
-        if not status.get_text() or figure is None:
+        if not status.get_text() or ax.figure is None:
             return
-        # the view and the axes' place as they will be drawn (a layout engine moves them)
-        figure.draw_without_rendering()
-        # the text's extent and the pad of its box, a few points
-        extent = status.get_window_extent().padded(4 * figure.dpi / 72)
+        # the view as it will be drawn (equal axes widen it); the texts measured as the
+        # Agg renderer draws them, without drawing the figure (a layout engine may still
+        # move the axes a little, the corners with them)
+        ax.apply_aspect()
+        dpi = ax.figure.dpi
+        renderer = RendererAgg(1, 1, dpi)
+        extent = status.get_window_extent(renderer).padded(4 * dpi / 72)
         width, height, frame = extent.width, extent.height, ax.bbox
         paths, boxes = [], []
         for artist in [*self.trace_lines, *self.mechanism, self.joints, self.loose]:
             if not artist.get_visible():
                 continue
             if isinstance(artist, Text):
-                boxes.append(artist.get_window_extent())
+                boxes.append(artist.get_window_extent(renderer))
             elif isinstance(artist, Line2D | Patch):
                 paths.append(artist.get_transform().transform_path(artist.get_path()))
-        corners: dict[str, tuple[float, float, Literal["left", "right"],
-                                 Literal["top", "bottom"]]] = {
-            "upper left": (0.015, 0.985, "left", "top"),
-            "upper right": (0.985, 0.985, "right", "top"),
-            "lower left": (0.015, 0.015, "left", "bottom"),
-            "lower right": (0.985, 0.015, "right", "bottom")}
-
         def covered(corner):
-            x, y, ha, va = corners[corner]
+            x, y, ha, va = STATUS_CORNERS[corner]
             x0 = frame.x0 + x * frame.width - (width if ha == "right" else 0.0)
             y0 = frame.y0 + y * frame.height - (height if va == "top" else 0.0)
             box = Bbox.from_bounds(x0, y0, width, height)
             return (sum(path.intersects_bbox(box, filled=False) for path in paths)
                     + sum(box.overlaps(other) for other in boxes))
 
-        x, y, ha, va = corners[min(corners, key=covered)]
+        x, y, ha, va = STATUS_CORNERS[min(STATUS_CORNERS, key=covered)]
         status.set_position((x, y))
         status.set_horizontalalignment(ha)
         status.set_verticalalignment(va)
