@@ -940,6 +940,50 @@ def _direction_of_travel(values: np.ndarray) -> np.ndarray:
 
 
 @renamed_keywords(input="input_name")
+def _sampled_rate_unsure(values: np.ndarray, time: np.ndarray, rate: np.ndarray,
+                         change: np.ndarray) -> np.ndarray:
+    """Say where an input's rate and its change, read off its samples, may miss the accuracy.
+
+    They are differences of the samples, of second order: their truncation is
+    about a third of a step squared times the input's third (for the rate)
+    and fourth (for its change) derivatives in time, told by the samples'
+    third and fourth differences (the change's, two samples from either
+    end, a step times the third derivative); against :data:`VELOCITY_RTOL` of the
+    fastest rate and :data:`ACCELERATION_RTOL` of the largest change (or of
+    that rate squared over the input's travel). An input swept in
+    proportion to the driving one has none.
+
+    Examples
+    --------
+    >>> t = np.linspace(0.0, 1.0, 101)
+    >>> bool(_sampled_rate_unsure(3 * t, t, np.full(101, 3.0), np.zeros(101)).any())
+    False
+    >>> wavy = np.sin(2 * np.pi * t)
+    >>> bool(_sampled_rate_unsure(wavy, t, np.gradient(wavy, t), np.zeros(101)).all())
+    True
+    """
+    n = len(values)
+    if n < 5:
+        return np.ones(n, dtype=bool)
+    step = np.gradient(time)
+    with np.errstate(all="ignore"):
+        # the differences about each sample (the nearest ones at the ends)
+        third = np.pad(np.abs(np.diff(values, 3)), (1, 2), mode="edge")
+        fourth = np.pad(np.abs(np.diff(values, 4)), (2, 2), mode="edge")
+        rate_error = third / (3 * step)
+        change_error = fourth / (3 * step * step)
+        # the change at two samples from either end is a one-sided difference of a
+        # one-sided difference: of first order there, a step times the third derivative
+        for ends in (slice(0, 2), slice(-2, None)):
+            change_error[ends] = np.fmax(change_error[ends],
+                                         third[ends] / (step[ends] * step[ends]))
+        fastest = float(np.nanmax(np.abs(rate)))
+        travel = float(np.ptp(values))
+        largest = max(float(np.nanmax(np.abs(change))), fastest * fastest / travel)
+        return ((rate_error > VELOCITY_RTOL * fastest)
+                | (change_error > ACCELERATION_RTOL * largest))
+
+
 def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | None = None,
            acceleration: ArrayLike = 0.0, step: float | None = None) -> Motion:
     """Velocity and acceleration of every point and declared link over a sweep.
@@ -1017,10 +1061,15 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
             time = np.concatenate([[0.0], np.cumsum(dt)])
     # the other inputs move as the sweep moves them, in step with the driving one
     rates, changes = {driver: rate}, {driver: rate_change}
+    unsure = np.zeros(n, dtype=bool)  # where their rates may miss the accuracy stated
     for name, other in whole.inputs.items():
         if name != driver and np.ptp(other) > 0 and n >= 2 and (np.diff(time) > 0).all():
-            rates[name] = np.gradient(other, time)
-            changes[name] = np.gradient(rates[name], time) if n >= 3 else np.zeros(n)
+            if n >= 3:  # of second order at the ends too
+                rates[name] = np.gradient(other, time, edge_order=2)
+                changes[name] = np.gradient(rates[name], time, edge_order=2)
+            else:
+                rates[name], changes[name] = np.gradient(other, time), np.zeros(n)
+            unsure |= _sampled_rate_unsure(other, time, rates[name], changes[name])
     if count is not None:
         rate, rate_change = np.tile(rate, count), np.tile(rate_change, count)
         rates = {k: np.tile(v, count) for k, v in rates.items()}
@@ -1055,7 +1104,7 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
     origin = frame[0]
     near = sweep if origin is None else _in_frame(sweep, origin)
     angular_velocity, angular_acceleration = {}, {}
-    flagged = sweep.valid & (d.stencil == 2)
+    flagged = sweep.valid & ((d.stencil == 2) | np.tile(unsure, n // len(unsure)))
     with np.errstate(divide="ignore", invalid="ignore"):
         # errors are measured against each sample's own scales: its fastest point's
         # speed, and its largest acceleration or that speed turned over the size

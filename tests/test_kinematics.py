@@ -320,6 +320,47 @@ def test_with_two_inputs_moving_together_the_rates_follow_both():
     np.testing.assert_allclose(m.acceleration["C"], expected, rtol=1e-5, atol=1e-5 * scale)
 
 
+def test_a_second_input_swept_unevenly_flags_what_its_sampled_rate_cannot_promise():
+    """t2 = pi/2 + sin(t1) / 2: t2's rate and its change are read off its samples, to
+    the square of their spacing. At 361 samples a turn that misses 1e-7 in velocity, and
+    every sample doing so is flagged; at 36,001 only the two samples at either end are,
+    where the change is read one-sided, and every other is within it. The
+    reference: the coupler joint B of the five-bar in closed form, differentiated by
+    central differences of steps 1e-5 (velocity) and 1e-3 (acceleration)."""
+    def joint(t1):
+        a = 3 * np.c_[np.cos(t1), np.sin(t1)]
+        t2 = np.pi / 2 + 0.5 * np.sin(t1)
+        c = np.c_[6 + 3 * np.cos(t2), 3 * np.sin(t2)]
+        u = c - a
+        d = np.hypot(*u.T)[:, None]
+        m = d / 2  # equal coupler links of 7
+        h = np.sqrt(49 - m * m)
+        return a + m * u / d + h * np.c_[-u[:, 1], u[:, 0]] / d
+
+    k = Construction("five-bar")
+    k.input("t1")
+    k.input("t2")
+    k.fixed("O1", 0, 0)
+    k.fixed("O2", 6, 0)
+    k.polar("A", "O1", 3, "t1")
+    k.polar("C", "O2", 3, "t2")
+    k.circle_circle("B", ("A", "C"), (7, 7), branch="left")
+    for n in (361, 36_001):
+        t1 = np.linspace(0, 2 * np.pi, n)
+        m = motion(sweep(k, {"t1": t1, "t2": np.pi / 2 + 0.5 * np.sin(t1)}), "t1", speed=1.0)
+        assert np.allclose(m.sweep["B"], joint(t1), atol=1e-12)
+        v = (joint(t1 + 1e-5) - joint(t1 - 1e-5)) / 2e-5
+        a = (joint(t1 + 1e-3) - 2 * joint(t1) + joint(t1 - 1e-3)) / 1e-6
+        v_error = np.hypot(*(m.velocity["B"] - v).T) / np.hypot(*v.T).max()
+        a_error = np.hypot(*(m.acceleration["B"] - a).T) / np.hypot(*a.T).max()
+        missed = (v_error > 1e-7) | (a_error > 1e-5)
+        assert not (missed & ~m.flagged).any(), n
+        if n == 361:
+            assert missed.any()
+        else:
+            assert np.flatnonzero(m.flagged).tolist() == [0, 1, n - 2, n - 1]
+
+
 def test_an_input_that_stays_put_is_held():
     c = five_bar()
     s = sweep(c, {"t1": np.linspace(0, 1, 11), "t2": 2.0})
