@@ -761,13 +761,18 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
             position, target = target.value, (lo if upward else hi)
             # a circuit reaches both ends: at an end that is no toggle (of the searched
             # range, or of a ray) the branches stay, and the other end is still to come;
-            # it is closed once back on the starting branches heading up, as it set out
-            # (heading down, it has yet to pass the start and reach the lower end)
-            if (count >= 2 and target is hi and labels == initial and not any(sheets.values())
+            # it is closed once back at the start in its first pose, heading up as it set
+            # out (heading down, it has yet to pass the start and reach the lower end)
+            if (count >= 2 and target is hi and not any(sheets.values())
                     and lo.value <= start <= hi.value):
-                # run on to the start and stop
-                run(stretch(position, start, labels, across), labels, across)
-                break
+                # run on to the start, and stop there if back in the pose it began in (on
+                # the way a node may pass a change point); else go on from there
+                labels = run(stretch(position, start, labels, across), labels, across)
+                if _same_pose(compiled, name, held, start, labels, initial):
+                    break
+                position = start
+                if groups:
+                    across = _continuing(compiled, name, held, passes[-1], target)
         else:
             warn_outside(f"circuit of {name!r}: not back where it began after {most} passes "
                          "between limits; the motion is given as far as it went", UserWarning)
@@ -793,6 +798,27 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
                                   f"assembly {sheet}"))
     events.sort(key=lambda e: e.index)
     return replace(result, events=tuple(events))
+
+
+def _same_pose(compiled, name, held, value, labels, initial) -> bool:
+    """Whether the mechanism at input ``value`` is in one pose on both sets of branches.
+
+    The same branches are; others are where the roots of each node that
+    differs meet there (a circuit that starts at a change point comes back
+    on the other branch of it, in the same pose).
+    """
+    if labels == initial:
+        return True
+    poses = [_evaluate_at(compiled, name, [value], held, branches)
+             for branches in (labels, initial)]
+    points = [np.concatenate([np.asarray(pose[p]).ravel() for p in compiled.point_names])
+              for pose in poses]
+    size = max(float(np.nanmax(np.abs(points[0]))), 1e-300)
+    return bool(np.all(np.abs(points[0] - points[1]) <= POSE_RTOL * size))
+
+
+POSE_RTOL = 1e-9
+"""How close (times the mechanism's size) every point must be for two poses to be one."""
 
 
 def _interval_on(compiled, name, at, labels, value, ends) -> tuple[Limit, Limit]:

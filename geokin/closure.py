@@ -34,7 +34,7 @@ starting near (3, 3): B = (3, 4).
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -304,7 +304,8 @@ def _blend(known, lengths, i, j, t):
 
 def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
                    lengths: np.ndarray, start: np.ndarray,
-                   path_starts: np.ndarray | None = None):
+                   path_starts: np.ndarray | None = None,
+                   between: Callable | None = None, samples: np.ndarray | None = None):
     """Follow one assembly along the samples, from a sketch where it first fits.
 
     The first sample where Newton from ``start`` converges begins the path,
@@ -318,8 +319,8 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
     (the linearised step from the previous sample, within
     :data:`JUMP_RATIO` of it): a solution of another assembly is a jump the
     step does not explain. Where the first sample of a chunk fails, the step
-    to it is cut into pieces (the known points and distances interpolated
-    linearly between the two samples), halving each piece that fails, at
+    to it is cut into pieces (the known points and distances as ``between``
+    gives them along the step), halving each piece that fails, at
     most :data:`MAX_SUBSTEPS` pieces. A step that cannot be crossed leaves
     its sample unsolved; later samples resume where Newton from the last
     solution converges, past a sample where it does not (up to there the
@@ -328,7 +329,11 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
     an assembly that, followed back, was there all along is another one,
     whose samples stay unsolved. ``path_starts`` are the samples where a
     new path begins (design variants, one after the other): the first
-    sample of each resumes at once.
+    sample of each resumes at once. ``between(a, b, t)`` gives the known
+    points and lengths at fractions ``t`` of the way from sample a to b, as
+    the inputs move along the straight segment (the points on arcs, as a
+    crank's pin); without it they move straight between their samples.
+    ``samples`` are the samples' indices as ``between`` takes them.
 
     Returns
     -------
@@ -370,12 +375,15 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
     if not begun:
         return z, margin, singular
 
+    numbered = np.arange(n) if samples is None else samples
+
     def follow_back(solved: int, stop: int) -> None:
         """Follow the assembly from sample ``solved`` back to sample ``stop``."""
         back = np.arange(solved, stop - 1, -1)
         known_back, lengths_back = _rows(known, lengths, back)
         found, found_margin, found_singular = continue_along(
-            system, unknowns, known_back, lengths_back, z[solved])
+            system, unknowns, known_back, lengths_back, z[solved], between=between,
+            samples=numbered[back])
         z[back[1:]], margin[back[1:]] = found[1:], found_margin[1:]
         singular[back[1:]] = found_singular[1:]
 
@@ -416,7 +424,7 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
         if j == last + 1:
             # the step from the last solution to sample j, cut into pieces
             solved, stop_margin = _substeps(system, unknowns, known, lengths, last, j, z[last],
-                                            scale)
+                                            scale, between, numbered)
             if solved is not None:
                 z[j] = solved
                 data_j, length_j = _rows(known, lengths, [j])
@@ -558,19 +566,28 @@ def _comes_back(system, unknowns, before, found, previous, scale) -> np.ndarray:
     return ok & (np.max(np.abs(back - previous), axis=1) <= COME_BACK_RTOL * scale)
 
 
-def _substeps(system, unknowns, known, lengths, i, j, z_i, scale):
+def _substeps(system, unknowns, known, lengths, i, j, z_i, scale, between=None,
+              samples=None):
     """Cross the step from sample i (solved: z_i) to sample j in pieces.
 
-    Returns the solution at j (or None) and the smallest margin met on the way.
+    The known points and lengths along the step are ``between``'s, at
+    samples ``samples[i]`` and ``samples[j]`` (see :func:`continue_along`),
+    or else blended straight between the two samples. Returns the solution
+    at j (or None) and the smallest margin met on the way.
     """
+    def along(fraction):
+        if between is None or fraction in (0.0, 1.0):
+            return _blend(known, lengths, i, j, fraction * one)
+        return between(int(samples[i]), int(samples[j]), fraction * one)
+
     t, z, piece, pieces = 0.0, z_i.copy(), 0.5, 0
     lowest = np.inf
     one = np.ones(1)
     while pieces < MAX_SUBSTEPS:
         pieces += 1
         target = min(t + piece, 1.0)
-        data, length = _blend(known, lengths, i, j, target * one)
-        previous, prev_length = _blend(known, lengths, i, j, t * one)
+        data, length = along(target)
+        previous, prev_length = along(t)
         found, ok, _ = _iterate(system, unknowns, data, length, z[None], scale, CHUNK_ITERATIONS)
         _, jac = _residual_jacobian(system, unknowns, previous, prev_length, z[None])
         f_next, _ = _residual_jacobian(system, unknowns, data, length, z[None])

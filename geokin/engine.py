@@ -377,7 +377,7 @@ def _step_values(step: _PlannedStep, env) -> Mapping:
 
 
 def _candidates(step: _PlannedStep, coords, values, origin, guess=None, sketch=None,
-                paths=1):
+                paths=1, between=None):
     if step.node.continued:
         # followed along the samples (each path on its own), or solved from a guess per
         # sample (held): its guesses and sketch are absolute positions, shifted like the
@@ -386,7 +386,8 @@ def _candidates(step: _PlannedStep, coords, values, origin, guess=None, sketch=N
             guess = np.asarray(guess, dtype=float) - np.tile(origin, np.shape(guess)[1] // 2)
         # mypy: candidates of a continued node take the guess, the origin and the paths
         cand = step.node.candidates(coords, values, guess=guess,  # type: ignore[call-arg]
-                                    origin=origin, sketch=sketch, paths=paths)
+                                    origin=origin, sketch=sketch, paths=paths,
+                                    between=between)
         if cand.also:
             coords.update(cand.also)
         return cand
@@ -615,9 +616,15 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
             node = step.node
             values = _step_values(step, env)
             if node.continued:  # all samples at once: it follows them as a path
+                # between samples, what it is found from moves as the inputs do, along
+                # the straight segment, the branches before it held as at the first
+                between = (None if any(s.node.continued for s in plan[:position]) else
+                           partial(_between_samples, compiled, plan, position, env, labels,
+                                   origin))
                 cand = _candidates(step, coords, values, origin,
                                    None if held is None else held.get(node.name),
-                                   None if sketches is None else sketches.get(node.name), paths)
+                                   None if sketches is None else sketches.get(node.name), paths,
+                                   between)
                 if tracker is not None:
                     found = {**(cand.also or {}), node.name: (cand.x[0], cand.y[0])}
                     tracker.solutions[node.name] = np.column_stack([
@@ -673,6 +680,31 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
     events.sort(key=lambda e: (e.index, e.fraction))
     return _Evaluated(coords, labels, margins, parameters, events, valid, failed_step,
                       reason_code)
+
+
+def _between_samples(compiled, plan, position, env, labels, origin, a, b, t):
+    """Return what step ``plan[position]`` is found from at fractions t from sample a to b.
+
+    The inputs and varied parameters (``env``) move along the straight
+    segment from their values at sample a to those at b; the steps before
+    it are evaluated there, each two-root node on its branch at sample a.
+    Returns their positions and the step's values.
+    """
+    m = t.shape[0]
+
+    def moved(value):
+        if np.ndim(value) == 0:
+            return value
+        return value[a] + t * (value[b] - value[a])
+
+    inputs = {k: moved(v) for k, v in env.items() if k in compiled.inputs}
+    varied = {k: moved(v) for k, v in env.items()
+              if k not in compiled.inputs and np.ndim(v)}
+    held = {k: (v if np.ndim(v) == 0 else int(v[a])) for k, v in labels.items()}
+    parts = _evaluate_steps(compiled, plan[:position], inputs, m, held, None, origin, False,
+                            varied=varied or None)
+    step_env = {**_environment(compiled, inputs), **varied}
+    return parts.coords, _step_values(plan[position], step_env)
 
 
 def _constant(value: float | np.ndarray, n: int, dtype=float) -> np.ndarray:

@@ -939,7 +939,6 @@ def _direction_of_travel(values: np.ndarray) -> np.ndarray:
     return direction[last]
 
 
-@renamed_keywords(input="input_name")
 def _sampled_rate_unsure(values: np.ndarray, time: np.ndarray, rate: np.ndarray,
                          change: np.ndarray) -> np.ndarray:
     """Say where an input's rate and its change, read off its samples, may miss the accuracy.
@@ -984,6 +983,7 @@ def _sampled_rate_unsure(values: np.ndarray, time: np.ndarray, rate: np.ndarray,
                 | (change_error > ACCELERATION_RTOL * largest))
 
 
+@renamed_keywords(input="input_name")
 def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | None = None,
            acceleration: ArrayLike = 0.0, step: float | None = None) -> Motion:
     """Velocity and acceleration of every point and declared link over a sweep.

@@ -28,7 +28,7 @@ Examples
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from types import MappingProxyType
 from typing import ClassVar, TypeAlias
@@ -818,16 +818,31 @@ class Closure(Node):
         return solver.System(len(self.points), tuple((p, q) for p, q, _ in self.distances),
                              self.lines)
 
+    def _between(self, between: Callable) -> Callable:
+        """Return ``between`` giving the known points and the table of lengths."""
+        def at(a: int, b: int, t: np.ndarray):
+            coords, values = between(a, b, t)
+            known = {p: coords[p] for p in self.known_points()}
+            table = np.column_stack([
+                np.broadcast_to(np.asarray(values[f"distances[{i}]"], dtype=float), t.shape)
+                for i in range(len(self.distances))])
+            return known, table
+
+        return at
+
     def candidates(self, coords: Coords, values: Values, guess: np.ndarray | None = None,
                    origin: tuple[float, float] | None = None,
-                   sketch: np.ndarray | None = None, paths: int = 1) -> Candidates:
+                   sketch: np.ndarray | None = None, paths: int = 1,
+                   between: Callable | None = None) -> Candidates:
         """Return the point's position; the first point solves the whole group.
 
         Without ``guess`` the group is followed along the samples from its
         sketch ``near`` (or from ``sketch``: absolute positions, x and y of
         every point of the group, as a circuit passes them), the samples
-        being ``paths`` paths of equal length one after the other; with
-        ``guess`` (N, 2k) each sample is solved from its own.
+        being ``paths`` paths of equal length one after the other, and
+        ``between(a, b, t)`` giving its known points and lengths between
+        samples (:func:`geokin.closure.continue_along`); with ``guess``
+        (N, 2k) each sample is solved from its own.
         """
         if not self.solves:
             x, y = coords[self.name]
@@ -848,7 +863,8 @@ class Closure(Node):
                     sketch = sketch - np.tile(origin, len(self.points))
                 z, margin, singular = solver.continue_along(
                     system, self.points, known, table, sketch,
-                    np.arange(0, n, max(n // paths, 1)) if paths > 1 else None)
+                    np.arange(0, n, max(n // paths, 1)) if paths > 1 else None,
+                    None if between is None else self._between(between))
             else:
                 guess = np.asarray(guess, dtype=float)
                 z, _, margin = solver.newton(system, self.points, known, table, guess)

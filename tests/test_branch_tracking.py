@@ -8,6 +8,7 @@ crosses a change point, a dense sweep of the same path (200 sub-samples a
 step) is.
 """
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -643,10 +644,19 @@ def test_held_branches_are_seen_between_samples_by_later_nodes():
 
 
 def test_a_circuit_across_the_ends_of_the_turn_passes_both_dyads():
+    """P passes a change point on the way back from the lower toggle to the start: the
+    circuit closes there, in the pose it began in, after one swing each way."""
     c = peaucellier(turn=(0.0, 2 * np.pi))
     found = limits(c)
     assert all(set(end.nodes) == {"A", "B"} for pair in found.intervals for end in pair)
-    assert circuit(c).valid.all()
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        s = circuit(c)
+    assert s.valid.all()
+    for p in ("A", "B", "P"):
+        np.testing.assert_allclose(s[p][-1], s[p][0], atol=1e-9)
+    step = np.diff(s.inputs["theta"])
+    assert np.count_nonzero(step[:-1] * step[1:] < 0) == 2
 
 
 @pytest.mark.parametrize("values", [[1e308, -1e308, 1e308, 0.5], [0.0, 1e30, 0.5],
