@@ -140,8 +140,9 @@ def slider_crank_closed_form(theta, r, rod, e, omega=1.0):
     return x, dx * omega, ddx * omega**2
 
 
-def five_bar(second_turns=1, links=60):
-    """Two cranks of 20 on pivots 50 apart, driven together, and links meeting at C.
+def five_bar(second_turns=1, links=60, ground=50, cranks=20):
+    """Two cranks of ``cranks`` on pivots ``ground`` apart, driven together, and links
+    meeting at C.
 
     The second crank turns ``second_turns`` times while the first turns once
     (clockwise for a negative number); the links are ``links`` long.
@@ -150,9 +151,9 @@ def five_bar(second_turns=1, links=60):
     c.input("t1")
     c.input("t2", range=(0.0, second_turns * 2 * np.pi))
     c.fixed("O1", 0, 0)
-    c.fixed("O2", 50, 0)
-    c.polar("A", "O1", 20, "t1")
-    c.polar("B", "O2", 20, "t2")
+    c.fixed("O2", ground, 0)
+    c.polar("A", "O1", cranks, "t1")
+    c.polar("B", "O2", cranks, "t2")
     c.circle_circle("C", ("A", "B"), (links, links), branch="left")
     c.link("crank1", "O1", "A")
     c.link("crank2", "O2", "B")

@@ -139,16 +139,19 @@ def test_stephenson_motion_matches_loop_equations(stephenson):
         assert np.max(np.abs(m.acceleration[p][ok] - a[ok, 2 * i:2 * i + 2])) < 1e-5 * accel
 
 
-def fourbar(closure: bool):
+def fourbar(closure: bool, lengths=(40, 10, 35, 30), near=(35, 25), branch="left"):
+    """A four-bar (ground, crank, coupler, rocker) with B by a one-point group or by
+    circles, and the coupler point P."""
+    ground, crank, coupler, rocker = lengths
     c = geokin.Construction("four-bar")
     c.input("theta")
     c.fixed("O2", 0, 0)
-    c.fixed("O4", 40, 0)
-    c.polar("A", "O2", 10, "theta")
+    c.fixed("O4", ground, 0)
+    c.polar("A", "O2", crank, "theta")
     if closure:
-        c.closure("dyad", ["B"], [("A", "B", 35), ("B", "O4", 30)], near={"B": (35, 25)})
+        c.closure("dyad", ["B"], [("A", "B", coupler), ("B", "O4", rocker)], near={"B": near})
     else:
-        c.circle_circle("B", ("A", "O4"), (35, 30), branch="left")
+        c.circle_circle("B", ("A", "O4"), (coupler, rocker), branch=branch)
     c.polar("P", "A", 20, np.radians(30), reference=("A", "B"))
     return c
 
@@ -611,19 +614,6 @@ def test_a_group_over_coarse_steps_follows_its_assembly_as_the_crank_turns():
     between two crank pins passes where the links cannot reach. Followed with the crank
     turning between the samples, the group keeps its assembly, the circle intersection
     to the right of A->O4, at every sample."""
-    def four_bar(group):
-        c = geokin.Construction("double crank")
-        c.input("theta")
-        c.fixed("O2", 0, 0)
-        c.fixed("O4", 2.75, 0)
-        c.polar("A", "O2", 5.3125, "theta")
-        if group:
-            c.closure("dyad", ["B"], [("A", "B", 4.5), ("O4", "B", 6.5)],
-                      near={"B": (8.3, 3.3)})
-        else:
-            c.circle_circle("B", ("A", "O4"), (4.5, 6.5), branch="right")
-        return c
-
     def right_of(theta):  # B by hand: the circles about A (4.5) and O4 (6.5)
         a = 5.3125 * np.c_[np.cos(theta), np.sin(theta)]
         u = np.array([2.75, 0.0]) - a
@@ -633,7 +623,7 @@ def test_a_group_over_coarse_steps_follows_its_assembly_as_the_crank_turns():
         return a + m * u / d + h * np.c_[u[:, 1], -u[:, 0]] / d
 
     for theta in (np.radians([0, 90, 180, 270, 360]), np.radians(np.arange(361.0))):
-        s = geokin.sweep(four_bar(True), theta)
+        s = geokin.sweep(fourbar(True, (2.75, 5.3125, 4.5, 6.5), near=(8.3, 3.3)), theta)
         assert s.valid.all()
         np.testing.assert_allclose(s["B"], right_of(theta), atol=1e-9)
 

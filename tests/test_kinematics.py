@@ -284,16 +284,16 @@ def test_a_sweep_run_backwards_turns_the_crank_backwards():
     np.testing.assert_allclose(m.time, np.linspace(0, 1 / 3, 11))
 
 
-def five_bar():
-    """Two cranks on pivots 4 apart, joined by two links meeting at C."""
+def five_bar(ground=4, cranks=2, links=4):
+    """Two cranks on pivots ``ground`` apart, joined by two links meeting at C."""
     c = Construction("five-bar")
     c.input("t1", range=(0, 1), speed=2.0)
     c.input("t2", range=(1, 3), speed=1.0)
     c.fixed("O1", 0, 0)
-    c.fixed("O2", 4, 0)
-    c.polar("A", "O1", 2, "t1")
-    c.polar("B", "O2", 2, "t2")
-    c.circle_circle("C", ("A", "B"), (4, 4), branch="left")
+    c.fixed("O2", ground, 0)
+    c.polar("A", "O1", cranks, "t1")
+    c.polar("B", "O2", cranks, "t2")
+    c.circle_circle("C", ("A", "B"), (links, links), branch="left")
     return c
 
 
@@ -325,7 +325,7 @@ def test_a_second_input_swept_unevenly_flags_what_its_sampled_rate_cannot_promis
     the square of their spacing. At 361 samples a turn that misses 1e-7 in velocity, and
     every sample doing so is flagged; at 36,001 only the two samples at either end are,
     where the change is read one-sided, and every other is within it. The
-    reference: the coupler joint B of the five-bar in closed form, differentiated by
+    reference: the coupler joint C of the five-bar in closed form, differentiated by
     central differences of steps 1e-5 (velocity) and 1e-3 (acceleration)."""
     def joint(t1):
         a = 3 * np.c_[np.cos(t1), np.sin(t1)]
@@ -337,22 +337,15 @@ def test_a_second_input_swept_unevenly_flags_what_its_sampled_rate_cannot_promis
         h = np.sqrt(49 - m * m)
         return a + m * u / d + h * np.c_[-u[:, 1], u[:, 0]] / d
 
-    k = Construction("five-bar")
-    k.input("t1")
-    k.input("t2")
-    k.fixed("O1", 0, 0)
-    k.fixed("O2", 6, 0)
-    k.polar("A", "O1", 3, "t1")
-    k.polar("C", "O2", 3, "t2")
-    k.circle_circle("B", ("A", "C"), (7, 7), branch="left")
+    k = five_bar(ground=6, cranks=3, links=7)
     for n in (361, 36_001):
         t1 = np.linspace(0, 2 * np.pi, n)
         m = motion(sweep(k, {"t1": t1, "t2": np.pi / 2 + 0.5 * np.sin(t1)}), "t1", speed=1.0)
-        assert np.allclose(m.sweep["B"], joint(t1), atol=1e-12)
+        assert np.allclose(m.sweep["C"], joint(t1), atol=1e-12)
         v = (joint(t1 + 1e-5) - joint(t1 - 1e-5)) / 2e-5
         a = (joint(t1 + 1e-3) - 2 * joint(t1) + joint(t1 - 1e-3)) / 1e-6
-        v_error = np.hypot(*(m.velocity["B"] - v).T) / np.hypot(*v.T).max()
-        a_error = np.hypot(*(m.acceleration["B"] - a).T) / np.hypot(*a.T).max()
+        v_error = np.hypot(*(m.velocity["C"] - v).T) / np.hypot(*v.T).max()
+        a_error = np.hypot(*(m.acceleration["C"] - a).T) / np.hypot(*a.T).max()
         missed = (v_error > 1e-7) | (a_error > 1e-5)
         assert not (missed & ~m.flagged).any(), n
         if n == 361:

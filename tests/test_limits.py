@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
-from mechanisms import R1, R2, R3, R4, coupler_fourbar, fourbar, triple_rocker
+from mechanisms import R1, R2, R3, R4, coupler_fourbar, five_bar, fourbar, triple_rocker
 
 import geokin
 from geokin import AssemblyError, Construction, ConstructionError, sweep
@@ -245,14 +245,7 @@ def test_a_circuit_turns_back_on_a_sliver_narrower_than_the_search_grid():
 def test_a_limit_where_circles_become_concentric_says_so():
     """A five-bar's second crank (cranks 15 on pivots 30 apart, the first at 0) brings
     its pin onto the first's at 180 deg: the circles of the coupler joint are concentric."""
-    c = Construction("five-bar")
-    c.input("t1")
-    c.input("t2")
-    c.fixed("O1", 0, 0)
-    c.fixed("O2", 30, 0)
-    c.polar("A", "O1", 15, "t1")
-    c.polar("B", "O2", 15, "t2")
-    c.circle_circle("P", ("A", "B"), (30, 30), branch="left")
+    c = five_bar(links=30, ground=30, cranks=15)
     [(low, high)] = limits(c, "t2", at={"t1": 0.0}).intervals
     assert abs(high.value - np.pi) < 1e-9 and high.kind == "end"
     assert "coincident centres" in describe_limit(high)
