@@ -367,6 +367,10 @@ def test_dump_writes_a_parameter_that_serves_only_as_an_angle_in_degrees(tmp_pat
     for name in "ABC":
         np.testing.assert_allclose(b[name], a[name], atol=1e-12, rtol=0)
     assert dump(loads(text)) == text
+    # the steps as the script has them, and as it lists them once read
+    from geokin.io import script_steps
+
+    assert script_steps(c).splitlines()[2:] == script_steps(loads(text)).splitlines()[2:]
     script = tmp_path / "swing.toml"
     script.write_text(text)
     assert main(["tolerance", str(script), "--tol", "beta=0.5", "-n", "20"]) == 0

@@ -822,12 +822,7 @@ def dump(construction: Construction) -> str:
     if not isinstance(construction, Construction):
         raise TypeError(f"expected a Construction, got {type(construction).__name__}")
     c = construction
-    convert = _AngleRewriter(c, to_script=True)
-    # a parameter that stands only as an angle is written in degrees, as a script's
-    # angles are: beta = 40 and angle = "beta", not 0.698... and "degrees(beta)"
-    in_degrees = _radian_parameters(c, convert)
-    if in_degrees:
-        convert = _AngleRewriter(c, to_script=True, angle_parameters=in_degrees)
+    convert, in_degrees = _to_script(c)
     out = ["[construction]", f"name = {_toml_string(c.name)}"]
     if c.description:
         out.append(f"description = {_toml_string(c.description)}")
@@ -887,6 +882,20 @@ def dump(construction: Construction) -> str:
     return "\n".join(out) + "\n"
 
 
+def _to_script(construction: Construction) -> tuple[_AngleRewriter, set[str]]:
+    """Return the rewriter of a construction's values into a script, and its degree parameters.
+
+    A parameter that stands only as an angle is written in degrees, as a
+    script's angles are: beta = 40 and angle = "beta", not 0.698... and
+    "degrees(beta)".
+    """
+    convert = _AngleRewriter(construction, to_script=True)
+    in_degrees = _radian_parameters(construction, convert)
+    if in_degrees:
+        convert = _AngleRewriter(construction, to_script=True, angle_parameters=in_degrees)
+    return convert, in_degrees
+
+
 def _radian_parameters(construction: Construction, convert: _AngleRewriter) -> set[str]:
     """Return the parameters that every field written to a script takes in ``degrees(...)``.
 
@@ -919,7 +928,7 @@ def script_steps(construction: Construction) -> str:
       2  A = polar(O, 10, theta + 30)
     """
     compiled = construction.compile()
-    to_script = _AngleRewriter(construction, to_script=True)
+    to_script, _ = _to_script(construction)
     steps = tuple(dataclasses.replace(step, node=to_script.node(step.node))
                   for step in compiled.steps)
     return dataclasses.replace(compiled, steps=steps).listing(degrees=False)
