@@ -36,6 +36,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -102,15 +103,42 @@ class System:
         return len(self.distances) + len(self.lines)
 
 
-def _point(z, unknowns, known, name, sl):
-    """Return a point's x, y over the samples of ``sl``, and its unknown index or -1."""
+def _point(z, unknowns, known, name, n):
+    """Return a point's x, y over the N rows of z (arrays or numbers), and its index.
+
+    The index is the point's among the unknowns, or -1 for a known point.
+    """
     if name in unknowns:
         i = unknowns.index(name)
         return z[:, 2 * i], z[:, 2 * i + 1], i
     x, y = known[name]
-    n = z.shape[0]
-    return (np.broadcast_to(x, sl)[:n] if np.ndim(x) else np.full(n, float(x)),
-            np.broadcast_to(y, sl)[:n] if np.ndim(y) else np.full(n, float(y)), -1)
+    if np.ndim(x) and np.shape(x) != (n,):
+        x, y = np.broadcast_to(x, (n,)), np.broadcast_to(y, (n,))
+    return x, y, -1
+
+
+@dataclass(frozen=True)
+class _Layout:
+    """Where the points of a group's distance equations are: columns of one array."""
+
+    names: tuple[str, ...]  # the unknown points, then the known ones
+    p: np.ndarray  # each equation's two points' columns
+    q: np.ndarray
+    p_rows: np.ndarray  # the equations whose p (or q) is unknown
+    q_rows: np.ndarray
+
+
+@lru_cache(maxsize=64)
+def _layout(system: System, unknowns: tuple[str, ...]) -> _Layout:
+    """Return the columns of the points of ``system``'s distance equations."""
+    names = list(unknowns)
+    for pair in system.distances:
+        names.extend(name for name in pair if name not in names)
+    column = {name: i for i, name in enumerate(names)}
+    p = np.array([column[a] for a, _ in system.distances])
+    q = np.array([column[b] for _, b in system.distances])
+    k = len(unknowns)
+    return _Layout(tuple(names), p, q, np.flatnonzero(p < k), np.flatnonzero(q < k))
 
 
 def _residual_jacobian(system: System, unknowns, known, lengths, z):
@@ -122,25 +150,28 @@ def _residual_jacobian(system: System, unknowns, known, lengths, z):
     m = z.shape[0]
     f = np.empty((m, system.equations))
     jac = np.zeros((m, system.equations, 2 * system.k))
-    shape = (m,)
-    for e, (p, q) in enumerate(system.distances):
-        px, py, i = _point(z, unknowns, known, p, shape)
-        qx, qy, j = _point(z, unknowns, known, q, shape)
-        d = lengths[:, e]
-        dx, dy = px - qx, py - qy
-        f[:, e] = (dx * dx + dy * dy - d * d) / (2 * d)
+    if system.distances:
+        layout = _layout(system, tuple(unknowns))
+        # every point's x and y, the unknowns first: (M, points)
+        xs = np.empty((m, len(layout.names)))
+        ys = np.empty((m, len(layout.names)))
+        xs[:, :system.k], ys[:, :system.k] = z[:, 0::2], z[:, 1::2]
+        for column, name in enumerate(layout.names[system.k:], start=system.k):
+            xs[:, column], ys[:, column] = known[name]
+        d = lengths[:, :len(system.distances)]
+        dx = xs[:, layout.p] - xs[:, layout.q]
+        dy = ys[:, layout.p] - ys[:, layout.q]
+        f[:, :d.shape[1]] = (dx * dx + dy * dy - d * d) / (2 * d)
         gx, gy = dx / d, dy / d
-        if i >= 0:
-            jac[:, e, 2 * i] += gx
-            jac[:, e, 2 * i + 1] += gy
-        if j >= 0:
-            jac[:, e, 2 * j] -= gx
-            jac[:, e, 2 * j + 1] -= gy
+        rows, cols = layout.p_rows, 2 * layout.p[layout.p_rows]
+        jac[:, rows, cols], jac[:, rows, cols + 1] = gx[:, rows], gy[:, rows]
+        rows, cols = layout.q_rows, 2 * layout.q[layout.q_rows]
+        jac[:, rows, cols], jac[:, rows, cols + 1] = -gx[:, rows], -gy[:, rows]
     offset = len(system.distances)
     for e, (p, q, r) in enumerate(system.lines, start=offset):
-        px, py, i = _point(z, unknowns, known, p, shape)
-        qx, qy, j = _point(z, unknowns, known, q, shape)
-        rx, ry, l_ = _point(z, unknowns, known, r, shape)
+        px, py, i = _point(z, unknowns, known, p, m)
+        qx, qy, j = _point(z, unknowns, known, q, m)
+        rx, ry, l_ = _point(z, unknowns, known, r, m)
         ux, uy = rx - qx, ry - qy
         length = np.hypot(ux, uy)
         wx, wy = px - qx, py - qy
@@ -305,7 +336,8 @@ def _blend(known, lengths, i, j, t):
 def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
                    lengths: np.ndarray, start: np.ndarray,
                    path_starts: np.ndarray | None = None,
-                   between: Callable | None = None, samples: np.ndarray | None = None):
+                   between: Callable | None = None, samples: np.ndarray | None = None,
+                   positions: np.ndarray | None = None):
     """Follow one assembly along the samples, from a sketch where it first fits.
 
     The first sample where Newton from ``start`` converges begins the path,
@@ -315,25 +347,32 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
     succeed), all from the chunk's starting solution, with at most
     :data:`CHUNK_ITERATIONS` iterations each, vectorised over the chunk.
     A sample is accepted while every sample before it in the chunk is, its
-    Newton converged, and its solution lies where the previous one predicts
-    (the linearised step from the previous sample, within
-    :data:`JUMP_RATIO` of it): a solution of another assembly is a jump the
-    step does not explain. Where the first sample of a chunk fails, the step
-    to it is cut into pieces (the known points and distances as ``between``
-    gives them along the step), halving each piece that fails, at
-    most :data:`MAX_SUBSTEPS` pieces. A step that cannot be crossed leaves
-    its sample unsolved; later samples resume where Newton from the last
-    solution converges, past a sample where it does not (up to there the
-    equations have solutions the path could not reach: another assembly's,
-    as past a fold, where the assembly followed ends and others go on), and
-    an assembly that, followed back, was there all along is another one,
-    whose samples stay unsolved. ``path_starts`` are the samples where a
-    new path begins (design variants, one after the other): the first
-    sample of each resumes at once. ``between(a, b, t)`` gives the known
-    points and lengths at fractions ``t`` of the way from sample a to b, as
-    the inputs move along the straight segment (the points on arcs, as a
-    crank's pin); without it they move straight between their samples.
-    ``samples`` are the samples' indices as ``between`` takes them.
+    Newton converged, and it continues the solution before it
+    (:func:`_continues`: within :data:`TRUST` of the distance to that
+    solution's nearest other solution, and where the linearised step
+    predicts). Where the first sample of a chunk fails, the step to it is
+    cut into pieces (the known points and distances as ``between`` gives
+    them along the step), halving each piece that fails, at most
+    :data:`MAX_SUBSTEPS` pieces; at a singular position where the assembly
+    goes on (two assemblies cross), a piece steps over it along the last
+    rate (:func:`_substeps`).
+
+    A step that cannot be crossed leaves its sample unsolved: a gap. A
+    later sample resumes the path only where its assembly is reached again
+    (:func:`_resumes`): from the last solution, moving the inputs straight
+    to the sample's, or at the inputs of the path's first sample (a crank
+    that turns fully comes back to where it began). The samples between the
+    gap and a resumed one are followed back from it.
+
+    ``path_starts`` are the samples where a new path begins (design
+    variants, one after the other): each path is followed on its own, from
+    the sketch. ``between(a, b, t)`` gives the known points and lengths at
+    fractions ``t`` of the way from sample a to b, as the inputs move along
+    the straight segment (the points on arcs, as a crank's pin); without it
+    they move straight between their samples. ``samples`` are the samples'
+    indices as ``between`` takes them, ``positions`` (N, m) their places in
+    the space of the inputs: a step that cannot be crossed stops at an
+    obstacle there, and a segment through it is not tried again.
 
     Returns
     -------
@@ -344,146 +383,350 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
         Unsolved samples where the path stopped at a singular position.
     """
     n = lengths.shape[0]
-    width = 2 * system.k
-    z = np.full((n, width), np.nan)
-    singular = np.zeros(n, dtype=bool)
+    numbered = np.arange(n) if samples is None else np.asarray(samples)
+    if path_starts is None or len(path_starts) < 2:
+        path = _Path(system, unknowns, known, lengths, between, numbered, positions)
+        path.follow(np.asarray(start, dtype=float).reshape(-1))
+        return path.z, path.margin, path.singular
+    z = np.full((n, 2 * system.k), np.nan)
     margin = np.full(n, np.nan)
-    scale = _scale(lengths, known)
-    start = np.asarray(start, dtype=float).reshape(1, width)
-    # the first sample that Newton from the sketch solves: those before are followed
-    # back from it
-    i = 0
-    first_rows = np.arange(n)
-    finite = np.isfinite(lengths).all(axis=1)
-    for x, y in known.values():
-        if np.ndim(x):
-            finite &= np.isfinite(x) & np.isfinite(y)
-    candidates = first_rows[finite]
-    begun = False
-    for lo in range(0, candidates.size, 64):
-        rows = candidates[lo:lo + 64]
+    singular = np.zeros(n, dtype=bool)
+    ends = np.append(np.asarray(path_starts)[1:], n)
+    for begin, end in zip(path_starts, ends, strict=True):
+        rows = np.arange(begin, end)
         data, length = _rows(known, lengths, rows)
-        guess = np.repeat(start, rows.size, axis=0)
-        found, ok, m = newton(system, unknowns, data, length, guess)
-        ok &= m >= SINGULAR_MARGIN
-        if ok.any():
-            first = int(np.argmax(ok))
-            i = int(rows[first])
-            z[i], margin[i] = found[first], m[first]
-            begun = True
-            break
-    if not begun:
-        return z, margin, singular
-
-    numbered = np.arange(n) if samples is None else samples
-
-    def follow_back(solved: int, stop: int) -> None:
-        """Follow the assembly from sample ``solved`` back to sample ``stop``."""
-        back = np.arange(solved, stop - 1, -1)
-        known_back, lengths_back = _rows(known, lengths, back)
-        found, found_margin, found_singular = continue_along(
-            system, unknowns, known_back, lengths_back, z[solved], between=between,
-            samples=numbered[back])
-        z[back[1:]], margin[back[1:]] = found[1:], found_margin[1:]
-        singular[back[1:]] = found_singular[1:]
-
-    if i > 0:  # the samples before it, on the assembly the sketch picked
-        follow_back(i, 0)
-    last = i
-    chunk = 8
-    j = i + 1
-    while j < n:
-        rows = np.arange(j, min(j + chunk, n))
-        data, length = _rows(known, lengths, rows)
-        base = np.repeat(z[last][None], rows.size, axis=0)
-        found, ok, _ = _iterate(system, unknowns, data, length, base, scale, CHUNK_ITERATIONS)
-        ok &= np.isfinite(found).all(axis=1)
-        # each solution against the linear prediction from the previous sample
-        previous = np.vstack([z[last][None], found[:-1]])
-        prev_data = _rows(known, lengths, np.concatenate([[last], rows[:-1]]))
-        _, jac = _residual_jacobian(system, unknowns, prev_data[0], prev_data[1], previous)
-        f_next, _ = _residual_jacobian(system, unknowns, data, length, previous)
-        predicted = _solve(jac, f_next)
-        miss = np.max(np.abs(found - previous - predicted), axis=1)
-        ok &= miss <= JUMP_RATIO * np.max(np.abs(predicted), axis=1) + 1e-9 * scale
-        ok &= _comes_back(system, unknowns, prev_data, found, previous, scale)
-        _, jac_found = _residual_jacobian(system, unknowns, data, length, found)
-        m = margins(jac_found)
-        ok &= m >= SINGULAR_MARGIN
-        bad = np.flatnonzero(~ok)
-        accepted = rows.size if bad.size == 0 else int(bad[0])
-        if accepted:
-            take = rows[:accepted]
-            z[take] = found[:accepted]
-            margin[take] = m[:accepted]
-            last = int(take[-1])
-            j = last + 1
-            chunk = min(2 * chunk, MAX_CHUNK) if bad.size == 0 else max(chunk // 2, 1)
-            continue
-        chunk = 1
-        if j == last + 1:
-            # the step from the last solution to sample j, cut into pieces
-            solved, stop_margin = _substeps(system, unknowns, known, lengths, last, j, z[last],
-                                            scale, between, numbered)
-            if solved is not None:
-                z[j] = solved
-                data_j, length_j = _rows(known, lengths, [j])
-                _, jac_j = _residual_jacobian(system, unknowns, data_j, length_j, solved[None])
-                margin[j] = margins(jac_j)[0]
-                last = j
-                j += 1
-                continue
-            singular[j] = stop_margin < NEAR_SINGULAR
-            j += 1
-        # a gap: the samples after it resume the assembly where Newton from the last
-        # solution converges, as a two-root node resumes its branch, tried a block at a
-        # time; on the same path only past a sample where it does not
-        resumed = False
-        apart = False
-        while j < n and not resumed:
-            rows = np.arange(j, min(j + MAX_CHUNK, n))
-            data, length = _rows(known, lengths, rows)
-            again, ok, m = newton(system, unknowns, data, length,
-                                  np.repeat(z[last][None], rows.size, axis=0))
-            ok &= m >= SINGULAR_MARGIN
-            path = _path_start(path_starts, rows)
-            same = path <= last
-            if not apart:
-                unsolved = np.flatnonzero(~ok & same)
-                apart = unsolved.size > 0
-                ok[:unsolved[0] if apart else int(same.sum())] = False
-            if ok.any():
-                at = int(np.argmax(ok))
-                singular[rows[:at]] = singular_rows(system, unknowns, data, length, z[last],
-                                                    at)
-                z[rows[at]], margin[rows[at]] = again[at], m[at]
-                begin = max(last + 1, int(path[at]))
-                gap = np.flatnonzero(~np.isfinite(z[begin:rows[at]]).all(axis=1))
-                if gap.size:  # the gap's far side, from where the assembly resumes
-                    follow_back(int(rows[at]), begin + int(gap[0]))
-                if same[at] and np.isfinite(z[last + 1]).all():
-                    # followed back, it reaches the sample after the last solution: it
-                    # was there all along, another assembly; the samples stay unsolved
-                    # until a gap of its own
-                    stretch = slice(last + 1, int(rows[at]) + 1)
-                    z[stretch], margin[stretch], singular[stretch] = np.nan, np.nan, True
-                    j, apart = int(rows[at]) + 1, False
-                    continue
-                last = int(rows[at])
-                j = last + 1
-                resumed = True
-            else:
-                singular[rows] = singular_rows(system, unknowns, data, length, z[last],
-                                               rows.size)
-                j = int(rows[-1]) + 1
+        part = _Path(system, unknowns, data, length, between, numbered[rows],
+                     None if positions is None else positions[rows])
+        part.follow(np.asarray(start, dtype=float).reshape(-1))
+        z[rows], margin[rows], singular[rows] = part.z, part.margin, part.singular
     return z, margin, singular
 
 
-def _path_start(path_starts: np.ndarray | None, rows: np.ndarray) -> np.ndarray:
-    """Return the sample where the path of each of ``rows`` begins."""
-    if path_starts is None:
-        return np.zeros(rows.size, dtype=int)
-    return path_starts[np.searchsorted(path_starts, rows, side="right") - 1]
+TRUST = 0.25
+"""A step is taken only while the solution moves less than this fraction of the
+distance from it to the group's nearest other solution (:func:`_separation`): Newton
+cannot then land on another assembly, however coarse the samples."""
+
+MAX_ATTEMPTS = 32
+"""The most samples past one gap tried by crossing the straight segment to them."""
+
+CROSSING_PIECE = 1e-9
+"""A piece of a step this small (a fraction of the step) that still fails stops at a
+singular position: the step over it along the last rate is tried."""
+
+ANCHOR_MARGIN = 1e-6
+"""The least margin of a solution the step over a singular position is predicted from."""
+
+CROSSING_MOVE = 1e-4
+"""How far (times the group's size) the step over a singular position moves the
+solution along its last rate."""
+
+
+class _Path:
+    """The continuation of one assembly along the samples of one path."""
+
+    def __init__(self, system, unknowns, known, lengths, between, numbered, positions=None):
+        self.system, self.unknowns = system, unknowns
+        self.known, self.lengths = known, lengths
+        self.between, self.numbered, self.positions = between, numbered, positions
+        n = lengths.shape[0]
+        self.n = n
+        self.z = np.full((n, 2 * system.k), np.nan)
+        self.margin = np.full(n, np.nan)
+        self.singular = np.zeros(n, dtype=bool)
+        self.scale = _scale(lengths, known)
+
+    def follow(self, start: np.ndarray, resume: bool = True) -> None:
+        """Solve the first sample that Newton from ``start`` solves, and follow on.
+
+        The samples after it are followed forwards, those before it back
+        from it. Without ``resume`` the path ends at its first gap.
+        """
+        first = self._first(start)
+        if first is None:
+            return
+        if first > 0:
+            self._follow_back(first, 0, resume)
+        self._forwards(first, resume)
+
+    def _first(self, start: np.ndarray) -> int | None:
+        """Solve the first sample Newton from the sketch solves; return it."""
+        finite = np.isfinite(self.lengths).all(axis=1)
+        for x, y in self.known.values():
+            if np.ndim(x):
+                finite &= np.isfinite(x) & np.isfinite(y)
+        candidates = np.flatnonzero(finite)
+        for lo in range(0, candidates.size, 64):
+            rows = candidates[lo:lo + 64]
+            data, length = _rows(self.known, self.lengths, rows)
+            found, ok, m = newton(self.system, self.unknowns, data, length,
+                                  np.repeat(start[None], rows.size, axis=0))
+            ok &= m >= SINGULAR_MARGIN
+            if ok.any():
+                at = int(np.argmax(ok))
+                i = int(rows[at])
+                self.z[i], self.margin[i] = found[at], m[at]
+                return i
+        return None
+
+    def _follow_back(self, solved: int, stop: int, resume: bool) -> None:
+        """Follow the assembly from sample ``solved`` back to sample ``stop``."""
+        back = np.arange(solved, stop - 1, -1)
+        data, length = _rows(self.known, self.lengths, back)
+        path = _Path(self.system, self.unknowns, data, length, self.between,
+                     self.numbered[back],
+                     None if self.positions is None else self.positions[back])
+        path.z[0], path.margin[0] = self.z[solved], self.margin[solved]
+        path._forwards(0, resume)
+        self.z[back[1:]], self.margin[back[1:]] = path.z[1:], path.margin[1:]
+        self.singular[back[1:]] = path.singular[1:]
+
+    def _forwards(self, last: int, resume: bool) -> None:
+        """Follow the assembly from solved sample ``last`` to the last sample."""
+        system, unknowns, scale = self.system, self.unknowns, self.scale
+        chunk = 8
+        j = last + 1
+        while j < self.n:
+            rows = np.arange(j, min(j + chunk, self.n))
+            data, length = _rows(self.known, self.lengths, rows)
+            base = np.repeat(self.z[last][None], rows.size, axis=0)
+            found, ok, _ = _iterate(system, unknowns, data, length, base, scale,
+                                    CHUNK_ITERATIONS)
+            previous = np.vstack([self.z[last][None], found[:-1]])
+            before = _rows(self.known, self.lengths, np.concatenate([[last], rows[:-1]]))
+            ok &= _continues(system, unknowns, before, (data, length), previous, found,
+                             scale)[0]
+            _, jac_found = _residual_jacobian(system, unknowns, data, length, found)
+            m = margins(jac_found)
+            ok &= m >= SINGULAR_MARGIN
+            bad = np.flatnonzero(~ok)
+            accepted = rows.size if bad.size == 0 else int(bad[0])
+            if accepted:
+                take = rows[:accepted]
+                self.z[take], self.margin[take] = found[:accepted], m[:accepted]
+                last = int(take[-1])
+                j = last + 1
+                chunk = min(2 * chunk, MAX_CHUNK) if bad.size == 0 else max(chunk // 2, 1)
+                continue
+            chunk = 1
+            # the step from the last solution to sample j, cut into pieces
+            solved, stop_margin, reached = _substeps(
+                system, unknowns, self.known, self.lengths, last, j, self.z[last], scale,
+                self.between, self.numbered)
+            if solved is not None:
+                self._take(j, solved)
+                last = j
+                j += 1
+                continue
+            self.singular[j] = stop_margin < NEAR_SINGULAR
+            if not resume:
+                return
+            resumed = self._resume(last, j + 1, [self._obstacle(last, j, reached)])
+            if resumed is None:
+                return
+            last = resumed
+            j = last + 1
+
+    def _take(self, j: int, solved: np.ndarray) -> None:
+        """Store the solution at sample j with its margin."""
+        self.z[j] = solved
+        data, length = _rows(self.known, self.lengths, [j])
+        _, jac = _residual_jacobian(self.system, self.unknowns, data, length, solved[None])
+        self.margin[j] = margins(jac)[0]
+
+    def _obstacle(self, last: int, j: int, reached: float) -> np.ndarray | None:
+        """Return where the inputs were when the step from sample last to j stopped."""
+        if self.positions is None:
+            return None
+        a, b = self.positions[last], self.positions[j]
+        return a + reached * (b - a)
+
+    def _blocked(self, last: int, rows: np.ndarray, obstacles: list) -> np.ndarray:
+        """Say which segments from sample last's inputs to rows' meet an obstacle.
+
+        The segments are straight, in the space of the inputs.
+        """
+        out = np.zeros(rows.size, dtype=bool)
+        if self.positions is None:
+            return out
+        a = self.positions[last]
+        d = self.positions[rows] - a
+        length = np.einsum("ni,ni->n", d, d)
+        with np.errstate(all="ignore"):
+            for point in obstacles:
+                if point is None:
+                    continue
+                t = d @ (point - a) / length
+                off = a + t[:, None] * d - point
+                out |= ((length > 0) & (t >= 0.0) & (t <= 1.0 + 1e-9)
+                        & (np.sqrt(np.einsum("ni,ni->n", off, off))
+                           <= 1e-9 * (np.sqrt(length) + np.max(np.abs(point), initial=0.0))))
+        return out
+
+    def _resume(self, last: int, j: int, obstacles: list) -> int | None:
+        """Find the first sample from j on where the assembly is reached again.
+
+        Past a gap the equations may have solutions close to the last one
+        that the path cannot reach: another assembly's, as past a fold,
+        where the assembly followed ends and others go on. A sample resumes
+        the path where the inputs, moved straight from the last solved
+        sample's to its own, carry the last solution to it (:func:`_substeps`),
+        tried only where Newton from the last solution converges there and,
+        from there, back to the last solution; or where its inputs are those
+        of the path's first sample, whose solution it takes. The samples
+        from the gap to it are followed back from it (up to the sample after
+        the gap's first, which stays unsolved).
+
+        Returns the sample resumed at, or None: the rest stays unsolved.
+        """
+        system, unknowns, scale = self.system, self.unknowns, self.scale
+        home = int(np.argmax(np.isfinite(self.z).all(axis=1)))
+        home_data = _rows(self.known, self.lengths, [home])
+        last_data = _rows(self.known, self.lengths, [last])
+        earlier = None  # the candidate at the sample before a block, for runs
+        attempts = 0
+        while j < self.n:
+            rows = np.arange(j, min(j + MAX_CHUNK, self.n))
+            data, length = _rows(self.known, self.lengths, rows)
+            # Newton from the last solution only where a straight segment might reach
+            again = np.full((rows.size, 2 * system.k), np.nan)
+            m = np.full(rows.size, np.nan)
+            ok = np.zeros(rows.size, dtype=bool)
+            open_ = (np.flatnonzero(~self._blocked(last, rows, obstacles))
+                     if attempts < MAX_ATTEMPTS else np.zeros(0, dtype=int))
+            if open_.size:
+                some, some_length = _rows(data, length, open_)
+                again[open_], ok[open_], _ = _iterate(
+                    system, unknowns, some, some_length,
+                    np.repeat(self.z[last][None], open_.size, axis=0), scale, MAX_ITERATIONS)
+                _, jac = _residual_jacobian(system, unknowns, some, some_length, again[open_])
+                m[open_] = margins(jac)
+            ok &= np.isfinite(again).all(axis=1) & (m >= SINGULAR_MARGIN)
+            repeated = np.repeat(last_data[1], rows.size, axis=0)
+            back_data = ({p: (np.repeat(x, rows.size) if np.ndim(x) else x,
+                              np.repeat(y, rows.size) if np.ndim(y) else y)
+                          for p, (x, y) in last_data[0].items()}, repeated)
+            ok &= _comes_back(system, unknowns, back_data, again, self.z[last][None], scale)
+            # a run of candidates that continue each other is one assembly: tried once
+            previous = np.vstack([np.full((1, again.shape[1]), np.nan)
+                                  if earlier is None else earlier, again[:-1]])
+            run = np.concatenate([[earlier is not None], ok[:-1]]) & ok
+            before = _rows(self.known, self.lengths, np.concatenate([[rows[0] - 1], rows[:-1]]))
+            run &= _continues(system, unknowns, before, (data, length), previous, again,
+                              scale)[0]
+            home_rows = _same_data(data, length, home_data, scale)
+            # unsolved past a fold (Newton from the last solution stalls at a singular
+            # position, or lands on an assembly the fold led away from)
+            stopped = self.singular[last + 1]
+            self.singular[rows] = np.where(np.isnan(m), stopped,
+                                           ~(m >= NEAR_SINGULAR) | (ok & stopped))
+            for at in np.flatnonzero((ok & ~run) | home_rows):
+                k = int(rows[at])
+                if home_rows[at]:
+                    here, here_length = _rows(self.known, self.lengths, [k])
+                    solved, done, _ = _iterate(system, unknowns, here, here_length,
+                                               self.z[home][None], scale, MAX_ITERATIONS)
+                    solved = solved[0] if done[0] else None
+                elif attempts < MAX_ATTEMPTS and not self._blocked(last, rows[at:at + 1],
+                                                                   obstacles)[0]:
+                    attempts += 1
+                    solved, _, reached = _substeps(system, unknowns, self.known, self.lengths,
+                                                   last, k, self.z[last], scale, self.between,
+                                                   self.numbered)
+                    if solved is None:
+                        obstacles.append(self._obstacle(last, k, reached))
+                else:
+                    solved = None
+                if solved is None:
+                    continue
+                self._take(k, solved)
+                self.singular[k] = False
+                if k > last + 2:
+                    self._follow_back(k, last + 2, resume=False)
+                return k
+            earlier = np.where(ok[-1], again[-1], np.nan)[None]
+            j = int(rows[-1]) + 1
+        return None
+
+
+def _same_data(data, length, reference, scale) -> np.ndarray:
+    """Say which samples' known points and lengths are those of ``reference`` (one sample)."""
+    tolerance = 1e-9 * scale
+    same = np.all(np.abs(length - reference[1]) <= tolerance, axis=1)
+    for name, (x, y) in data.items():
+        rx, ry = reference[0][name]
+        if np.ndim(x) or np.ndim(rx):
+            same &= (np.abs(np.asarray(x) - np.asarray(rx)) <= tolerance) & (
+                np.abs(np.asarray(y) - np.asarray(ry)) <= tolerance)
+    return same
+
+
+def _inverse(jac: np.ndarray) -> np.ndarray:
+    """Return the Jacobians' inverses, NaN where one is singular or not finite."""
+    out = np.full(jac.shape, np.nan)
+    finite = np.isfinite(jac).all(axis=(1, 2))
+    if not finite.any():
+        return out
+    j = jac[finite]
+    try:
+        out[finite] = np.linalg.inv(j)
+    except np.linalg.LinAlgError:  # one singular matrix: invert each alone
+        each = np.full(j.shape, np.nan)
+        for a in range(j.shape[0]):
+            try:
+                each[a] = np.linalg.inv(j[a])
+            except np.linalg.LinAlgError:
+                pass
+        out[finite] = each
+    return out
+
+
+def _separation(inverse: np.ndarray, lengths: np.ndarray, equations: int) -> np.ndarray:
+    """Return a lower bound on the distance from a solution to the group's others.
+
+    Each distance equation ``(|P - Q|**2 - d**2) / (2 d)`` has second
+    derivatives of at most 2 / d in any unit direction of the unknowns, so
+    two solutions z and z + D of E equations satisfy
+    ``|J D| <= sqrt(E) |D|**2 / d`` (d the shortest distance), and ``|D|``
+    is at least ``sigma_min(J) d / sqrt(E)``, with ``sigma_min(J)`` the
+    inverse of ``|J^-1|``'s spectral norm (for many rows its Frobenius norm,
+    at least as large, is cheaper). A point on a line adds no curvature
+    where only the point is unknown.
+    """
+    if inverse.shape[0] <= 8:  # the spectral norm, as cheap as the bound for few rows
+        norm = np.full(inverse.shape[0], np.nan)
+        finite = np.isfinite(inverse).all(axis=(1, 2))
+        norm[finite] = np.linalg.norm(inverse[finite], 2, axis=(1, 2))
+    else:
+        norm = np.sqrt(np.einsum("nij,nij->n", inverse, inverse))
+    shortest = np.min(lengths, axis=1) if lengths.shape[1] else np.ones(len(norm))
+    with np.errstate(all="ignore"):
+        return shortest / (np.sqrt(equations) * norm)
+
+
+def _continues(system, unknowns, before, after, previous, found, scale):
+    """Say which solutions ``found`` (at data ``after``) continue ``previous`` (at ``before``).
+
+    The step must stay within :data:`TRUST` of the distance from the
+    previous solution to its nearest other (:func:`_separation`), and lie
+    where the linearised step predicts (within :data:`JUMP_RATIO` of it).
+    Returns that, and the linearised step's length over the step allowed
+    (what a step cut to fit should be shortened by).
+    """
+    _, jac = _residual_jacobian(system, unknowns, before[0], before[1], previous)
+    f_next, _ = _residual_jacobian(system, unknowns, after[0], after[1], previous)
+    inverse = _inverse(jac)
+    predicted = -np.einsum("nij,nj->ni", inverse, f_next)
+    step = found - previous
+    slack = 1e-9 * scale
+    with np.errstate(all="ignore"):
+        reach = TRUST * _separation(inverse, before[1], system.equations)
+        ok = np.isfinite(found).all(axis=1)
+        ok &= (np.max(np.abs(step - predicted), axis=1)
+               <= JUMP_RATIO * np.max(np.abs(predicted), axis=1) + slack)
+        ok &= np.sqrt(np.einsum("ni,ni->n", step, step)) <= reach + slack
+        ratio = np.sqrt(np.einsum("ni,ni->n", predicted, predicted)) / reach
+    return ok, ratio
 
 
 def stalls_singular(system: System, unknowns: Sequence[str], known: Mapping,
@@ -529,23 +772,6 @@ def stalls_singular(system: System, unknowns: Sequence[str], known: Mapping,
     return (at_guess < NEAR_SINGULAR) | (at_end < NEAR_SINGULAR)
 
 
-def singular_rows(system, unknowns, known, lengths, z_last, count):
-    """Say which of the first ``count`` unsolved samples lie beyond a singular position.
-
-    Newton from the last solution there ends where the Jacobian is nearly
-    singular: the equations have no real solution nearby (as two circles
-    past tangency).
-    """
-    if count == 0:
-        return np.zeros(0, dtype=bool)
-    data, length = _rows(known, lengths, np.arange(count))
-    z, _, _ = _iterate(system, unknowns, data, length,
-                       np.repeat(np.asarray(z_last)[None], count, axis=0),
-                       _scale(length, data), MAX_ITERATIONS)
-    _, jac = _residual_jacobian(system, unknowns, data, length, z)
-    return ~(margins(jac) >= NEAR_SINGULAR)
-
-
 COME_BACK_RTOL = 1e-6
 """How close (times the group's size) Newton from a solution, at the sample before,
 must come back to the solution there for the two to be one assembly."""
@@ -572,42 +798,101 @@ def _substeps(system, unknowns, known, lengths, i, j, z_i, scale, between=None,
 
     The known points and lengths along the step are ``between``'s, at
     samples ``samples[i]`` and ``samples[j]`` (see :func:`continue_along`),
-    or else blended straight between the two samples. Returns the solution
-    at j (or None) and the smallest margin met on the way.
+    or else blended straight between the two samples. A piece is taken
+    where its solution continues the one before (:func:`_continues`); one
+    that fails is halved. Where the pieces shrink below
+    :data:`CROSSING_PIECE` the solution is at a singular position: where two
+    assemblies cross there, a piece moving the solution
+    :data:`CROSSING_MOVE` along its last rate, and Newton from there,
+    passes it on the assembly's own side; at a fold Newton finds nothing
+    there, and the step cannot be crossed.
+
+    Returns the solution at j (or None), the smallest margin met on the way,
+    and the fraction of the step reached.
     """
+    one = np.ones(1)
+
     def along(fraction):
         if between is None or fraction in (0.0, 1.0):
             return _blend(known, lengths, i, j, fraction * one)
         return between(int(samples[i]), int(samples[j]), fraction * one)
 
-    t, z, piece, pieces = 0.0, z_i.copy(), 0.5, 0
+    t, z, piece = 0.0, z_i.copy(), 0.5
+    # the last solution taken away from singular positions, where Newton converges to
+    # the rounding (near one it leaves an error of the square root of the residual)
+    anchor = (0.0, z)
     lowest = np.inf
-    one = np.ones(1)
-    while pieces < MAX_SUBSTEPS:
-        pieces += 1
+    before = along(0.0)
+    here: tuple[float, float] | None = None  # the margin and the step allowed at z
+    for _ in range(MAX_SUBSTEPS):
         target = min(t + piece, 1.0)
-        data, length = along(target)
-        previous, prev_length = along(t)
-        found, ok, _ = _iterate(system, unknowns, data, length, z[None], scale, CHUNK_ITERATIONS)
-        _, jac = _residual_jacobian(system, unknowns, previous, prev_length, z[None])
-        f_next, _ = _residual_jacobian(system, unknowns, data, length, z[None])
-        predicted = _solve(jac, f_next)
-        ok &= np.isfinite(found).all(axis=1)
-        ok &= (np.max(np.abs(found - z[None] - predicted), axis=1)
-               <= JUMP_RATIO * np.max(np.abs(predicted), axis=1) + 1e-9 * scale)
-        ok &= _comes_back(system, unknowns, (previous, prev_length), found, z[None], scale)
-        _, jac_found = _residual_jacobian(system, unknowns, data, length, found)
-        m = float(margins(jac_found)[0]) if ok[0] else np.nan
+        after = along(target)
+        found, ok, _ = _iterate(system, unknowns, *after, z[None], scale, CHUNK_ITERATIONS)
+        continues, ratio = _continues(system, unknowns, before, after, z[None], found, scale)
+        ok &= continues
+        # the next piece as long as the step allowed takes, within halving and doubling
+        fit = 0.8 / ratio[0] if ratio[0] > 0 else 2.0
+        _, jac_found = _residual_jacobian(system, unknowns, *after, found)
+        m = float(margins(jac_found)[0])
         if ok[0] and m >= SINGULAR_MARGIN:
+            if m >= ANCHOR_MARGIN:
+                anchor = (target, found[0])
             lowest = min(lowest, m)
-            t, z = target, found[0]
+            t, z, before, here = target, found[0], after, None
             if t >= 1.0:
-                return z, lowest
-            piece = min(2 * piece, 1.0 - t)
-        else:
-            m_here = float(margins(jac)[0])
-            lowest = min(lowest, m_here)
-            piece *= 0.5
-            if piece < 1e-12:
-                return None, m_here
-    return None, lowest
+                return z, lowest, t
+            piece = min(piece * min(max(fit, 1.0), 2.0), 1.0 - t)
+            continue
+        if here is None:
+            _, jac = _residual_jacobian(system, unknowns, *before, z[None])
+            reach = TRUST * _separation(_inverse(jac), before[1], system.equations)[0]
+            here = float(margins(jac)[0]), float(reach)
+        lowest = min(lowest, here[0])
+        piece *= min(max(fit, 0.05), 0.5) if np.isfinite(fit) else 0.5
+        # on, while neither the pieces nor the steps they may take are too short to tell
+        # a singular position from a fold
+        if piece >= CROSSING_PIECE and not here[1] < 0.1 * CROSSING_MOVE * scale:
+            continue
+        crossed = _step_over(system, unknowns, along, t, anchor, scale)
+        if crossed is None:
+            return None, here[0], t
+        t, z = crossed
+        before, here = along(t), None
+        if t >= 1.0:
+            return z, lowest, t
+        piece = min(1e3 * CROSSING_PIECE, 1.0 - t)
+    return None, lowest, t
+
+
+def _step_over(system, unknowns, along, t, anchor, scale):
+    """Step over a singular position at fraction t of a step, or return None.
+
+    The step is predicted linearly from ``anchor`` (fraction, solution),
+    the last solution taken away from singular positions, to where the
+    solution has moved :data:`CROSSING_MOVE` times the group's size past
+    t (or to the step's end); Newton from there must converge within a
+    tenth of the predicted move, on a regular position. Where two
+    assemblies cross, it lands on the one continuing the motion; past a
+    fold there is nothing to land on.
+    """
+    t_a, z_a = anchor
+    # the tangent at the anchor: the data's rate by a short difference (a long one
+    # would carry its curvature, magnified near the singular position)
+    h = min(1e-6, 1.0 - t_a)
+    f_a, jac = _residual_jacobian(system, unknowns, *along(t_a), z_a[None])
+    f_h, _ = _residual_jacobian(system, unknowns, *along(t_a + h), z_a[None])
+    rate = -np.einsum("nij,nj->ni", _inverse(jac), (f_h - f_a) / h)[0]
+    speed = float(np.sqrt(rate @ rate))
+    if t <= t_a or not np.isfinite(speed) or speed == 0.0:
+        return None
+    target = min(t + CROSSING_MOVE * scale / speed, 1.0)
+    move = rate * (target - t_a)
+    guess = z_a + move
+    after = along(target)
+    found, ok, _ = _iterate(system, unknowns, *after, guess[None], scale, CHUNK_ITERATIONS)
+    _, jac_found = _residual_jacobian(system, unknowns, *after, found)
+    miss = float(np.sqrt(np.sum((found[0] - guess) ** 2)))
+    if not (ok[0] and margins(jac_found)[0] >= SINGULAR_MARGIN
+            and miss <= 0.1 * float(np.sqrt(np.sum(move ** 2)))):
+        return None
+    return target, found[0]

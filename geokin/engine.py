@@ -377,7 +377,7 @@ def _step_values(step: _PlannedStep, env) -> Mapping:
 
 
 def _candidates(step: _PlannedStep, coords, values, origin, guess=None, sketch=None,
-                paths=1, between=None):
+                paths=1, between=None, positions=None):
     if step.node.continued:
         # followed along the samples (each path on its own), or solved from a guess per
         # sample (held): its guesses and sketch are absolute positions, shifted like the
@@ -387,7 +387,7 @@ def _candidates(step: _PlannedStep, coords, values, origin, guess=None, sketch=N
         # mypy: candidates of a continued node take the guess, the origin and the paths
         cand = step.node.candidates(coords, values, guess=guess,  # type: ignore[call-arg]
                                     origin=origin, sketch=sketch, paths=paths,
-                                    between=between)
+                                    between=between, positions=positions)
         if cand.also:
             coords.update(cand.also)
         return cand
@@ -624,7 +624,7 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
                 cand = _candidates(step, coords, values, origin,
                                    None if held is None else held.get(node.name),
                                    None if sketches is None else sketches.get(node.name), paths,
-                                   between)
+                                   between, _positions(env, compiled, n))
                 if tracker is not None:
                     found = {**(cand.also or {}), node.name: (cand.x[0], cand.y[0])}
                     tracker.solutions[node.name] = np.column_stack([
@@ -680,6 +680,18 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
     events.sort(key=lambda e: (e.index, e.fraction))
     return _Evaluated(coords, labels, margins, parameters, events, valid, failed_step,
                       reason_code)
+
+
+def _positions(env, compiled, n: int) -> np.ndarray:
+    """Return the samples' positions in the space of the inputs and varied parameters.
+
+    One row per sample, one column per input or parameter that varies
+    (the values, not converted): what moves along the straight segment
+    between two samples.
+    """
+    columns = [np.broadcast_to(v, (n,)) for k, v in env.items()
+               if np.ndim(v) and (k in compiled.inputs or k in compiled.parameters)]
+    return np.column_stack(columns) if columns else np.zeros((n, 0))
 
 
 def _between_samples(compiled, plan, position, env, labels, origin, a, b, t):

@@ -833,7 +833,8 @@ class Closure(Node):
     def candidates(self, coords: Coords, values: Values, guess: np.ndarray | None = None,
                    origin: tuple[float, float] | None = None,
                    sketch: np.ndarray | None = None, paths: int = 1,
-                   between: Callable | None = None) -> Candidates:
+                   between: Callable | None = None,
+                   positions: np.ndarray | None = None) -> Candidates:
         """Return the point's position; the first point solves the whole group.
 
         Without ``guess`` the group is followed along the samples from its
@@ -841,7 +842,8 @@ class Closure(Node):
         every point of the group, as a circuit passes them), the samples
         being ``paths`` paths of equal length one after the other, and
         ``between(a, b, t)`` giving its known points and lengths between
-        samples (:func:`geokin.closure.continue_along`); with ``guess``
+        samples and ``positions`` the samples' places in the space of the
+        inputs (:func:`geokin.closure.continue_along`); with ``guess``
         (N, 2k) each sample is solved from its own.
         """
         if not self.solves:
@@ -864,7 +866,8 @@ class Closure(Node):
                 z, margin, singular = solver.continue_along(
                     system, self.points, known, table, sketch,
                     np.arange(0, n, max(n // paths, 1)) if paths > 1 else None,
-                    None if between is None else self._between(between))
+                    None if between is None else self._between(between),
+                    positions=positions)
             else:
                 guess = np.asarray(guess, dtype=float)
                 z, _, margin = solver.newton(system, self.points, known, table, guess)

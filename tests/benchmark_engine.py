@@ -176,6 +176,11 @@ def main():
         print(f"{n:>9} samples: {peak / 2**20:7.1f} MiB, {peak / n:6.0f} bytes per sample")
 
 
+FOLDED = {"GF": 1.1247, "FD": 2.5826, "FE": 2.5029, "DE": 2.5582, "CA": 2.2633, "CB": 1.8292,
+          "AB": 2.4434, "DA": 2.7345, "EB": 2.8767}
+"""Lengths of the Stephenson III whose triad folds within the turn."""
+
+
 def closure_groups():
     """Print the Stephenson III (a closure group, continued) against the seed six-bar.
 
@@ -193,6 +198,16 @@ def closure_groups():
     print(f"closure group: Stephenson III sweep, {n:,} samples: "
           f"{times['stephenson'] * 1e3:.1f} ms vs the seed six-bar's "
           f"{times['sixbar'] * 1e3:.1f} ms ({times['stephenson'] / times['sixbar']:.0f}x)")
+    # lengths whose triad folds at theta = 0.929: the sweep stops there and takes the
+    # assembly up again where the turn comes back to its start
+    folded = stephenson.compile().with_parameters(FOLDED)
+    assert not sweep(folded, theta).valid.all()
+    times = interleaved_cpu({
+        "folded": lambda: sweep(folded, theta),
+        "sixbar": lambda: sweep(six, theta)}, rounds=3)
+    print(f"closure group: a folding Stephenson III sweep, {n:,} samples: "
+          f"{times['folded'] * 1e3:.0f} ms vs the seed six-bar's "
+          f"{times['sixbar'] * 1e3:.1f} ms ({times['folded'] / times['sixbar']:.0f}x)")
     swept = {"stephenson": sweep(stephenson, theta), "sixbar": sweep(six, theta)}
     times = interleaved_cpu({
         name: lambda s=s: motion(s, speed=2 * np.pi) for name, s in swept.items()}, rounds=3)

@@ -629,19 +629,72 @@ def test_a_group_over_coarse_steps_follows_its_assembly_as_the_crank_turns():
 
 
 def test_a_turn_searched_for_a_group_joins_its_ends_only_on_one_assembly():
-    """With GF = 3 the Stephenson III's assembly at theta = 0 folds at +-1.8484; the
-    search over [0, 2 pi] resumes past its gap on another assembly, which its end at
-    2 pi does not join to the start: no limit of the assembly at 0 lies in (-1.6, 0),
-    where it sweeps, and its circuit comes back to where it began."""
+    """With GF = 3 the Stephenson III's assembly at theta = 0 folds at +-1.8484. A
+    sweep of the turn stops at +1.8484 and takes the assembly up again at 2 pi, where
+    the inputs are those of 0: followed back from there, it is the assembly at 0
+    followed down, sample for sample. Its limits are the two folds, one interval
+    across 0, and its circuit comes back to where it began."""
     c = geokin.load(ROOT / "constructions" / "stephenson3.toml").compile().with_parameters(
         {"GF": 3.0})
-    assert geokin.sweep(c, np.linspace(0, -1.6, 161)).valid.all()
-    # the interval that holds theta = 0 is that assembly's
-    [(low, high)] = [(lo, hi) for lo, hi in geokin.limits(c).intervals
-                     if lo.value <= 0 <= hi.value]
-    assert not (low.kind == "tangent" and -1.6 < low.value < 0)
-    assert high.kind == "tangent" and high.value > 1.6
+    theta = np.linspace(0, 2 * np.pi, 721)
+    s = geokin.sweep(c, theta)
+    down = geokin.sweep(c, theta[::-1] - 2 * np.pi)  # from 0 down to -2 pi
+    assert down.valid[::-1][-1] and s.valid[-1]
+    stretch = s.valid & down.valid[::-1] & (theta > np.pi)
+    assert stretch.sum() > 100
+    for p in "DEAB":
+        np.testing.assert_allclose(s[p][stretch], down[p][::-1][stretch], atol=1e-9)
+    # the samples the sweep leaves unsolved are those neither way reaches
+    np.testing.assert_array_equal(s.valid, (theta <= 1.8484) | (theta >= 2 * np.pi - 1.8484))
+    [(low, high)] = geokin.limits(c).intervals
+    assert (low.kind, high.kind) == ("tangent", "tangent")
+    assert (low.value, high.value) == pytest.approx((-1.8484, 1.8484), abs=1e-4)
     s = geokin.circuit(c)
     assert s.valid.all()
     for p in "DEAB":
         np.testing.assert_allclose(s[p][-1], s[p][0], atol=1e-9)
+
+
+def test_a_group_that_fails_one_sample_resumes_where_the_inputs_come_back():
+    """With GF = 3 the triad folds at theta = 1.8484: the sample at 1.9 is past it.
+    Swept 0, 1, 1.9, 1, 0, the group takes its assembly up again at 1 and 0, in
+    the poses it had there on the way out."""
+    c = geokin.load(ROOT / "constructions" / "stephenson3.toml").compile().with_parameters(
+        {"GF": 3.0})
+    s = geokin.sweep(c, [0.0, 1.0, 1.9, 1.0, 0.0])
+    assert s.valid.tolist() == [True, True, False, True, True]
+    for p in "DEAB":
+        np.testing.assert_allclose(s[p][[3, 4]], s[p][[1, 0]], atol=1e-9)
+
+
+def test_a_coarse_step_of_a_triad_keeps_its_assembly():
+    """One step of 26 deg with these lengths: Newton from the sample before lands on
+    another assembly that also converges back. The group follows its own, as plain
+    Newton over a thousand small steps of the same segment does."""
+    lengths = {"GF": 1.408037, "FD": 1.128157, "FE": 2.450986, "DE": 1.324715,
+               "CA": 1.688778, "CB": 4.968211, "AB": 3.289719, "DA": 2.827821, "EB": 3.68248}
+    c = geokin.load(ROOT / "constructions" / "stephenson3.toml").compile().with_parameters(
+        lengths)
+    ends = np.array([0.44516, 0.90389])
+    s = geokin.sweep(c, ends)
+    assert s.valid.all()
+    start = {p: tuple(s[p][0]) for p in UNKNOWN}
+    theta = np.linspace(*ends, 1001)
+    ref = newton_reference(
+        theta, lambda t: {"C": np.array([4.7, 0.0]),
+                          "F": lengths["GF"] * np.array([np.cos(t), np.sin(t)])},
+        UNKNOWN, PAIRS, [lengths[a + b] for a, b in PAIRS], start)
+    np.testing.assert_allclose(np.concatenate([s[p][1] for p in UNKNOWN]), ref[-1],
+                               atol=1e-9)
+
+
+@pytest.mark.parametrize("samples", [37, 360, 361, 7201])
+def test_a_group_passes_a_change_point_as_a_circle_intersection_does(samples):
+    """A parallelogram's coupler joint as a one-point group: at theta = pi the two
+    circles touch and the parallelogram and its crossed form meet. Like the circle
+    intersection node, which changes branch there, the group goes on along the
+    parallelogram, B = A + (4, 0), at every sample."""
+    theta = np.linspace(0.3, 0.3 + 2 * np.pi, samples)
+    s = geokin.sweep(fourbar(True, (4.0, 2.0, 4.0, 2.0), near=(5.5, 1.9)), theta)
+    assert s.valid.all()
+    np.testing.assert_allclose(s["B"], s["A"] + [4.0, 0.0], atol=1e-9)
