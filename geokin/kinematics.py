@@ -943,9 +943,10 @@ def _sampled_rate_unsure(values: np.ndarray, time: np.ndarray, rate: np.ndarray,
                          change: np.ndarray) -> np.ndarray:
     """Say where an input's rate and its change, read off its samples, may miss the accuracy.
 
-    They are differences of the samples, of second order: their truncation is
+    They are differences of the samples over ``time`` (or over the driving
+    input's values), of second order: their truncation is
     about a third of a step squared times the input's third (for the rate)
-    and fourth (for its change) derivatives in time, told by the samples'
+    and fourth (for its change) derivatives, told by the samples'
     third and fourth differences (the change's, two samples from either
     end, a step times the third derivative); against :data:`VELOCITY_RTOL` of the
     fastest rate and :data:`ACCELERATION_RTOL` of the largest change (or of
@@ -994,8 +995,9 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
     input_name : str, optional
         The driving input, whose speed sets the clock; by default the first
         input that moves in the sweep. Other inputs move as the sweep moves
-        them, in step with it (their rates follow from their values over
-        time), and an input that stays put is held.
+        them, in step with it (their rates follow from their values against
+        the driving input's, by the chain rule, or over time where it turns
+        back), and an input that stays put is held.
     speed : float or array_like, optional
         How fast the input moves, per second (radians per second for an
         angle), constant or one per sample; by default the input's declared
@@ -1062,14 +1064,25 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
     # the other inputs move as the sweep moves them, in step with the driving one
     rates, changes = {driver: rate}, {driver: rate_change}
     unsure = np.zeros(n, dtype=bool)  # where their rates may miss the accuracy stated
+    one_way = n >= 3 and (np.all(np.diff(values) > 0) or np.all(np.diff(values) < 0))
     for name, other in whole.inputs.items():
-        if name != driver and np.ptp(other) > 0 and n >= 2 and (np.diff(time) > 0).all():
-            if n >= 3:  # of second order at the ends too
-                rates[name] = np.gradient(other, time, edge_order=2)
-                changes[name] = np.gradient(rates[name], time, edge_order=2)
-            else:
-                rates[name], changes[name] = np.gradient(other, time), np.zeros(n)
+        if name == driver or not np.ptp(other) > 0:
+            continue
+        if one_way:
+            # a function of the driving input: differences over its values, evenly
+            # sampled as a rule (over time they are not where the speed varies), and
+            # the chain rule; an input in proportion to the driving one is exact
+            slope = np.gradient(other, values, edge_order=2)
+            bend = np.gradient(slope, values, edge_order=2)
+            rates[name] = slope * rate
+            changes[name] = bend * rate * rate + slope * rate_change
+            unsure |= _sampled_rate_unsure(other, values, slope, bend)
+        elif n >= 3 and (np.diff(time) > 0).all():  # of second order at the ends too
+            rates[name] = np.gradient(other, time, edge_order=2)
+            changes[name] = np.gradient(rates[name], time, edge_order=2)
             unsure |= _sampled_rate_unsure(other, time, rates[name], changes[name])
+        else:  # it moves while the clock stands still, or too few samples to tell
+            unsure[:] = True
     if count is not None:
         rate, rate_change = np.tile(rate, count), np.tile(rate_change, count)
         rates = {k: np.tile(v, count) for k, v in rates.items()}

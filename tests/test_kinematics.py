@@ -354,6 +354,29 @@ def test_a_second_input_swept_unevenly_flags_what_its_sampled_rate_cannot_promis
             assert np.flatnonzero(m.flagged).tolist() == [0, 1, n - 2, n - 1]
 
 
+def test_an_input_in_step_with_a_varying_speed_takes_its_rate_by_the_chain_rule():
+    """The second crank turns at half the first's angle while the first speeds up and
+    slows down: its pin's velocity and acceleration are the closed form's, and nothing
+    is flagged. Where the driving input stands still while the other moves, there is
+    no clock for the other's rate: every sample is flagged."""
+    k = five_bar(ground=6, cranks=3, links=7)
+    t1 = np.linspace(0, 2 * np.pi, 361)
+    t2 = 1.5 + 0.5 * t1
+    omega = 1 + 0.5 * np.sin(t1)
+    alpha = 0.5 * np.cos(t1) * omega  # d omega / dt
+    m = motion(sweep(k, {"t1": t1, "t2": t2}), "t1", speed=omega, acceleration=alpha)
+    turn = np.c_[-np.sin(t2), np.cos(t2)]
+    v = 3 * turn * (0.5 * omega)[:, None]
+    a = 3 * (-np.c_[np.cos(t2), np.sin(t2)] * ((0.5 * omega) ** 2)[:, None]
+             + turn * (0.5 * alpha)[:, None])
+    assert not m.flagged.any()
+    np.testing.assert_allclose(m.velocity["B"], v, atol=1e-9 * np.abs(v).max())
+    np.testing.assert_allclose(m.acceleration["B"], a, atol=1e-7 * np.abs(a).max())
+    paused = motion(sweep(k, {"t1": [0.0, 0.1, 0.1, 0.2, 0.3], "t2": [1.0, 1.1, 1.2, 1.3, 1.4]}),
+                    "t1", speed=1.0)
+    assert paused.flagged.all()
+
+
 def test_an_input_that_stays_put_is_held():
     c = five_bar()
     s = sweep(c, {"t1": np.linspace(0, 1, 11), "t2": 2.0})
