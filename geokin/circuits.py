@@ -711,6 +711,39 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
         passes.append((values, branches, solved))
         return {k: int(b[-1]) for k, b in branches.items()}
 
+    def reach(value, upward, labels, across, known: Limit) -> Limit | None:
+        """Return where the motion past a group's fold at ``value`` ends.
+
+        On the group's other assembly, the first sample that cannot be
+        assembled is bisected (``known`` where that is the limit it gives);
+        None where the bisection finds that sample
+        assembled after all (the continuation could not follow the assembly
+        there). A whole turn of an angle is searched, or to the end of a length's
+        declared range (a "range" end where nothing stops it before).
+        """
+        if declared.kind == "angle":
+            far = value + (2 * np.pi if upward else -2 * np.pi)
+        else:
+            far = max(declared.range) if upward else min(declared.range)
+        values = np.linspace(value, far, REACH_SAMPLES)
+        probe, skip = along(values, labels, across)  # of values[skip:]
+        ok = _strictly_valid(probe)
+        if ok.all():
+            return Limit(float(far), None, "range")
+        stop = int(np.argmin(ok))
+        if stop == 0:  # nothing assembles past the fold: the pass ends there
+            return Limit(float(value), None, "range")
+        inside, outside = values[skip + stop - 1], values[skip + stop]
+        guesses = {k: v[stop - 1:stop] for k, v in assembly_guesses(probe).items()}
+        branches = {k: int(v[stop - 1]) for k, v in probe.branches.items()}
+        refined, beyond = _refine(compiled, name, held, branches, [inside], [outside],
+                                  guesses)
+        if _strictly_valid(beyond)[0]:
+            return None  # assembled there from the side before: the probe gave up
+        if abs(refined[0] - known.value) <= 1e3 * LIMIT_TOLERANCE:
+            return known  # the end the search found: the same limit, as it gave it
+        return Limit(float(refined[0]), *_what_stops(beyond, 0))
+
     sheets = dict.fromkeys(groups, 0)
     folds: list[tuple[int, str, int]] = []  # a group passing its fold at a pass's end
     if found.full_turn:  # one turn the way the declared range runs
@@ -748,6 +781,7 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
             labels = run(stretch(position, target.value, labels, across), labels, across)
             if groups:
                 across = _continuing(compiled, name, held, passes[-1], target)
+            folded, folds_before = False, len(folds)
             if target.kind == "tangent":
                 ends = {k: _last_solved(v)[None] for k, v in passes[-1][2].items()}
                 labels = _through_toggle(compiled, name, held, labels, target, ends)
@@ -755,9 +789,20 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
                     sheets[node] ^= 1
                     folds.append((len(passes) - 1, node, sheets[node]))
                     across = _continuing(compiled, name, held, passes[-1], target, node)
+                    folded = True
             if labels != searched and not groups:
                 lo, hi = _interval_on(compiled, name, at, labels, target.value, (lo, hi))
                 searched = labels
+            if folded:
+                # on its other assembly a group goes as far as that assembly does
+                end = reach(target.value, not upward, labels, across, lo if upward else hi)
+                if end is None:
+                    warn_outside(f"circuit of {name!r}: past the fold at {target.value:g} "
+                                 "the group's other assembly could not be followed; the "
+                                 "motion is given as far as it went", UserWarning)
+                    del folds[folds_before:]
+                    break
+                lo, hi = (end, hi) if upward else (lo, end)
             position, target = target.value, (lo if upward else hi)
             # a circuit reaches both ends: at an end that is no toggle (of the searched
             # range, or of a ray) the branches stay, and the other end is still to come;
@@ -816,6 +861,9 @@ def _same_pose(compiled, name, held, value, labels, initial) -> bool:
     size = max(float(np.nanmax(np.abs(points[0]))), 1e-300)
     return bool(np.all(np.abs(points[0] - points[1]) <= POSE_RTOL * size))
 
+
+REACH_SAMPLES = 721
+"""Samples of the search for where a group's other assembly ends, past its fold."""
 
 POSE_RTOL = 1e-9
 """How close (times the mechanism's size) every point must be for two poses to be one."""

@@ -126,6 +126,7 @@ class _Layout:
     q: np.ndarray
     p_rows: np.ndarray  # the equations whose p (or q) is unknown
     q_rows: np.ndarray
+    bend: np.ndarray  # each equation's largest second derivative, times its distance
 
 
 @lru_cache(maxsize=64)
@@ -138,7 +139,9 @@ def _layout(system: System, unknowns: tuple[str, ...]) -> _Layout:
     p = np.array([column[a] for a, _ in system.distances])
     q = np.array([column[b] for _, b in system.distances])
     k = len(unknowns)
-    return _Layout(tuple(names), p, q, np.flatnonzero(p < k), np.flatnonzero(q < k))
+    # |P - Q|**2 changes by at most twice |D|**2 along a unit D where both move
+    bend = np.where((p < k) & (q < k), 2.0, 1.0)
+    return _Layout(tuple(names), p, q, np.flatnonzero(p < k), np.flatnonzero(q < k), bend)
 
 
 def _residual_jacobian(system: System, unknowns, known, lengths, z):
@@ -236,9 +239,19 @@ def _solve(jac, f):
 
 def _iterate(system, unknowns, known, lengths, z, scale, iterations):
     """Run up to ``iterations`` Newton steps on every row; return z, converged, first step."""
+    z, done, first, _, _ = _run(system, unknowns, known, lengths, z, scale, iterations)
+    return z, done, first
+
+
+def _run(system, unknowns, known, lengths, z, scale, iterations):
+    """Run Newton as :func:`_iterate` does, and return more.
+
+    Also the residuals at the start, and the Jacobians at the end (before the
+    last, polishing step).
+    """
     z = z.copy()
     done = np.zeros(z.shape[0], dtype=bool)
-    first = None
+    first = start = None
     # each row's: the group's size, and the rounding of its coordinates where they are
     # far larger
     tolerance = RESIDUAL_RTOL * scale + RESIDUAL_ROUNDING * np.max(
@@ -250,6 +263,7 @@ def _iterate(system, unknowns, known, lengths, z, scale, iterations):
         step = _solve(jac, f)
         if first is None:
             first = np.where(np.isfinite(step), step, np.nan)
+            start = f
         if done.all():
             break
         # a step longer than the group's size is cut to it: a guess far off cannot fly off
@@ -268,13 +282,12 @@ def _iterate(system, unknowns, known, lengths, z, scale, iterations):
         polish = (done & np.isfinite(step).all(axis=1)
                   & (np.max(np.abs(step), axis=1, initial=0.0) <= POLISH_RTOL * scale))
         if polish.any():
-            f_now, _ = _residual_jacobian(system, unknowns, known, lengths, z)
             f_new, _ = _residual_jacobian(system, unknowns, known, lengths, z + step)
             polish &= (np.max(np.abs(f_new), axis=1)
-                       <= np.maximum(np.max(np.abs(f_now), axis=1), tolerance))
+                       <= np.maximum(np.max(np.abs(f), axis=1), tolerance))
             z = np.where(polish[:, None], z + step, z)
     assert first is not None
-    return z, done, first
+    return z, done, first, start, jac
 
 
 def _scale(lengths, known_xy) -> float:
@@ -681,14 +694,16 @@ def _inverse(jac: np.ndarray) -> np.ndarray:
     return out
 
 
-def _separation(inverse: np.ndarray, lengths: np.ndarray, equations: int) -> np.ndarray:
+def _separation(inverse: np.ndarray, lengths: np.ndarray, system: System,
+                unknowns: Sequence[str]) -> np.ndarray:
     """Return a lower bound on the distance from a solution to the group's others.
 
-    Each distance equation ``(|P - Q|**2 - d**2) / (2 d)`` has second
-    derivatives of at most 2 / d in any unit direction of the unknowns, so
-    two solutions z and z + D of E equations satisfy
-    ``|J D| <= sqrt(E) |D|**2 / d`` (d the shortest distance), and ``|D|``
-    is at least ``sigma_min(J) d / sqrt(E)``, with ``sigma_min(J)`` the
+    The distance equations ``(|P - Q|**2 - d**2) / (2 d)`` are quadratic:
+    along a step D of the unknowns each changes by its first-order term plus
+    ``|D_P - D_Q|**2 / (2 d)``, at most ``c |D|**2 / (2 d)`` (c = 2 where both
+    points are unknown, else 1). Two solutions z and z + D therefore satisfy
+    ``|J D| <= |D|**2 sqrt(sum (c / d)**2) / 2``, and ``|D|`` is at least
+    ``2 sigma_min(J) / sqrt(sum (c / d)**2)``, with ``sigma_min(J)`` the
     inverse of ``|J^-1|``'s spectral norm (for many rows its Frobenius norm,
     at least as large, is cheaper). A point on a line adds no curvature
     where only the point is unknown.
@@ -699,28 +714,37 @@ def _separation(inverse: np.ndarray, lengths: np.ndarray, equations: int) -> np.
         norm[finite] = np.linalg.norm(inverse[finite], 2, axis=(1, 2))
     else:
         norm = np.sqrt(np.einsum("nij,nij->n", inverse, inverse))
-    shortest = np.min(lengths, axis=1) if lengths.shape[1] else np.ones(len(norm))
     with np.errstate(all="ignore"):
-        return shortest / (np.sqrt(equations) * norm)
+        if system.distances:
+            bend = _layout(system, tuple(unknowns)).bend
+            curvature = np.sqrt(np.sum((bend / lengths[:, :len(bend)]) ** 2, axis=1))
+        else:
+            curvature = np.ones(len(norm))
+        return 2.0 / (norm * curvature)
 
 
-def _continues(system, unknowns, before, after, previous, found, scale):
+def _continues(system, unknowns, before, after, previous, found, scale, jac=None,
+               f_next=None):
     """Say which solutions ``found`` (at data ``after``) continue ``previous`` (at ``before``).
 
     The step must stay within :data:`TRUST` of the distance from the
     previous solution to its nearest other (:func:`_separation`), and lie
     where the linearised step predicts (within :data:`JUMP_RATIO` of it).
     Returns that, and the linearised step's length over the step allowed
-    (what a step cut to fit should be shortened by).
+    (what a step cut to fit should be shortened by). ``jac``, the Jacobians
+    at the previous solutions, and ``f_next``, the residuals of the previous
+    solutions with the data after, may be given where known.
     """
-    _, jac = _residual_jacobian(system, unknowns, before[0], before[1], previous)
-    f_next, _ = _residual_jacobian(system, unknowns, after[0], after[1], previous)
+    if jac is None:
+        _, jac = _residual_jacobian(system, unknowns, before[0], before[1], previous)
+    if f_next is None:
+        f_next, _ = _residual_jacobian(system, unknowns, after[0], after[1], previous)
     inverse = _inverse(jac)
     predicted = -np.einsum("nij,nj->ni", inverse, f_next)
     step = found - previous
     slack = 1e-9 * scale
     with np.errstate(all="ignore"):
-        reach = TRUST * _separation(inverse, before[1], system.equations)
+        reach = TRUST * _separation(inverse, before[1], system, unknowns)
         ok = np.isfinite(found).all(axis=1)
         ok &= (np.max(np.abs(step - predicted), axis=1)
                <= JUMP_RATIO * np.max(np.abs(predicted), axis=1) + slack)
@@ -807,8 +831,8 @@ def _substeps(system, unknowns, known, lengths, i, j, z_i, scale, between=None,
     passes it on the assembly's own side; at a fold Newton finds nothing
     there, and the step cannot be crossed.
 
-    Returns the solution at j (or None), the smallest margin met on the way,
-    and the fraction of the step reached.
+    Returns the solution at j (or None), the smallest margin met on the way
+    (infinite where the pieces ran out), and the fraction of the step reached.
     """
     one = np.ones(1)
 
@@ -823,30 +847,31 @@ def _substeps(system, unknowns, known, lengths, i, j, z_i, scale, between=None,
     anchor = (0.0, z)
     lowest = np.inf
     before = along(0.0)
+    _, jac_here = _residual_jacobian(system, unknowns, *before, z[None])
     here: tuple[float, float] | None = None  # the margin and the step allowed at z
     for _ in range(MAX_SUBSTEPS):
         target = min(t + piece, 1.0)
         after = along(target)
-        found, ok, _ = _iterate(system, unknowns, *after, z[None], scale, CHUNK_ITERATIONS)
-        continues, ratio = _continues(system, unknowns, before, after, z[None], found, scale)
+        found, ok, _, f_next, jac_found = _run(system, unknowns, *after, z[None], scale,
+                                               CHUNK_ITERATIONS)
+        continues, ratio = _continues(system, unknowns, before, after, z[None], found, scale,
+                                      jac_here, f_next)
         ok &= continues
         # the next piece as long as the step allowed takes, within halving and doubling
-        fit = 0.8 / ratio[0] if ratio[0] > 0 else 2.0
-        _, jac_found = _residual_jacobian(system, unknowns, *after, found)
+        fit = 0.9 / ratio[0] if ratio[0] > 0 else 2.0
         m = float(margins(jac_found)[0])
         if ok[0] and m >= SINGULAR_MARGIN:
             if m >= ANCHOR_MARGIN:
                 anchor = (target, found[0])
             lowest = min(lowest, m)
-            t, z, before, here = target, found[0], after, None
+            t, z, before, here, jac_here = target, found[0], after, None, jac_found
             if t >= 1.0:
                 return z, lowest, t
             piece = min(piece * min(max(fit, 1.0), 2.0), 1.0 - t)
             continue
         if here is None:
-            _, jac = _residual_jacobian(system, unknowns, *before, z[None])
-            reach = TRUST * _separation(_inverse(jac), before[1], system.equations)[0]
-            here = float(margins(jac)[0]), float(reach)
+            reach = TRUST * _separation(_inverse(jac_here), before[1], system, unknowns)[0]
+            here = float(margins(jac_here)[0]), float(reach)
         lowest = min(lowest, here[0])
         piece *= min(max(fit, 0.05), 0.5) if np.isfinite(fit) else 0.5
         # on, while neither the pieces nor the steps they may take are too short to tell
@@ -858,10 +883,11 @@ def _substeps(system, unknowns, known, lengths, i, j, z_i, scale, between=None,
             return None, here[0], t
         t, z = crossed
         before, here = along(t), None
+        _, jac_here = _residual_jacobian(system, unknowns, *before, z[None])
         if t >= 1.0:
             return z, lowest, t
         piece = min(1e3 * CROSSING_PIECE, 1.0 - t)
-    return None, lowest, t
+    return None, np.inf, t  # out of pieces: not shown to stop at a singular position
 
 
 def _step_over(system, unknowns, along, t, anchor, scale):

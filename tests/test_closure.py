@@ -698,3 +698,78 @@ def test_a_group_passes_a_change_point_as_a_circle_intersection_does(samples):
     s = geokin.sweep(fourbar(True, (4.0, 2.0, 4.0, 2.0), near=(5.5, 1.9)), theta)
     assert s.valid.all()
     np.testing.assert_allclose(s["B"], s["A"] + [4.0, 0.0], atol=1e-9)
+
+
+def _curve_of_triad(lengths, z0, step=5e-3):
+    """Trace the triad's solution curve in (D, E, A, B, theta) by arclength continuation
+    from z0 at theta = 0, round to where it began: each step moves ``step`` along the
+    curve's tangent (the Jacobian's null vector) and Newton brings it back with the
+    arclength equation added. Returns the curve and the thetas where it turns back."""
+    pairs = [(a, b, lengths[n]) for a, b, n in STEPHENSON_PAIRS]
+    names = "DEAB"
+
+    def residual_jacobian(x):
+        at = {p: x[2 * i:2 * i + 2] for i, p in enumerate(names)}
+        at["C"] = np.array([4.7, 0.0])
+        at["F"] = lengths["GF"] * np.array([np.cos(x[8]), np.sin(x[8])])
+        dfdt = lengths["GF"] * np.array([-np.sin(x[8]), np.cos(x[8])])
+        f, jac = np.empty(8), np.zeros((8, 9))
+        for e, (a, b, d) in enumerate(pairs):
+            diff = at[a] - at[b]
+            f[e] = diff @ diff - d * d
+            for p, sign in ((a, 2), (b, -2)):
+                if p in names:
+                    jac[e, 2 * names.index(p):2 * names.index(p) + 2] += sign * diff
+                elif p == "F":
+                    jac[e, 8] += sign * diff @ dfdt
+        return f, jac
+
+    x = np.append(z0, 0.0)
+    tangent = np.linalg.svd(residual_jacobian(x)[1])[2][-1]
+    tangent *= np.sign(tangent[8])
+    curve, turns = [x], []
+    for _ in range(100_000):
+        guess = x + step * tangent
+        for _ in range(30):
+            f, jac = residual_jacobian(guess)
+            move = np.linalg.solve(np.vstack([jac, tangent]),
+                                   -np.append(f, tangent @ (guess - x) - step))
+            guess = guess + move
+            if np.max(np.abs(move)) < 1e-13:
+                break
+        turned = np.linalg.svd(residual_jacobian(guess)[1])[2][-1]
+        turned *= np.sign(turned @ tangent)
+        if turned[8] * tangent[8] < 0:
+            turns.append(guess[8])
+        x, tangent = guess, turned
+        curve.append(x)
+        if len(curve) > 100 and np.max(np.abs(x - curve[0])) < 2 * step:
+            break
+    return np.array(curve), np.array(turns)
+
+
+def test_a_triads_circuit_passes_each_fold_onto_the_assembly_beyond_it():
+    """A Stephenson III whose triad's solution curve turns back six times, at
+    +-43.257, +-41.752 and +-45.787 deg, as a continuation along the curve's
+    arclength (written here) finds. The circuit turns back at those six folds in
+    that order, passing each onto the assembly beyond, every sample lies on the
+    curve, and it ends where it began."""
+    lengths = {"GF": 1.484993, "FD": 2.425755, "FE": 4.922921, "DE": 2.701186,
+               "CA": 0.317111, "CB": 2.231417, "AB": 2.067206, "DA": 1.641597,
+               "EB": 2.968174}
+    c = geokin.load(ROOT / "constructions" / "stephenson3.toml").compile().with_parameters(
+        lengths)
+    s = geokin.circuit(c)
+    assert s.valid.all()
+    z = np.column_stack([s[p] for p in "DEAB"])
+    curve, turns = _curve_of_triad(lengths, z[0])
+    theta = s.input_values
+    moves = np.diff(theta)
+    reversals = theta[np.flatnonzero(moves[:-1] * moves[1:] < 0) + 1]
+    np.testing.assert_allclose(reversals, turns, atol=1e-4)
+    assert len(s.events) == 6
+    # each sample within a step of the traced curve
+    points = np.column_stack([z, theta])
+    nearest = [np.min(np.max(np.abs(curve - p), axis=1)) for p in points]
+    assert max(nearest) < 5e-3
+    np.testing.assert_allclose(z[-1], z[0], atol=1e-9)
