@@ -431,8 +431,22 @@ def _closes_round(probe: Sweep, variant: int, samples: int) -> bool:
     ends = assembly_guesses(probe, np.array([variant * samples, (variant + 1) * samples - 1]))
     if not ends:
         return True
-    size = max(float(np.max(np.abs(v[0]))) for v in ends.values())
-    return all(bool(np.all(np.abs(v[1] - v[0]) <= SEAM_RTOL * size)) for v in ends.values())
+    first, last = (np.concatenate([v[i] for v in ends.values()]) for i in (0, 1))
+    return _one_pose(first, last, SEAM_RTOL)
+
+
+def _one_pose(first: np.ndarray, second: np.ndarray, rtol: float) -> bool:
+    """Whether two poses' coordinates agree within ``rtol`` times the first's size.
+
+    Examples
+    --------
+    >>> _one_pose(np.array([10.0, 0.0]), np.array([10.0, 1e-8]), 1e-9)
+    True
+    >>> _one_pose(np.array([10.0, 0.0]), np.array([10.0, np.nan]), 1e-9)
+    False
+    """
+    size = max(float(np.nanmax(np.abs(first), initial=0.0)), 1e-300)
+    return bool(np.all(np.abs(first - second) <= rtol * size))
 
 
 ROUNDING_GAP_PROBES = 17
@@ -858,8 +872,7 @@ def _same_pose(compiled, name, held, value, labels, initial) -> bool:
              for branches in (labels, initial)]
     points = [np.concatenate([np.asarray(pose[p]).ravel() for p in compiled.point_names])
               for pose in poses]
-    size = max(float(np.nanmax(np.abs(points[0]))), 1e-300)
-    return bool(np.all(np.abs(points[0] - points[1]) <= POSE_RTOL * size))
+    return _one_pose(points[0], points[1], POSE_RTOL)
 
 
 REACH_SAMPLES = 721

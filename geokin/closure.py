@@ -37,6 +37,7 @@ from __future__ import annotations
 from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 
@@ -49,7 +50,7 @@ MAX_ITERATIONS = 30
 CHUNK_ITERATIONS = 8
 """The most Newton iterations for the samples of a chunk of the continuation."""
 
-MAX_SUBSTEPS = 4096
+MAX_SUBSTEPS = 1024
 """The most pieces one step between samples is cut into by the continuation."""
 
 RESIDUAL_RTOL = 1e-13
@@ -365,17 +366,17 @@ def continue_along(system: System, unknowns: Sequence[str], known: Mapping,
     solution's nearest other solution, and where the linearised step
     predicts). Where the first sample of a chunk fails, the step to it is
     cut into pieces (the known points and distances as ``between`` gives
-    them along the step), halving each piece that fails, at most
+    them along the step), each as long as the step allowed, at most
     :data:`MAX_SUBSTEPS` pieces; at a singular position where the assembly
     goes on (two assemblies cross), a piece steps over it along the last
     rate (:func:`_substeps`).
 
     A step that cannot be crossed leaves its sample unsolved: a gap. A
     later sample resumes the path only where its assembly is reached again
-    (:func:`_resumes`): from the last solution, moving the inputs straight
-    to the sample's, or at the inputs of the path's first sample (a crank
-    that turns fully comes back to where it began). The samples between the
-    gap and a resumed one are followed back from it.
+    (:meth:`_Path._resume`): from the last solution, moving the inputs
+    straight to the sample's, or at the inputs of the path's first solved
+    sample (a crank that turns fully comes back to where it began). The
+    samples between the gap and a resumed one are followed back from it.
 
     ``path_starts`` are the samples where a new path begins (design
     variants, one after the other): each path is followed on its own, from
@@ -420,7 +421,7 @@ TRUST = 0.25
 distance from it to the group's nearest other solution (:func:`_separation`): Newton
 cannot then land on another assembly, however coarse the samples."""
 
-MAX_ATTEMPTS = 32
+MAX_ATTEMPTS = 8
 """The most samples past one gap tried by crossing the straight segment to them."""
 
 CROSSING_PIECE = 1e-9
@@ -448,6 +449,8 @@ class _Path:
         self.margin = np.full(n, np.nan)
         self.singular = np.zeros(n, dtype=bool)
         self.scale = _scale(lengths, known)
+        # where in the space of the inputs a step stopped: a fold of the assembly
+        self.obstacles: list[np.ndarray | None] = []
 
     def follow(self, start: np.ndarray, resume: bool = True) -> None:
         """Solve the first sample that Newton from ``start`` solves, and follow on.
@@ -461,6 +464,7 @@ class _Path:
         if first > 0:
             self._follow_back(first, 0, resume)
         self._forwards(first, resume)
+        self.singular &= ~np.isfinite(self.z).all(axis=1)
 
     def _first(self, start: np.ndarray) -> int | None:
         """Solve the first sample Newton from the sketch solves; return it."""
@@ -492,7 +496,7 @@ class _Path:
         path.z[0], path.margin[0] = self.z[solved], self.margin[solved]
         path._forwards(0, resume)
         self.z[back[1:]], self.margin[back[1:]] = path.z[1:], path.margin[1:]
-        self.singular[back[1:]] = path.singular[1:]
+        self.singular[back[1:]] |= path.singular[1:]
 
     def _forwards(self, last: int, resume: bool) -> None:
         """Follow the assembly from solved sample ``last`` to the last sample."""
@@ -522,19 +526,24 @@ class _Path:
                 chunk = min(2 * chunk, MAX_CHUNK) if bad.size == 0 else max(chunk // 2, 1)
                 continue
             chunk = 1
-            # the step from the last solution to sample j, cut into pieces
-            solved, stop_margin, reached = _substeps(
-                system, unknowns, self.known, self.lengths, last, j, self.z[last], scale,
-                self.between, self.numbered)
-            if solved is not None:
-                self._take(j, solved)
+            # the step from the last solution to sample j, cut into pieces, unless it
+            # runs through where a step stopped before
+            if self._blocked(last, np.array([j]), self.obstacles)[0]:
+                crossing = _Crossing(None, 0.0, 0.0, True)
+            else:
+                crossing = _substeps(system, unknowns, self.known, self.lengths, last, j,
+                                     self.z[last], scale, self.between, self.numbered)
+                if crossing.stopped:
+                    self.obstacles.append(self._obstacle(last, j, crossing.reached))
+            if crossing.solution is not None:
+                self._take(j, crossing.solution)
                 last = j
                 j += 1
                 continue
-            self.singular[j] = stop_margin < NEAR_SINGULAR
+            self.singular[j] = crossing.margin < NEAR_SINGULAR
             if not resume:
                 return
-            resumed = self._resume(last, j + 1, [self._obstacle(last, j, reached)])
+            resumed = self._resume(last, j + 1)
             if resumed is None:
                 return
             last = resumed
@@ -576,7 +585,7 @@ class _Path:
                            <= 1e-9 * (np.sqrt(length) + np.max(np.abs(point), initial=0.0))))
         return out
 
-    def _resume(self, last: int, j: int, obstacles: list) -> int | None:
+    def _resume(self, last: int, j: int) -> int | None:
         """Find the first sample from j on where the assembly is reached again.
 
         Past a gap the equations may have solutions close to the last one
@@ -584,9 +593,10 @@ class _Path:
         where the assembly followed ends and others go on. A sample resumes
         the path where the inputs, moved straight from the last solved
         sample's to its own, carry the last solution to it (:func:`_substeps`),
-        tried only where Newton from the last solution converges there and,
-        from there, back to the last solution; or where its inputs are those
-        of the path's first sample, whose solution it takes. The samples
+        tried in order at the samples whose segment from the last solved
+        sample meets no obstacle (:meth:`_blocked`), at most
+        :data:`MAX_ATTEMPTS` of them; or where its inputs are those of the
+        path's first solved sample, whose solution it takes. The samples
         from the gap to it are followed back from it (up to the sample after
         the gap's first, which stays unsolved).
 
@@ -595,61 +605,31 @@ class _Path:
         system, unknowns, scale = self.system, self.unknowns, self.scale
         home = int(np.argmax(np.isfinite(self.z).all(axis=1)))
         home_data = _rows(self.known, self.lengths, [home])
-        last_data = _rows(self.known, self.lengths, [last])
-        earlier = None  # the candidate at the sample before a block, for runs
+        stopped = bool(self.singular[last + 1])  # why the path stopped: for those past it
         attempts = 0
         while j < self.n:
             rows = np.arange(j, min(j + MAX_CHUNK, self.n))
             data, length = _rows(self.known, self.lengths, rows)
-            # Newton from the last solution only where a straight segment might reach
-            again = np.full((rows.size, 2 * system.k), np.nan)
-            m = np.full(rows.size, np.nan)
-            ok = np.zeros(rows.size, dtype=bool)
-            open_ = (np.flatnonzero(~self._blocked(last, rows, obstacles))
-                     if attempts < MAX_ATTEMPTS else np.zeros(0, dtype=int))
-            if open_.size:
-                some, some_length = _rows(data, length, open_)
-                again[open_], ok[open_], _ = _iterate(
-                    system, unknowns, some, some_length,
-                    np.repeat(self.z[last][None], open_.size, axis=0), scale, MAX_ITERATIONS)
-                _, jac = _residual_jacobian(system, unknowns, some, some_length, again[open_])
-                m[open_] = margins(jac)
-            ok &= np.isfinite(again).all(axis=1) & (m >= SINGULAR_MARGIN)
-            repeated = np.repeat(last_data[1], rows.size, axis=0)
-            back_data = ({p: (np.repeat(x, rows.size) if np.ndim(x) else x,
-                              np.repeat(y, rows.size) if np.ndim(y) else y)
-                          for p, (x, y) in last_data[0].items()}, repeated)
-            ok &= _comes_back(system, unknowns, back_data, again, self.z[last][None], scale)
-            # a run of candidates that continue each other is one assembly: tried once
-            previous = np.vstack([np.full((1, again.shape[1]), np.nan)
-                                  if earlier is None else earlier, again[:-1]])
-            run = np.concatenate([[earlier is not None], ok[:-1]]) & ok
-            before = _rows(self.known, self.lengths, np.concatenate([[rows[0] - 1], rows[:-1]]))
-            run &= _continues(system, unknowns, before, (data, length), previous, again,
-                              scale)[0]
+            self.singular[rows] = stopped
             home_rows = _same_data(data, length, home_data, scale)
-            # unsolved past a fold (Newton from the last solution stalls at a singular
-            # position, or lands on an assembly the fold led away from)
-            stopped = self.singular[last + 1]
-            self.singular[rows] = np.where(np.isnan(m), stopped,
-                                           ~(m >= NEAR_SINGULAR) | (ok & stopped))
-            for at in np.flatnonzero((ok & ~run) | home_rows):
+            open_ = (~self._blocked(last, rows, self.obstacles) if attempts < MAX_ATTEMPTS
+                     else np.zeros(rows.size, dtype=bool))
+            for at in np.flatnonzero(open_ | home_rows):
                 k = int(rows[at])
+                solved = None
                 if home_rows[at]:
                     here, here_length = _rows(self.known, self.lengths, [k])
-                    solved, done, _ = _iterate(system, unknowns, here, here_length,
-                                               self.z[home][None], scale, MAX_ITERATIONS)
-                    solved = solved[0] if done[0] else None
-                elif attempts < MAX_ATTEMPTS and not self._blocked(last, rows[at:at + 1],
-                                                                   obstacles)[0]:
+                    found, done, _ = _iterate(system, unknowns, here, here_length,
+                                              self.z[home][None], scale, MAX_ITERATIONS)
+                    solved = found[0] if done[0] else None
+                elif attempts < MAX_ATTEMPTS and not self._blocked(
+                        last, rows[at:at + 1], self.obstacles)[0]:
                     attempts += 1
-                    solved, _, reached = _substeps(system, unknowns, self.known, self.lengths,
-                                                   last, k, self.z[last], scale, self.between,
-                                                   self.numbered)
-                    if solved is None:
-                        obstacles.append(self._obstacle(last, k, reached))
-                else:
-                    solved = None
+                    crossing = _substeps(system, unknowns, self.known, self.lengths, last, k,
+                                         self.z[last], scale, self.between, self.numbered)
+                    solved = crossing.solution
+                    if crossing.stopped:
+                        self.obstacles.append(self._obstacle(last, k, crossing.reached))
                 if solved is None:
                     continue
                 self._take(k, solved)
@@ -657,7 +637,6 @@ class _Path:
                 if k > last + 2:
                     self._follow_back(k, last + 2, resume=False)
                 return k
-            earlier = np.where(ok[-1], again[-1], np.nan)[None]
             j = int(rows[-1]) + 1
         return None
 
@@ -696,31 +675,54 @@ def _inverse(jac: np.ndarray) -> np.ndarray:
 
 def _separation(inverse: np.ndarray, lengths: np.ndarray, system: System,
                 unknowns: Sequence[str]) -> np.ndarray:
-    """Return a lower bound on the distance from a solution to the group's others.
+    """Return how far a solution lies from the group's others, at the least.
 
     The distance equations ``(|P - Q|**2 - d**2) / (2 d)`` are quadratic:
     along a step D of the unknowns each changes by its first-order term plus
     ``|D_P - D_Q|**2 / (2 d)``, at most ``c |D|**2 / (2 d)`` (c = 2 where both
     points are unknown, else 1). Two solutions z and z + D therefore satisfy
     ``|J D| <= |D|**2 sqrt(sum (c / d)**2) / 2``, and ``|D|`` is at least
-    ``2 sigma_min(J) / sqrt(sum (c / d)**2)``, with ``sigma_min(J)`` the
-    inverse of ``|J^-1|``'s spectral norm (for many rows its Frobenius norm,
-    at least as large, is cheaper). A point on a line adds no curvature
-    where only the point is unknown.
+    ``2 sigma_min(J) / sqrt(sum (c / d)**2)`` (for many rows, with the
+    Frobenius norm of ``J^-1`` for ``1 / sigma_min``, cheaper and as large).
+
+    For few rows (the pieces of a step, near singular positions, where the
+    bound is what limits them) the distance is estimated sharper: a
+    solution nearby lies along v, the direction of J's smallest singular
+    value, as far as the equations' own second derivatives along v put it,
+    ``2 sigma_min / |F''(v, v)|`` (no nearer than the bound); one off that
+    direction is at least ``2 sigma_2 / sqrt(sum (c / d)**2)`` away. A point
+    on a line adds no curvature where only the point is unknown.
     """
-    if inverse.shape[0] <= 8:  # the spectral norm, as cheap as the bound for few rows
-        norm = np.full(inverse.shape[0], np.nan)
-        finite = np.isfinite(inverse).all(axis=(1, 2))
-        norm[finite] = np.linalg.norm(inverse[finite], 2, axis=(1, 2))
-    else:
-        norm = np.sqrt(np.einsum("nij,nij->n", inverse, inverse))
     with np.errstate(all="ignore"):
         if system.distances:
-            bend = _layout(system, tuple(unknowns)).bend
-            curvature = np.sqrt(np.sum((bend / lengths[:, :len(bend)]) ** 2, axis=1))
+            layout = _layout(system, tuple(unknowns))
+            d = lengths[:, :len(layout.bend)]
+            curvature = np.sqrt(np.sum((layout.bend / d) ** 2, axis=1))
         else:
-            curvature = np.ones(len(norm))
-        return 2.0 / (norm * curvature)
+            curvature = np.ones(inverse.shape[0])
+        if inverse.shape[0] > 8:  # many rows: the Frobenius norm, cheaper and as large
+            return 2.0 / (np.sqrt(np.einsum("nij,nij->n", inverse, inverse)) * curvature)
+        out = np.full(inverse.shape[0], np.nan)
+        finite = np.isfinite(inverse).all(axis=(1, 2))
+        if not finite.any():
+            return out
+        # the singular values of J, and its direction v of the smallest: a solution
+        # near along v is as far as the equations' own curvature along v puts it
+        vectors, inverse_values, _ = np.linalg.svd(inverse[finite])
+        smallest, second = 1.0 / inverse_values[:, 0], 1.0 / inverse_values[:, 1]
+        apart = 2.0 * second / curvature[finite]
+        if system.distances:
+            v = vectors[:, :, 0]
+            k = system.k
+            vx = np.concatenate([v[:, 0::2], np.zeros((v.shape[0], len(layout.names) - k))], 1)
+            vy = np.concatenate([v[:, 1::2], np.zeros((v.shape[0], len(layout.names) - k))], 1)
+            bend = ((vx[:, layout.p] - vx[:, layout.q]) ** 2
+                    + (vy[:, layout.p] - vy[:, layout.q]) ** 2) / d[finite]
+            along = 2.0 * smallest / np.sqrt(np.sum(bend ** 2, axis=1))
+        else:
+            along = 2.0 * smallest
+        out[finite] = np.minimum(np.fmax(along, 2.0 * smallest / curvature[finite]), apart)
+        return out
 
 
 def _continues(system, unknowns, before, after, previous, found, scale, jac=None,
@@ -796,24 +798,13 @@ def stalls_singular(system: System, unknowns: Sequence[str], known: Mapping,
     return (at_guess < NEAR_SINGULAR) | (at_end < NEAR_SINGULAR)
 
 
-COME_BACK_RTOL = 1e-6
-"""How close (times the group's size) Newton from a solution, at the sample before,
-must come back to the solution there for the two to be one assembly."""
+class _Crossing(NamedTuple):
+    """How far the pieces of a step got (see :func:`_substeps`)."""
 
-
-def _comes_back(system, unknowns, before, found, previous, scale) -> np.ndarray:
-    """Say which solutions continue the solutions before them: Newton comes back.
-
-    Newton at the sample before (``before``: its known points and lengths),
-    from each solution ``found``, must converge to the solution there,
-    ``previous``. Near a fold the linear prediction of a step is too long
-    to tell a jump to another assembly; this tells it: from a solution of
-    another assembly Newton converges to that assembly's solution at the
-    sample before, not to the one followed.
-    """
-    back, ok, _ = _iterate(system, unknowns, before[0], before[1], found, scale,
-                           CHUNK_ITERATIONS)
-    return ok & (np.max(np.abs(back - previous), axis=1) <= COME_BACK_RTOL * scale)
+    solution: np.ndarray | None  # at the step's end, None where not reached
+    margin: float  # the smallest met on the way, or where the pieces stopped
+    reached: float  # the fraction of the step reached
+    stopped: bool  # stopped at a singular position, not merely out of pieces
 
 
 def _substeps(system, unknowns, known, lengths, i, j, z_i, scale, between=None,
@@ -831,8 +822,10 @@ def _substeps(system, unknowns, known, lengths, i, j, z_i, scale, between=None,
     passes it on the assembly's own side; at a fold Newton finds nothing
     there, and the step cannot be crossed.
 
-    Returns the solution at j (or None), the smallest margin met on the way
-    (infinite where the pieces ran out), and the fraction of the step reached.
+    Returns a :class:`_Crossing`: the solution at j (or None), the smallest
+    margin met on the way (or the margin where the pieces ran out), the
+    fraction of the step reached, and whether the step stopped at a singular
+    position it could not step over.
     """
     one = np.ones(1)
 
@@ -866,7 +859,7 @@ def _substeps(system, unknowns, known, lengths, i, j, z_i, scale, between=None,
             lowest = min(lowest, m)
             t, z, before, here, jac_here = target, found[0], after, None, jac_found
             if t >= 1.0:
-                return z, lowest, t
+                return _Crossing(z, lowest, t, False)
             piece = min(piece * min(max(fit, 1.0), 2.0), 1.0 - t)
             continue
         if here is None:
@@ -880,14 +873,15 @@ def _substeps(system, unknowns, known, lengths, i, j, z_i, scale, between=None,
             continue
         crossed = _step_over(system, unknowns, along, t, anchor, scale)
         if crossed is None:
-            return None, here[0], t
+            return _Crossing(None, here[0], t, True)
         t, z = crossed
         before, here = along(t), None
         _, jac_here = _residual_jacobian(system, unknowns, *before, z[None])
         if t >= 1.0:
-            return z, lowest, t
+            return _Crossing(z, lowest, t, False)
         piece = min(1e3 * CROSSING_PIECE, 1.0 - t)
-    return None, np.inf, t  # out of pieces: not shown to stop at a singular position
+    _, jac_here = _residual_jacobian(system, unknowns, *before, z[None])
+    return _Crossing(None, float(margins(jac_here)[0]), t, False)  # out of pieces
 
 
 def _step_over(system, unknowns, along, t, anchor, scale):

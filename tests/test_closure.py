@@ -663,8 +663,16 @@ def test_a_group_that_fails_one_sample_resumes_where_the_inputs_come_back():
         {"GF": 3.0})
     s = geokin.sweep(c, [0.0, 1.0, 1.9, 1.0, 0.0])
     assert s.valid.tolist() == [True, True, False, True, True]
+    assert s.failure_reason[2] == "the group reaches a singular position"
     for p in "DEAB":
         np.testing.assert_allclose(s[p][[3, 4]], s[p][[1, 0]], atol=1e-9)
+    # a sample that Newton from the last solution misses, past the gap, is reached as
+    # it is without the gap: moving the input from the last solved sample to it
+    past = geokin.sweep(c, [0.3, 1.8, 1.9, 0.5])
+    direct = geokin.sweep(c, [0.3, 1.8, 0.5])
+    assert past.valid.tolist() == [True, True, False, True]
+    for p in "DEAB":
+        np.testing.assert_allclose(past[p][3], direct[p][2], atol=1e-9)
 
 
 def test_a_coarse_step_of_a_triad_keeps_its_assembly():
