@@ -745,8 +745,8 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
         if ok.all():
             return Limit(float(far), None, "range")
         stop = int(np.argmin(ok))
-        if stop == 0:  # nothing assembles past the fold: the pass ends there
-            return Limit(float(value), None, "range")
+        if stop == 0:  # nothing assembles past the fold
+            return None
         inside, outside = values[skip + stop - 1], values[skip + stop]
         guesses = {k: v[stop - 1:stop] for k, v in assembly_guesses(probe).items()}
         branches = {k: int(v[stop - 1]) for k, v in probe.branches.items()}
@@ -822,12 +822,16 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
             # range, or of a ray) the branches stay, and the other end is still to come;
             # it is closed once back at the start in its first pose, heading up as it set
             # out (heading down, it has yet to pass the start and reach the lower end)
-            if (count >= 2 and target is hi and not any(sheets.values())
+            if (count >= 2 and target is hi and (groups or not any(sheets.values()))
                     and lo.value <= start <= hi.value):
                 # run on to the start, and stop there if back in the pose it began in (on
-                # the way a node may pass a change point); else go on from there
+                # the way a node may pass a change point, a group past folds on any of
+                # its assemblies); else go on from there
                 labels = run(stretch(position, start, labels, across), labels, across)
-                if _same_pose(compiled, name, held, start, labels, initial):
+                if _same_pose(compiled, name, held, start, labels, initial) and all(
+                        _one_pose(_first_solved(passes[0][2][k]),
+                                  _last_solved(passes[-1][2][k]), POSE_RTOL)
+                        for k in groups):
                     break
                 position = start
                 if groups:
@@ -966,6 +970,12 @@ def _nearest_solved(rows: np.ndarray) -> np.ndarray:
         return rows
     before = np.maximum.accumulate(np.where(solved, np.arange(len(rows)), -1))
     return rows[np.where(before >= 0, before, np.argmax(solved))]
+
+
+def _first_solved(rows: np.ndarray) -> np.ndarray:
+    """Return the first solution a pass found, NaN if none."""
+    found = _solved(rows)
+    return rows[found[0]] if found.size else rows[0]
 
 
 def _last_solved(rows: np.ndarray) -> np.ndarray:

@@ -965,7 +965,7 @@ def _sampled_rate_unsure(values: np.ndarray, time: np.ndarray, rate: np.ndarray,
     n = len(values)
     if n < 5:
         return np.ones(n, dtype=bool)
-    step = np.gradient(time)
+    step = np.abs(np.gradient(time))  # over a driving input's values, which may fall
     with np.errstate(all="ignore"):
         # the differences about each sample (the nearest ones at the ends)
         third = np.pad(np.abs(np.diff(values, 3)), (1, 2), mode="edge")
@@ -1081,6 +1081,9 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
             rates[name] = np.gradient(other, time, edge_order=2)
             changes[name] = np.gradient(rates[name], time, edge_order=2)
             unsure |= _sampled_rate_unsure(other, time, rates[name], changes[name])
+        elif n == 2 and time[1] > time[0]:  # one step: its slope, flagged
+            rates[name], changes[name] = np.gradient(other, time), np.zeros(n)
+            unsure[:] = True
         else:  # it moves while the clock stands still, or too few samples to tell
             unsure[:] = True
     if count is not None:

@@ -781,3 +781,24 @@ def test_a_triads_circuit_passes_each_fold_onto_the_assembly_beyond_it():
     nearest = [np.min(np.max(np.abs(curve - p), axis=1)) for p in points]
     assert max(nearest) < 5e-3
     np.testing.assert_allclose(z[-1], z[0], atol=1e-9)
+
+
+def test_a_triads_circuit_over_more_than_two_assemblies_closes_in_its_first_pose():
+    """A triad whose curve turns back six times over three assemblies: back at its
+    start after two folds the group is on another assembly, and the circuit goes on
+    until it is back in the pose it began in, turning back at each fold of the
+    curve (+-1.2539, -0.946, -1.164, 1.164, 0.946 rad)."""
+    lengths = {"GF": 1.671676, "FD": 2.059705, "FE": 1.683527, "DE": 2.613831,
+               "CA": 0.235229, "CB": 4.991438, "AB": 5.09953, "DA": 2.359134, "EB": 1.6419}
+    c = geokin.load(ROOT / "constructions" / "stephenson3.toml").compile().with_parameters(
+        lengths)
+    s = geokin.circuit(c)
+    assert s.valid.all()
+    z = np.column_stack([s[p] for p in "DEAB"])
+    theta = s.input_values
+    moves = np.diff(theta)
+    reversals = theta[np.flatnonzero(moves[:-1] * moves[1:] < 0) + 1]
+    np.testing.assert_allclose(reversals, [1.2539, -1.2539, -0.946, -1.164, 1.164, 0.946],
+                               atol=1e-3)
+    assert len(s.events) == 6
+    np.testing.assert_allclose(z[-1], z[0], atol=1e-9)
