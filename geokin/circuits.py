@@ -30,6 +30,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
+from .closure import NEAR_SINGULAR
 from .compat import renamed_attribute, renamed_keywords
 from .construction import Compiled, Construction, as_compiled
 from .engine import assembly_guesses, evaluate, start_labels, variant_values
@@ -196,6 +197,13 @@ def _what_stops(result: Sweep, i: int) -> tuple[str, str, tuple[str, ...], str]:
             t = np.broadcast_to(t, n)[i]
             if not step.node.low <= t <= step.node.high:
                 return node, "end", (), _leaves(step.node)
+    # a closure group a rounding past its fold: Newton there converges to within the
+    # residual's tolerance of the fold itself, all but singular
+    for step in result.construction.steps:
+        margin = result.margins.get(step.node.name)
+        if step.node.continued and margin is not None and (
+                np.broadcast_to(margin, n)[i] < NEAR_SINGULAR):
+            return step.node.name, "tangent", (step.node.name,), ""
     return "", "end", (), ""
 
 

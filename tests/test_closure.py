@@ -802,3 +802,25 @@ def test_a_triads_circuit_over_more_than_two_assemblies_closes_in_its_first_pose
                                atol=1e-3)
     assert len(s.events) == 6
     np.testing.assert_allclose(z[-1], z[0], atol=1e-9)
+
+
+def test_a_limit_a_rounding_past_a_groups_fold_is_its_fold():
+    """Bisected to 1e-12 of this triad's fold at 0.7643, Newton just past it converges
+    to within the residual's tolerance, all but singular: the limit is the group's
+    fold, tangent at D, not an end that nothing stops. The circuit passes it onto the
+    other assembly and closes after the curve's two folds."""
+    lengths = {"GF": 0.833677, "FD": 2.37916, "FE": 2.584562, "DE": 0.296069,
+               "CA": 2.768576, "CB": 4.836015, "AB": 2.083637, "DA": 2.957144,
+               "EB": 4.763147}
+    c = geokin.load(ROOT / "constructions" / "stephenson3.toml").compile().with_parameters(
+        lengths)
+    [(low, high)] = geokin.limits(c).intervals
+    assert (low.kind, low.node, high.kind, high.node) == ("tangent", "D", "tangent", "D")
+    s = geokin.circuit(c)
+    theta = s.input_values
+    moves = np.diff(theta)
+    reversals = theta[np.flatnonzero(moves[:-1] * moves[1:] < 0) + 1]
+    np.testing.assert_allclose(reversals, [0.7643, -0.7643], atol=1e-4)
+    assert len(s.events) == 2 and s.valid.all()
+    z = np.column_stack([s[p] for p in "DEAB"])
+    np.testing.assert_allclose(z[-1], z[0], atol=1e-9)
