@@ -507,13 +507,12 @@ class _Path:
             rows = np.arange(j, min(j + chunk, self.n))
             data, length = _rows(self.known, self.lengths, rows)
             base = np.repeat(self.z[last][None], rows.size, axis=0)
-            found, ok, _ = _iterate(system, unknowns, data, length, base, scale,
-                                    CHUNK_ITERATIONS)
+            found, ok, _, _, jac_found = _run(system, unknowns, data, length, base, scale,
+                                              CHUNK_ITERATIONS)
             previous = np.vstack([self.z[last][None], found[:-1]])
             before = _rows(self.known, self.lengths, np.concatenate([[last], rows[:-1]]))
             ok &= _continues(system, unknowns, before, (data, length), previous, found,
                              scale)[0]
-            _, jac_found = _residual_jacobian(system, unknowns, data, length, found)
             m = margins(jac_found)
             ok &= m >= SINGULAR_MARGIN
             bad = np.flatnonzero(~ok)
@@ -814,8 +813,9 @@ def _substeps(system, unknowns, known, lengths, i, j, z_i, scale, between=None,
     The known points and lengths along the step are ``between``'s, at
     samples ``samples[i]`` and ``samples[j]`` (see :func:`continue_along`),
     or else blended straight between the two samples. A piece is taken
-    where its solution continues the one before (:func:`_continues`); one
-    that fails is halved. Where the pieces shrink below
+    where its solution continues the one before (:func:`_continues`); the
+    next is as long as the step allowed there (within halving and doubling
+    the last). Where the pieces shrink below
     :data:`CROSSING_PIECE` the solution is at a singular position: where two
     assemblies cross there, a piece moving the solution
     :data:`CROSSING_MOVE` along its last rate, and Newton from there,
@@ -880,7 +880,6 @@ def _substeps(system, unknowns, known, lengths, i, j, z_i, scale, between=None,
         if t >= 1.0:
             return _Crossing(z, lowest, t, False)
         piece = min(1e3 * CROSSING_PIECE, 1.0 - t)
-    _, jac_here = _residual_jacobian(system, unknowns, *before, z[None])
     return _Crossing(None, float(margins(jac_here)[0]), t, False)  # out of pieces
 
 
@@ -908,9 +907,8 @@ def _step_over(system, unknowns, along, t, anchor, scale):
     target = min(t + CROSSING_MOVE * scale / speed, 1.0)
     move = rate * (target - t_a)
     guess = z_a + move
-    after = along(target)
-    found, ok, _ = _iterate(system, unknowns, *after, guess[None], scale, CHUNK_ITERATIONS)
-    _, jac_found = _residual_jacobian(system, unknowns, *after, found)
+    found, ok, _, _, jac_found = _run(system, unknowns, *along(target), guess[None], scale,
+                                      CHUNK_ITERATIONS)
     miss = float(np.sqrt(np.sum((found[0] - guess) ** 2)))
     if not (ok[0] and margins(jac_found)[0] >= SINGULAR_MARGIN
             and miss <= 0.1 * float(np.sqrt(np.sum(move ** 2)))):

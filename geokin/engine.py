@@ -612,6 +612,9 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
         tracker = (_Tracker(compiled, plan, inputs, n, origin, varied, paths, per_path,
                             track_incomplete)
                    if track and n // paths >= 2 else None)
+        # where the samples lie in the space of the inputs, for the closure groups
+        positions = (_positions(env, compiled, n) if any(s.node.continued for s in plan)
+                     else None)
         for position, step in enumerate(plan):
             node = step.node
             values = _step_values(step, env)
@@ -624,7 +627,7 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
                 cand = _candidates(step, coords, values, origin,
                                    None if held is None else held.get(node.name),
                                    None if sketches is None else sketches.get(node.name), paths,
-                                   between, _positions(env, compiled, n))
+                                   between, positions)
                 if tracker is not None:
                     found = {**(cand.also or {}), node.name: (cand.x[0], cand.y[0])}
                     tracker.solutions[node.name] = np.column_stack([
