@@ -738,10 +738,10 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
 
         On the group's other assembly, the first sample that cannot be
         assembled is bisected (``known`` where that is the limit it gives);
-        None where the bisection finds that sample
-        assembled after all (the continuation could not follow the assembly
-        there). A whole turn of an angle is searched, or to the end of a length's
-        declared range (a "range" end where nothing stops it before).
+        None where the bisection finds that sample assembled after all (the
+        continuation could not follow the assembly there). A whole turn of an
+        angle is searched, or to the end of a length's declared range (a
+        "range" end where nothing stops it before).
         """
         if declared.kind == "angle":
             far = value + (2 * np.pi if upward else -2 * np.pi)
@@ -766,7 +766,7 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
             return known  # the end the search found: the same limit, as it gave it
         return Limit(float(refined[0]), *_what_stops(beyond, 0))
 
-    sheets = dict.fromkeys(groups, 0)
+    sheets = dict.fromkeys(groups, 0)  # each group's assembly, 0 or 1, as its events name it
     folds: list[tuple[int, str, int]] = []  # a group passing its fold at a pass's end
     if found.full_turn:  # one turn the way the declared range runs
         turn = 2 * np.pi if declared.range[1] >= declared.range[0] else -2 * np.pi
@@ -830,8 +830,7 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
             # range, or of a ray) the branches stay, and the other end is still to come;
             # it is closed once back at the start in its first pose, heading up as it set
             # out (heading down, it has yet to pass the start and reach the lower end)
-            if (count >= 2 and target is hi and (groups or not any(sheets.values()))
-                    and lo.value <= start <= hi.value):
+            if count >= 2 and target is hi and lo.value <= start <= hi.value:
                 # run on to the start, and stop there if back in the pose it began in (on
                 # the way a node may pass a change point, a group past folds on any of
                 # its assemblies); else go on from there
