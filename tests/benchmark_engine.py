@@ -191,29 +191,25 @@ def closure_groups():
     six = sixbar()
     n = 36_000
     theta = np.linspace(0, 2 * np.pi, n)
+
+    def against_sixbar(what, ours, sixbars, rounds):
+        times = interleaved_cpu({"ours": ours, "sixbar": sixbars}, rounds=rounds)
+        print(f"closure group: {what}, {n:,} samples: {times['ours'] * 1e3:.1f} ms vs the "
+              f"seed six-bar's {times['sixbar'] * 1e3:.1f} ms "
+              f"({times['ours'] / times['sixbar']:.0f}x)")
+
     assert sweep(stephenson, theta).valid.all()
-    times = interleaved_cpu({
-        "stephenson": lambda: sweep(stephenson, theta),
-        "sixbar": lambda: sweep(six, theta)}, rounds=5)
-    print(f"closure group: Stephenson III sweep, {n:,} samples: "
-          f"{times['stephenson'] * 1e3:.1f} ms vs the seed six-bar's "
-          f"{times['sixbar'] * 1e3:.1f} ms ({times['stephenson'] / times['sixbar']:.0f}x)")
+    against_sixbar("Stephenson III sweep", lambda: sweep(stephenson, theta),
+                   lambda: sweep(six, theta), 5)
     # lengths whose triad folds at theta = 0.929: the sweep stops there and takes the
     # assembly up again where the turn comes back to its start
     folded = stephenson.compile().with_parameters(FOLDED)
     assert not sweep(folded, theta).valid.all()
-    times = interleaved_cpu({
-        "folded": lambda: sweep(folded, theta),
-        "sixbar": lambda: sweep(six, theta)}, rounds=3)
-    print(f"closure group: a folding Stephenson III sweep, {n:,} samples: "
-          f"{times['folded'] * 1e3:.0f} ms vs the seed six-bar's "
-          f"{times['sixbar'] * 1e3:.1f} ms ({times['folded'] / times['sixbar']:.0f}x)")
-    swept = {"stephenson": sweep(stephenson, theta), "sixbar": sweep(six, theta)}
-    times = interleaved_cpu({
-        name: lambda s=s: motion(s, speed=2 * np.pi) for name, s in swept.items()}, rounds=3)
-    print(f"closure group: Stephenson III motion, {n:,} samples: "
-          f"{times['stephenson'] * 1e3:.0f} ms vs the seed six-bar's "
-          f"{times['sixbar'] * 1e3:.0f} ms ({times['stephenson'] / times['sixbar']:.0f}x)")
+    against_sixbar("a folding Stephenson III sweep", lambda: sweep(folded, theta),
+                   lambda: sweep(six, theta), 3)
+    swept, six_swept = sweep(stephenson, theta), sweep(six, theta)
+    against_sixbar("Stephenson III motion", lambda: motion(swept, speed=2 * np.pi),
+                   lambda: motion(six_swept, speed=2 * np.pi), 3)
 
 
 def hand_variants(lengths, theta):
