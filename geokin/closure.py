@@ -431,6 +431,10 @@ singular position: the step over it along the last rate is tried."""
 ANCHOR_MARGIN = 1e-6
 """The least margin of a solution the step over a singular position is predicted from."""
 
+MAX_BACK = 64
+"""The most samples back a step from a sample at a singular position starts (see
+:meth:`_Path._step`)."""
+
 CROSSING_MOVE = 1e-4
 """How far (times the group's size) the step over a singular position moves the
 solution along its last rate."""
@@ -461,24 +465,53 @@ class _Path:
         first = self._first(start)
         if first is None:
             return
+        self._from(first, resume)
+        if (self.margin[first] < ANCHOR_MARGIN and first + 1 < self.n
+                and not np.isfinite(self.z[first + 1]).all()):
+            self._from_regular(start, first, resume)
+        self.singular &= ~np.isfinite(self.z).all(axis=1)
+
+    def _from(self, first: int, resume: bool) -> None:
+        """Follow the path from its solved sample ``first``, back and forwards."""
         if first > 0:
             self._follow_back(first, 0, resume)
         self._forwards(first, resume)
-        self.singular &= ~np.isfinite(self.z).all(axis=1)
 
-    def _first(self, start: np.ndarray) -> int | None:
-        """Solve the first sample Newton from the sketch solves; return it."""
+    def _from_regular(self, start: np.ndarray, first: int, resume: bool) -> None:
+        """Follow the path again from a regular sample, where its first lies on a crossing.
+
+        At a sample where two assemblies cross, the sketch fits both, and
+        no rate is known there to step over the crossing along. The first
+        sample after it that the sketch solves away from singular positions
+        begins the path instead, where the path followed from it comes back
+        to sample ``first``; else the path stays as it was.
+        """
+        kept = (self.z.copy(), self.margin.copy(), self.singular.copy(), list(self.obstacles))
+        self.z[:], self.margin[:], self.singular[:], self.obstacles = np.nan, np.nan, False, []
+        regular = self._first(start, first + 1, ANCHOR_MARGIN)
+        if regular is not None:
+            self._from(regular, resume)
+        if not np.isfinite(self.z[first]).all():
+            self.z, self.margin, self.singular, self.obstacles = kept
+
+    def _first(self, start: np.ndarray, since: int = 0,
+               least: float = SINGULAR_MARGIN) -> int | None:
+        """Solve the first sample from ``since`` on that Newton from the sketch solves.
+
+        Its solution's margin must be at least ``least``. Returns the sample.
+        """
         finite = np.isfinite(self.lengths).all(axis=1)
         for x, y in self.known.values():
             if np.ndim(x):
                 finite &= np.isfinite(x) & np.isfinite(y)
         candidates = np.flatnonzero(finite)
+        candidates = candidates[candidates >= since]
         for lo in range(0, candidates.size, 64):
             rows = candidates[lo:lo + 64]
             data, length = _rows(self.known, self.lengths, rows)
             found, ok, m = newton(self.system, self.unknowns, data, length,
                                   np.repeat(start[None], rows.size, axis=0))
-            ok &= m >= SINGULAR_MARGIN
+            ok &= m >= least
             if ok.any():
                 at = int(np.argmax(ok))
                 i = int(rows[at])
@@ -530,8 +563,7 @@ class _Path:
             if self._blocked(last, np.array([j]), self.obstacles)[0]:
                 crossing = _Crossing(None, 0.0, 0.0, True)
             else:
-                crossing = _substeps(system, unknowns, self.known, self.lengths, last, j,
-                                     self.z[last], scale, self.between, self.numbered)
+                crossing = self._step(last, j)
                 if crossing.stopped:
                     self.obstacles.append(self._obstacle(last, j, crossing.reached))
             if crossing.solution is not None:
@@ -547,6 +579,64 @@ class _Path:
                 return
             last = resumed
             j = last + 1
+
+    def _along(self, i: int, j: int) -> Callable:
+        """Return the known points and lengths at fractions of the step from sample i to j.
+
+        They are ``between``'s (see :func:`continue_along`), or else blended
+        straight between the two samples.
+        """
+        one = np.ones(1)
+
+        def along(fraction: float):
+            if self.between is None or fraction in (0.0, 1.0):
+                return _blend(self.known, self.lengths, i, j, fraction * one)
+            return self.between(int(self.numbered[i]), int(self.numbered[j]), fraction * one)
+        return along
+
+    def _along_samples(self, rows: list[int]) -> tuple[Callable, np.ndarray]:
+        """Return the data along the steps through samples ``rows``, taken as one step.
+
+        Each step's share of the fractions is its length in the space of
+        the inputs, where they are known, or else an equal share. Also
+        returns the fractions at the samples.
+        """
+        steps = [self._along(a, b) for a, b in zip(rows[:-1], rows[1:], strict=True)]
+        shares = np.ones(len(steps))
+        if self.positions is not None:
+            apart = np.linalg.norm(np.diff(self.positions[rows], axis=0), axis=1)
+            if (apart > 0.0).all():
+                shares = apart
+        cuts = np.concatenate([[0.0], np.cumsum(shares)]) / np.sum(shares)
+
+        def along(fraction: float):
+            k = min(int(np.searchsorted(cuts, fraction, side="right")) - 1, len(steps) - 1)
+            return steps[k](min(max((fraction - cuts[k]) / (cuts[k + 1] - cuts[k]), 0.0), 1.0))
+        return along, cuts
+
+    def _step(self, last: int, j: int) -> _Crossing:
+        """Cross the step from solved sample last to sample j in pieces (:func:`_substeps`).
+
+        A sample may lie on a singular position where two assemblies cross
+        (a change point): no rate is known there to step over it along, and
+        a step from it could land on either. The step then starts from the
+        regular solution before it, the nearest with a margin of at least
+        :data:`ANCHOR_MARGIN` (at most :data:`MAX_BACK` samples back, or
+        else the furthest of those), its pieces coming up to the sample and
+        stepping over the crossing as anywhere else. The fraction reached
+        is of the step from last to j.
+        """
+        h = last
+        while (h > 0 and last - h < MAX_BACK and self.margin[h] < ANCHOR_MARGIN
+               and np.isfinite(self.margin[h - 1])):
+            h -= 1
+        if h == last:
+            return _substeps(self.system, self.unknowns, self._along(last, j), self.z[last],
+                             self.scale)
+        along, cuts = self._along_samples([*range(h, last + 1), j])
+        crossing = _substeps(self.system, self.unknowns, along, self.z[h], self.scale)
+        return crossing._replace(
+            reached=max(float(crossing.reached - cuts[-2]), 0.0) / float(1.0 - cuts[-2]))
 
     def _take(self, j: int, solved: np.ndarray) -> None:
         """Store the solution at sample j with its margin."""
@@ -624,8 +714,7 @@ class _Path:
                 elif attempts < MAX_ATTEMPTS and not self._blocked(
                         last, rows[at:at + 1], self.obstacles)[0]:
                     attempts += 1
-                    crossing = _substeps(system, unknowns, self.known, self.lengths, last, k,
-                                         self.z[last], scale, self.between, self.numbered)
+                    crossing = self._step(last, k)
                     solved = crossing.solution
                     if crossing.stopped:
                         self.obstacles.append(self._obstacle(last, k, crossing.reached))
@@ -685,12 +774,21 @@ def _separation(inverse: np.ndarray, lengths: np.ndarray, system: System,
     Frobenius norm of ``J^-1`` for ``1 / sigma_min``, cheaper and as large).
 
     For few rows (the pieces of a step, near singular positions, where the
-    bound is what limits them) the distance is estimated sharper: a
-    solution nearby lies along v, the direction of J's smallest singular
-    value, as far as the equations' own second derivatives along v put it,
-    ``2 sigma_min / |F''(v, v)|`` (no nearer than the bound); one off that
-    direction is at least ``2 sigma_2 / sqrt(sum (c / d)**2)`` away. A point
-    on a line adds no curvature where only the point is unknown.
+    bound is what limits them) the distance is estimated sharper, the
+    larger of two estimates. Write the equations at a step D as
+    ``J D + Q(D) = 0``, Q their quadratic part, ``|Q(D)| <= C |D|**2 / 2``
+    (C the curvature above). A solution nearby lies along v, J's right
+    singular vector of its smallest singular value: first, as far along v
+    as Q(v) puts it, ``sigma_min / |Q(v)|``. Second, at ``D = s v + w``:
+    along u, the matching left singular vector,
+    ``sigma_min s = -u . Q(D)``, while ``|w|`` is at most about
+    ``C s**2 / (2 sigma_2)``; so no solution is nearer than the least s
+    with ``sigma_min = p s + q s**2``, ``p = |u . Q(v)|`` and
+    ``q = C**2 / (2 sigma_2)``. Two circles crossing at a shallow angle,
+    whose curvatures nearly match, so cross again far away. Neither is
+    taken nearer than the bound; a solution off the direction v is at least
+    ``2 sigma_2 / C`` away. A point on a line adds no curvature where only
+    the point is unknown.
     """
     with np.errstate(all="ignore"):
         if system.distances:
@@ -705,23 +803,32 @@ def _separation(inverse: np.ndarray, lengths: np.ndarray, system: System,
         finite = np.isfinite(inverse).all(axis=(1, 2))
         if not finite.any():
             return out
-        # the singular values of J, and its direction v of the smallest: a solution
-        # near along v is as far as the equations' own curvature along v puts it
-        vectors, inverse_values, _ = np.linalg.svd(inverse[finite])
+        # J's inverse's singular vectors: its left ones are J's right ones (v), its
+        # right ones J's left ones (u), J's smallest singular value's first
+        vectors, inverse_values, lefts = np.linalg.svd(inverse[finite])
         smallest, second = 1.0 / inverse_values[:, 0], 1.0 / inverse_values[:, 1]
-        apart = 2.0 * second / curvature[finite]
+        c = curvature[finite]
+        apart = 2.0 * second / c
         if system.distances:
-            v = vectors[:, :, 0]
-            k = system.k
-            vx = np.concatenate([v[:, 0::2], np.zeros((v.shape[0], len(layout.names) - k))], 1)
-            vy = np.concatenate([v[:, 1::2], np.zeros((v.shape[0], len(layout.names) - k))], 1)
-            bend = ((vx[:, layout.p] - vx[:, layout.q]) ** 2
-                    + (vy[:, layout.p] - vy[:, layout.q]) ** 2) / d[finite]
-            along = 2.0 * smallest / np.sqrt(np.sum(bend ** 2, axis=1))
+            v, u = vectors[:, :, 0], lefts[:, 0, :]
+            half = 0.5 * _along_distances(layout, system.k, v, v) / d[finite]  # Q(v)
+            p = np.abs(np.sum(u[:, :half.shape[1]] * half, axis=1))
+            q = c ** 2 / (2.0 * second)
+            along = np.fmax(smallest / np.sqrt(np.sum(half ** 2, axis=1)),
+                            2.0 * smallest / (p + np.sqrt(p * p + 4.0 * q * smallest)))
         else:
             along = 2.0 * smallest
-        out[finite] = np.minimum(np.fmax(along, 2.0 * smallest / curvature[finite]), apart)
+        out[finite] = np.minimum(np.fmax(along, 2.0 * smallest / c), apart)
         return out
+
+
+def _along_distances(layout: _Layout, k: int, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Return ``(a_P - a_Q) . (b_P - b_Q)`` for each distance equation, for steps a, b (N, 2k)."""
+    known = np.zeros((a.shape[0], len(layout.names) - k))
+    ax, ay = np.concatenate([a[:, 0::2], known], 1), np.concatenate([a[:, 1::2], known], 1)
+    bx, by = np.concatenate([b[:, 0::2], known], 1), np.concatenate([b[:, 1::2], known], 1)
+    return ((ax[:, layout.p] - ax[:, layout.q]) * (bx[:, layout.p] - bx[:, layout.q])
+            + (ay[:, layout.p] - ay[:, layout.q]) * (by[:, layout.p] - by[:, layout.q]))
 
 
 def _continues(system, unknowns, before, after, previous, found, scale, jac=None,
@@ -806,13 +913,11 @@ class _Crossing(NamedTuple):
     stopped: bool  # stopped at a singular position, not merely out of pieces
 
 
-def _substeps(system, unknowns, known, lengths, i, j, z_i, scale, between=None,
-              samples=None):
-    """Cross the step from sample i (solved: z_i) to sample j in pieces.
+def _substeps(system, unknowns, along, z_i, scale):
+    """Cross a step from its start (solved: z_i) to its end in pieces.
 
-    The known points and lengths along the step are ``between``'s, at
-    samples ``samples[i]`` and ``samples[j]`` (see :func:`continue_along`),
-    or else blended straight between the two samples. A piece is taken
+    ``along(t)`` gives the known points and lengths at fraction t of the
+    step (:meth:`_Path._along`). A piece is taken
     where its solution continues the one before (:func:`_continues`); the
     next is as long as the step allowed there (within halving and doubling
     the last). Where the pieces shrink below
@@ -822,18 +927,11 @@ def _substeps(system, unknowns, known, lengths, i, j, z_i, scale, between=None,
     passes it on the assembly's own side; at a fold Newton finds nothing
     there, and the step cannot be crossed.
 
-    Returns a :class:`_Crossing`: the solution at j (or None), the smallest
+    Returns a :class:`_Crossing`: the solution at the end (or None), the smallest
     margin met on the way (or the margin where the pieces ran out), the
     fraction of the step reached, and whether the step stopped at a singular
     position it could not step over.
     """
-    one = np.ones(1)
-
-    def along(fraction):
-        if between is None or fraction in (0.0, 1.0):
-            return _blend(known, lengths, i, j, fraction * one)
-        return between(int(samples[i]), int(samples[j]), fraction * one)
-
     t, z, piece = 0.0, z_i.copy(), 0.5
     # the last solution taken away from singular positions, where Newton converges to
     # the rounding (near one it leaves an error of the square root of the residual)
@@ -890,9 +988,10 @@ def _step_over(system, unknowns, along, t, anchor, scale):
     the last solution taken away from singular positions, to where the
     solution has moved :data:`CROSSING_MOVE` times the group's size past
     t (or to the step's end); Newton from there must converge within a
-    tenth of the predicted move, on a regular position. Where two
-    assemblies cross, it lands on the one continuing the motion; past a
-    fold there is nothing to land on.
+    tenth of the predicted move, on a regular position unless the step
+    ends there (a sample on the crossing itself). Where two assemblies
+    cross, it lands on the one continuing the motion; past a fold there is
+    nothing to land on.
     """
     t_a, z_a = anchor
     # the tangent at the anchor: the data's rate by a short difference (a long one
@@ -907,10 +1006,11 @@ def _step_over(system, unknowns, along, t, anchor, scale):
     target = min(t + CROSSING_MOVE * scale / speed, 1.0)
     move = rate * (target - t_a)
     guess = z_a + move
+    # next to a crossing, and on it, Newton converges only linearly
     found, ok, _, _, jac_found = _run(system, unknowns, *along(target), guess[None], scale,
-                                      CHUNK_ITERATIONS)
+                                      MAX_ITERATIONS)
     miss = float(np.sqrt(np.sum((found[0] - guess) ** 2)))
-    if not (ok[0] and margins(jac_found)[0] >= SINGULAR_MARGIN
+    if not (ok[0] and (target == 1.0 or margins(jac_found)[0] >= SINGULAR_MARGIN)
             and miss <= 0.1 * float(np.sqrt(np.sum(move ** 2)))):
         return None
     return target, found[0]

@@ -708,6 +708,65 @@ def test_a_group_passes_a_change_point_as_a_circle_intersection_does(samples):
     np.testing.assert_allclose(s["B"], s["A"] + [4.0, 0.0], atol=1e-9)
 
 
+@pytest.mark.parametrize("start", [0.0, np.pi / 2])
+@pytest.mark.parametrize("samples", [13, 361, 7201])
+def test_a_group_steps_on_from_a_sample_on_a_change_point(start, samples):
+    """Samples exactly on the parallelogram's change points (theta = 0 and pi, where
+    it meets its crossed form), from 0 the first sample: the group goes on along the
+    parallelogram at every sample, as its tangent there carries it."""
+    theta = np.linspace(start, start + 2 * np.pi, samples)
+    s = geokin.sweep(fourbar(True, (4.0, 2.0, 4.0, 2.0), near=(5.5, 1.9)), theta)
+    assert s.valid.all()
+    np.testing.assert_allclose(s["B"], s["A"] + [4.0, 0.0], atol=1e-6)
+    regular = np.abs(np.sin(theta)) > 1e-3  # at a change point only to its rounding
+    np.testing.assert_allclose(s["B"][regular], s["A"][regular] + [4.0, 0.0], atol=1e-11)
+
+
+def _change_point_roots(theta):
+    """The circles' two intersections (left, right of A to O4) of the crank-rocker with
+    ground 100, crank 60, coupler 90, rocker 70, in closed form."""
+    a = 60.0 * np.stack([np.cos(theta), np.sin(theta)], axis=1)
+    ao = np.array([100.0, 0.0]) - a
+    d = np.linalg.norm(ao, axis=1)[:, None]
+    along = (90.0 ** 2 - 70.0 ** 2 + d ** 2) / (2 * d)
+    across = np.sqrt(np.maximum(90.0 ** 2 - along ** 2, 0.0))
+    e = ao / d
+    normal = np.stack([-e[:, 1], e[:, 0]], axis=1)
+    return a + along * e + across * normal, a + along * e - across * normal
+
+
+@pytest.mark.parametrize("start", [0.0, -np.pi])
+@pytest.mark.parametrize("samples", [13, 361, 7201])
+def test_a_change_point_crank_rocker_group_keeps_its_smooth_assembly(start, samples):
+    """Ground 100, crank 60, coupler 90, rocker 70 (60 + 100 = 90 + 70): at theta = pi
+    the circles touch, and the open assembly (B left of A to O4) goes on smoothly as
+    the crossed one (right of it). A sample lands on pi; from [-pi, pi] the first does.
+    Every sample is on that smooth assembly, in closed form."""
+    theta = np.linspace(start, start + 2 * np.pi, samples)
+    c = geokin.Construction("change point")
+    c.input("theta", range=(start, start + 2 * np.pi))
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 100, 0)
+    c.polar("A", "O2", 60, "theta")
+    c.closure("dyad", ["B"], [("A", "B", 90), ("O4", "B", 70)], near={"B": (88, 69)})
+    s = geokin.sweep(c, theta)
+    assert s.valid.all()
+    left, right = _change_point_roots(theta)
+    past = theta > np.pi + 1e-9  # beyond the change point on the way out
+    if start < 0:
+        past = np.zeros_like(past)  # from just past it, on the sketch's side to the end
+    expected = np.where(past[:, None], right, left)
+    on = np.abs(np.abs(theta) - np.pi) < 1e-9
+    assert on.sum() == (1 if start == 0 else 2)
+    np.testing.assert_allclose(s["B"][~on], expected[~on], atol=1e-9)
+    np.testing.assert_allclose(s["B"][on], [[30.0, 0.0]] * int(on.sum()), atol=1e-4)
+    # nothing stops the crank: one interval, ended only by the searched turn (past
+    # which, from 0, the group is on its crossed assembly)
+    found = geokin.limits(c)
+    assert len(found.intervals) == 1
+    assert [end.node for end in found.intervals[0]] == [None, None]
+
+
 def _curve_of_triad(lengths, z0, step=5e-3):
     """Trace the triad's solution curve in (D, E, A, B, theta) by arclength continuation
     from z0 at theta = 0, round to where it began: each step moves ``step`` along the
