@@ -431,6 +431,10 @@ singular position: the step over it along the last rate is tried."""
 ANCHOR_MARGIN = 1e-6
 """The least margin of a solution the step over a singular position is predicted from."""
 
+TANGENT_MARGIN = 1e-10
+"""Below this margin a solution's tangent is not told by its Jacobian: a step from
+it starts from a sample before (see :meth:`_Path._step`)."""
+
 MAX_BACK = 64
 """The most samples back a step from a sample at a singular position starts (see
 :meth:`_Path._step`)."""
@@ -594,12 +598,15 @@ class _Path:
             return self.between(int(self.numbered[i]), int(self.numbered[j]), fraction * one)
         return along
 
-    def _along_samples(self, rows: list[int]) -> tuple[Callable, np.ndarray]:
+    def _along_samples(self, rows: list[int]) -> tuple[Callable, np.ndarray, tuple]:
         """Return the data along the steps through samples ``rows``, taken as one step.
 
         Each step's share of the fractions is its length in the space of
         the inputs, where they are known, or else an equal share. Also
-        returns the fractions at the samples.
+        returns the fractions at the samples, and the bends at the samples
+        between as :func:`_step_over` takes them: each one's fraction and
+        how fast the inputs go on in their direction after it, for each unit
+        before (negative back; None turned aside, or not known).
         """
         steps = [self._along(a, b) for a, b in zip(rows[:-1], rows[1:], strict=True)]
         shares = np.ones(len(steps))
@@ -612,31 +619,71 @@ class _Path:
         def along(fraction: float):
             k = min(int(np.searchsorted(cuts, fraction, side="right")) - 1, len(steps) - 1)
             return steps[k](min(max((fraction - cuts[k]) / (cuts[k + 1] - cuts[k]), 0.0), 1.0))
-        return along, cuts
+        bends: list[tuple[float, float | None]] = []
+        for k in range(1, len(steps)):
+            factor = None
+            if self.positions is not None:
+                before = (self.positions[rows[k]] - self.positions[rows[k - 1]]) / (
+                    cuts[k] - cuts[k - 1])
+                after = (self.positions[rows[k + 1]] - self.positions[rows[k]]) / (
+                    cuts[k + 1] - cuts[k])
+                square = float(before @ before)
+                if square > 0.0:
+                    factor = float(after @ before) / square
+                    if np.linalg.norm(after - factor * before) > 1e-9 * np.linalg.norm(after):
+                        factor = None
+            bends.append((float(cuts[k]), factor))
+        return along, cuts, tuple(bends)
 
     def _step(self, last: int, j: int) -> _Crossing:
         """Cross the step from solved sample last to sample j in pieces (:func:`_substeps`).
 
         A sample may lie on a singular position where two assemblies cross
         (a change point): no rate is known there to step over it along, and
-        a step from it could land on either. The step then starts from the
-        regular solution before it, the nearest with a margin of at least
+        a step from it could land on either. Where its margin is below
+        :data:`TANGENT_MARGIN`, or the step from it fails and its margin is
+        below :data:`ANCHOR_MARGIN`, the step starts from the regular
+        solution before it instead, the nearest with a margin of at least
         :data:`ANCHOR_MARGIN` (at most :data:`MAX_BACK` samples back, or
         else the furthest of those), its pieces coming up to the sample and
-        stepping over the crossing as anywhere else. The fraction reached
-        is of the step from last to j.
+        stepping over the crossing as anywhere else. The samples before are
+        taken back only while their margins grow, not back over a crossing
+        already passed. The fraction reached is of the step from last to j.
         """
+        direct = None
+        if not self.margin[last] < TANGENT_MARGIN:
+            direct = _substeps(self.system, self.unknowns, self._along(last, j), self.z[last],
+                               self.scale)
+            if direct.solution is not None or not self.margin[last] < ANCHOR_MARGIN:
+                return direct
+        rows = [last]
         h = last
-        while (h > 0 and last - h < MAX_BACK and self.margin[h] < ANCHOR_MARGIN
-               and np.isfinite(self.margin[h - 1])):
+        while h > 0 and last - h < MAX_BACK and self.margin[h] < ANCHOR_MARGIN:
+            if self._still(h - 1, h):  # the same sample again: nothing moved
+                h -= 1
+                continue
+            if not self.margin[h - 1] > self.margin[h]:
+                break
             h -= 1
-        if h == last:
-            return _substeps(self.system, self.unknowns, self._along(last, j), self.z[last],
-                             self.scale)
-        along, cuts = self._along_samples([*range(h, last + 1), j])
-        crossing = _substeps(self.system, self.unknowns, along, self.z[h], self.scale)
+            rows.insert(0, h)
+        if h == last or len(rows) == 1:
+            return direct if direct is not None else _substeps(
+                self.system, self.unknowns, self._along(last, j), self.z[last], self.scale)
+        along, cuts, bends = self._along_samples([*rows, j])
+        crossing = _substeps(self.system, self.unknowns, along, self.z[rows[0]], self.scale,
+                             bends)
+        if crossing.solution is None and direct is not None:
+            return direct
         return crossing._replace(
             reached=max(float(crossing.reached - cuts[-2]), 0.0) / float(1.0 - cuts[-2]))
+
+    def _still(self, a: int, b: int) -> bool:
+        """Say whether samples a and b are the same: the inputs did not move between them."""
+        if self.positions is not None:
+            return bool(np.array_equal(self.positions[a], self.positions[b]))
+        first = _rows(self.known, self.lengths, [a])
+        data, length = _rows(self.known, self.lengths, [b])
+        return bool(_same_data(data, length, first, self.scale)[0])
 
     def _take(self, j: int, solved: np.ndarray) -> None:
         """Store the solution at sample j with its margin."""
@@ -913,11 +960,13 @@ class _Crossing(NamedTuple):
     stopped: bool  # stopped at a singular position, not merely out of pieces
 
 
-def _substeps(system, unknowns, along, z_i, scale):
+def _substeps(system, unknowns, along, z_i, scale, kinks=()):
     """Cross a step from its start (solved: z_i) to its end in pieces.
 
     ``along(t)`` gives the known points and lengths at fraction t of the
-    step (:meth:`_Path._along`). A piece is taken
+    step (:meth:`_Path._along`); ``kinks`` are where it bends (at the
+    samples of steps taken as one, :meth:`_Path._along_samples`).
+    A piece is taken
     where its solution continues the one before (:func:`_continues`); the
     next is as long as the step allowed there (within halving and doubling
     the last). Where the pieces shrink below
@@ -969,7 +1018,7 @@ def _substeps(system, unknowns, along, z_i, scale):
         # a singular position from a fold
         if piece >= CROSSING_PIECE and not here[1] < 0.1 * CROSSING_MOVE * scale:
             continue
-        crossed = _step_over(system, unknowns, along, t, anchor, scale)
+        crossed = _step_over(system, unknowns, along, t, anchor, scale, kinks)
         if crossed is None:
             return _Crossing(None, here[0], t, True)
         t, z = crossed
@@ -981,16 +1030,21 @@ def _substeps(system, unknowns, along, z_i, scale):
     return _Crossing(None, float(margins(jac_here)[0]), t, False)  # out of pieces
 
 
-def _step_over(system, unknowns, along, t, anchor, scale):
+def _step_over(system, unknowns, along, t, anchor, scale, kinks=()):
     """Step over a singular position at fraction t of a step, or return None.
 
     The step is predicted linearly from ``anchor`` (fraction, solution),
-    the last solution taken away from singular positions, to where the
-    solution has moved :data:`CROSSING_MOVE` times the group's size past
-    t (or to the step's end); Newton from there must converge within a
-    tenth of the predicted move, on a regular position unless the step
-    ends there (a sample on the crossing itself). Where two assemblies
-    cross, it lands on the one continuing the motion; past a fold there is
+    the last solution taken away from singular positions, along the
+    solution's rate there, to where the solution has moved
+    :data:`CROSSING_MOVE` times the group's size past t (or to the step's
+    end, where the solution stands still); past a bend of the step (one of
+    ``kinks``: its fraction, and how fast the inputs go on in their
+    direction after it for each unit before, negative where they turn
+    back; None where they turn aside) along the rate for the inputs' new
+    motion. Newton from there must converge within a tenth
+    of the predicted travel, on a regular position unless the step ends
+    there (a sample on the crossing itself). Where two assemblies cross,
+    it lands on the one continuing the motion; past a fold there is
     nothing to land on.
     """
     t_a, z_a = anchor
@@ -999,18 +1053,46 @@ def _step_over(system, unknowns, along, t, anchor, scale):
     h = min(1e-6, 1.0 - t_a)
     f_a, jac = _residual_jacobian(system, unknowns, *along(t_a), z_a[None])
     f_h, _ = _residual_jacobian(system, unknowns, *along(t_a + h), z_a[None])
-    rate = -np.einsum("nij,nj->ni", _inverse(jac), (f_h - f_a) / h)[0]
-    speed = float(np.sqrt(rate @ rate))
-    if t <= t_a or not np.isfinite(speed) or speed == 0.0:
+    rates = [-np.einsum("nij,nj->ni", _inverse(jac), (f_h - f_a) / h)[0]]
+    # past a bend the inputs move on in their old direction (or back), faster or
+    # slower: the rate scales with them. Turned aside, it is not known.
+    starts = [t_a]
+    for k, factor in kinks:
+        if t_a < k < 1.0:
+            if factor is None:
+                rates.append(np.full_like(z_a, np.nan))
+            else:
+                rates.append(factor * rates[-1])
+            starts.append(k)
+    bends = starts[1:]
+    here = max(i for i, u in enumerate(starts) if u <= t) if t >= t_a else 0
+    speed = float(np.sqrt(rates[here] @ rates[here]))
+    if t <= t_a or not np.isfinite(speed):
         return None
-    target = min(t + CROSSING_MOVE * scale / speed, 1.0)
-    move = rate * (target - t_a)
-    guess = z_a + move
+    if speed * (1.0 - t) <= 0.1 * CROSSING_MOVE * scale:
+        target = 1.0  # the solution all but stands still: on to the step's end
+    else:
+        target = min(t + CROSSING_MOVE * scale / speed, 1.0)
+    guess, travel = z_a.copy(), 0.0
+    for u, r, end in zip(starts, rates, [*bends, 1.0], strict=True):
+        if u >= target:
+            break
+        move = r * (min(end, target) - u)
+        guess += move
+        travel += float(np.sqrt(move @ move))
+    if not np.isfinite(guess).all():
+        return None
     # next to a crossing, and on it, Newton converges only linearly
     found, ok, _, _, jac_found = _run(system, unknowns, *along(target), guess[None], scale,
                                       MAX_ITERATIONS)
     miss = float(np.sqrt(np.sum((found[0] - guess) ** 2)))
-    if not (ok[0] and (target == 1.0 or margins(jac_found)[0] >= SINGULAR_MARGIN)
-            and miss <= 0.1 * float(np.sqrt(np.sum(move ** 2)))):
+    landed = margins(jac_found)[0]
+    slack = 1e-9 * scale
+    if target == 1.0 and landed < TANGENT_MARGIN:
+        # on the crossing itself, where the two solutions meet: Newton ends within
+        # about the square root of the residual's tolerance of it
+        slack = np.sqrt(RESIDUAL_RTOL) * scale
+    if not (ok[0] and (target == 1.0 or landed >= SINGULAR_MARGIN)
+            and miss <= 0.1 * travel + slack):
         return None
     return target, found[0]

@@ -767,6 +767,56 @@ def test_a_change_point_crank_rocker_group_keeps_its_smooth_assembly(start, samp
     assert [end.node for end in found.intervals[0]] == [None, None]
 
 
+def _change_point_crank_rocker(near=(30.9078, 11.237)):
+    c = geokin.Construction("change point")
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 100, 0)
+    c.polar("A", "O2", 60, "theta")
+    c.closure("dyad", ["B"], [("A", "B", 90), ("O4", "B", 70)], near={"B": near})
+    return c
+
+
+@pytest.mark.parametrize("degrees", [
+    [170, 180, 170], [170, 179.998, 170], [170, 180.01, 170], [170, 180.05, 170],
+    [175, 180, 180, 185], [175, 180, 180, 175], [0, 180, 360, 180, 0],
+    [179, 179.5, 180, 180.5, 180, 179.5, 179]])
+def test_a_group_turning_back_at_a_change_point_stays_on_its_smooth_assembly(degrees):
+    """The change-point crank-rocker's open assembly goes on as the crossed one at
+    theta = pi: one smooth curve, B left of A to O4 below pi and right of it above.
+    However the crank turns back on it, at the change point, next to it or past it, or
+    stands on it for two samples, every sample is on that curve, in closed form."""
+    theta = np.radians(degrees)
+    s = geokin.sweep(_change_point_crank_rocker(), theta)
+    assert s.valid.all()
+    left, right = _change_point_roots(theta)
+    expected = np.where((theta > np.pi)[:, None], right, left)  # up to 3 pi, its next
+    on = np.abs(theta - np.pi) < 1e-9
+    np.testing.assert_allclose(s["B"][~on], expected[~on], atol=1e-9)
+    np.testing.assert_allclose(s["B"][on], expected[on], atol=1e-4)
+
+
+@pytest.mark.parametrize(("samples", "start", "near"), [
+    (7201, 10.0, (0.0, 0.0)), (37, 10.0, (0.0, 0.0)), (361, 0.0, (0.5, 0.5)),
+    (13, -180.0, (0.001, 0.0)), (13, -180.0, (0.0, -0.001))])
+def test_a_kites_folded_assembly_is_followed_over_its_change_points(samples, start, near):
+    """A kite (ground 100, crank 40, coupler 40, rocker 100) folds onto itself: B = O2
+    at every angle, where the solution does not move at all, crossing the unfolded
+    assembly at theta = 0 and pi. Samples land on both."""
+    c = geokin.Construction("kite")
+    c.input("theta")
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 100, 0)
+    c.polar("A", "O2", 40, "theta")
+    c.closure("dyad", ["B"], [("A", "B", 40), ("O4", "B", 100)], near={"B": near})
+    theta = np.radians(np.linspace(start, start + 360, samples))
+    s = geokin.sweep(c, theta)
+    assert s.valid.all()
+    np.testing.assert_allclose(s["B"], 0.0, atol=1e-4)
+    regular = np.abs(np.sin(theta)) > 1e-6
+    np.testing.assert_allclose(s["B"][regular], 0.0, atol=1e-9)
+
+
 def _curve_of_triad(lengths, z0, step=5e-3):
     """Trace the triad's solution curve in (D, E, A, B, theta) by arclength continuation
     from z0 at theta = 0, round to where it began: each step moves ``step`` along the
