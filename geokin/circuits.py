@@ -269,7 +269,9 @@ def limits(construction: Construction | Compiled | Sweep, input_name: str | None
     search_range : (float, float), optional
         Where to search, radians for an angle. By default one whole turn
         centred on the middle of the declared range for an angle input, and
-        the declared range for a length input.
+        the declared range for a length input. A range of one whole turn
+        is searched as a turn, wherever it starts: an input that nothing
+        stops there turns fully.
     samples : int
         Samples used to bracket the limits; a stretch shorter than the
         spacing can be missed.
@@ -336,7 +338,7 @@ def limits(construction: Construction | Compiled | Sweep, input_name: str | None
     name = compiled.resolve_input(input_name)
     declared = compiled.inputs[name]
     held = _held(compiled, name, at)
-    turn = declared.kind == "angle" and search_range is None
+    turn = declared.kind == "angle"
     if search_range is None:
         lo, hi = declared.range
         if declared.kind == "angle":
@@ -347,6 +349,8 @@ def limits(construction: Construction | Compiled | Sweep, input_name: str | None
         if declared.kind == "angle" and range_looks_like_degrees(lo, hi):
             warn_of_degrees(f"limits of {name!r}: a search range of {lo:g} to {hi:g} "
                             f"{degrees_hint(hi - lo)}")
+        # a searched range of one whole turn is searched as the default one is
+        turn = turn and abs(hi - lo - 2 * np.pi) <= 1e-12 * 2 * np.pi
     if samples < 3:
         raise ConstructionError(f"limits need at least 3 samples to bracket, got {samples}",
                                 node=name, field="samples")
@@ -423,6 +427,10 @@ def _limits_of_variants(compiled, name, grid, held, start, turn, varied, count):
                                  _closes_round(probe, variant, samples)))
     return result
 
+
+MAX_TURNS = 4
+"""The most turns a circuit of an input that turns fully makes to bring its closure
+groups back to the pose they began in."""
 
 SEAM_RTOL = 1e-6
 """How close (times the mechanism's size) the closure groups' solutions at the two
@@ -589,8 +597,10 @@ def _intervals(name, declared, grid, turn, ok, found, held_branches,
     the search ``closes_round`` (:func:`_closes_round`).
     """
     lo, hi = float(grid[0]), float(grid[-1])
-    if ok.all() and turn and closes_round:
-        # it turns fully: every value is assemblable, the declared range included
+    if ok.all() and turn:
+        # it turns fully: every value is assemblable, the declared range included (a
+        # closure group may come round on another assembly, through a change point,
+        # and back after more turns)
         lo, hi = min(lo, *declared.range), max(hi, *declared.range)
         ends = (Limit(lo, None, "range"), Limit(hi, None, "range"))
         return Limits(name, (ends,), True, held_branches)
@@ -624,7 +634,9 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
     the start. At an end that is not a tangency (a slider at the end of its
     guide) the input reverses on the same branches. An input that turns
     fully makes one turn, the way its declared range runs (clockwise for a
-    range such as (2 pi, 0)).
+    range such as (2 pi, 0)); more where a closure group comes round on
+    another assembly (through a change point), till it is back in the pose
+    it began in (at most :data:`MAX_TURNS`).
 
     Parameters
     ----------
@@ -770,7 +782,24 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
     folds: list[tuple[int, str, int]] = []  # a group passing its fold at a pass's end
     if found.full_turn:  # one turn the way the declared range runs
         turn = 2 * np.pi if declared.range[1] >= declared.range[0] else -2 * np.pi
-        run(np.linspace(start, start + turn, samples_per_pass), labels)
+        one_turn = np.linspace(start, start + turn, samples_per_pass)
+        labels = run(one_turn, labels)
+        # a closure group through a change point comes round on its other assembly:
+        # on, turn by turn, till every group is back in the pose it began in
+        for count in range(1, MAX_TURNS + 1):
+            # within what a turn's search joins its ends within: a start on a change
+            # point is solved to about the square root of the tolerance
+            if all(_one_pose(_first_solved(passes[0][2][k]), _last_solved(passes[-1][2][k]),
+                             SEAM_RTOL) for k in groups):
+                break
+            if count == MAX_TURNS:
+                warn_outside(f"circuit of {name!r}: not back where it began after "
+                             f"{MAX_TURNS} turns; the motion is given as far as it went",
+                             UserWarning)
+                break
+            across = _continuing(compiled, name, held, passes[-1],
+                                 Limit(float(one_turn[-1] + (count - 1) * turn), None, "range"))
+            labels = run(one_turn + count * turn, labels, across)
     else:
         # samples evenly spaced along the motion: first a fine sampling evenly spaced in
         # phi, where input = centre + radius * sin(phi), which crowds towards the limits

@@ -796,6 +796,25 @@ def test_a_group_turning_back_at_a_change_point_stays_on_its_smooth_assembly(deg
     np.testing.assert_allclose(s["B"][on], expected[on], atol=1e-4)
 
 
+def test_a_change_point_groups_circuit_makes_two_turns_on_its_smooth_assembly():
+    """Nothing stops the change-point crank-rocker's crank, but its group comes round
+    from one turn on its crossed assembly: the crank turns fully, and the circuit
+    makes two turns, on the smooth curve (left of A to O4 below pi and above 3 pi,
+    right between), back to where it began."""
+    c = _change_point_crank_rocker()
+    assert geokin.limits(c).full_turn
+    s = geokin.circuit(c)
+    assert s.valid.all()
+    theta = s.input_values
+    assert theta[-1] - theta[0] == pytest.approx(4 * np.pi)
+    left, right = _change_point_roots(theta)
+    crossed = (theta > np.pi) & (theta < 3 * np.pi)
+    expected = np.where(crossed[:, None], right, left)
+    on = np.min(np.abs(theta[:, None] - [np.pi, 3 * np.pi]), axis=1) < 1e-9
+    np.testing.assert_allclose(s["B"][~on], expected[~on], atol=1e-9)
+    np.testing.assert_allclose(s["B"][-1], s["B"][0], atol=1e-9)
+
+
 @pytest.mark.parametrize(("samples", "start", "near"), [
     (7201, 10.0, (0.0, 0.0)), (37, 10.0, (0.0, 0.0)), (361, 0.0, (0.5, 0.5)),
     (13, -180.0, (0.001, 0.0)), (13, -180.0, (0.0, -0.001))])

@@ -44,6 +44,22 @@ def test_a_crank_that_turns_fully_has_no_limits():
     assert found.full_turn and len(found.intervals) == 1
 
 
+@pytest.mark.parametrize("start", [0.0, -np.pi, 1.0, 2.5])
+def test_a_search_range_of_one_turn_is_searched_as_a_turn(start):
+    """Wherever a searched whole turn starts, a crank that turns fully turns fully,
+    and the triple rocker's crank rocks over one interval across the turn's seam,
+    between its closed-form limits."""
+    turn = (start, start + 2 * np.pi)
+    assert limits(coupler_fourbar(), search_range=turn).full_turn
+    found = limits(triple_rocker("crank"), search_range=turn)
+    assert not found.full_turn
+    [(lo, hi)] = found.intervals
+    expected_lo, expected_hi, _ = EXPECTED["crank"]
+    # the interval may be given a turn on or back: its width and ends are the same
+    assert abs((hi.value - lo.value) - (expected_hi - expected_lo)) < 1e-9
+    assert abs(np.angle(np.exp(1j * (lo.value - expected_lo)))) < 1e-9
+
+
 def test_limits_where_a_slider_leaves_its_segment_are_ends():
     c = Construction()
     c.input("s", kind="length", range=(0, 10))
