@@ -1129,8 +1129,9 @@ class Construction:
         equations = len(found) + len(on_lines)
         if equations != 2 * k:
             what = "under-constrained" if equations < 2 * k else "over-constrained"
+            points = "1 point needs" if k == 1 else f"{k} points need"
             raise ConstructionError(
-                f"group {quote(group)} is {what}: {k} points need {2 * k} equations "
+                f"group {quote(group)} is {what}: {points} {2 * k} equations "
                 f"(two each), got {equations} ({len(found)} distances, {len(on_lines)} "
                 f"on lines)", node=group, field="distances")
         if isinstance(near, Mapping):
