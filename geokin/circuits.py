@@ -451,8 +451,11 @@ def _closes_round(probe: Sweep, variant: int, samples: int) -> bool:
     return _one_pose(first, last, SEAM_RTOL)
 
 
-def _one_pose(first: np.ndarray, second: np.ndarray, rtol: float) -> bool:
+def _one_pose(first: np.ndarray, second: np.ndarray, rtol: float,
+              size: float | None = None) -> bool:
     """Whether two poses' coordinates agree within ``rtol`` times the first's size.
+
+    Or times ``size`` where given (a pose may lie all but at (0, 0)).
 
     Examples
     --------
@@ -461,8 +464,9 @@ def _one_pose(first: np.ndarray, second: np.ndarray, rtol: float) -> bool:
     >>> _one_pose(np.array([10.0, 0.0]), np.array([10.0, np.nan]), 1e-9)
     False
     """
-    size = max(float(np.nanmax(np.abs(first), initial=0.0)), 1e-300)
-    return bool(np.all(np.abs(first - second) <= rtol * size))
+    if size is None:
+        size = float(np.nanmax(np.abs(first), initial=0.0))
+    return bool(np.all(np.abs(first - second) <= rtol * max(size, 1e-300)))
 
 
 ROUNDING_GAP_PROBES = 17
@@ -787,10 +791,12 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
         # a closure group through a change point comes round on its other assembly:
         # on, turn by turn, till every group is back in the pose it began in
         for count in range(1, MAX_TURNS + 1):
-            # within what a turn's search joins its ends within: a start on a change
-            # point is solved to about the square root of the tolerance
+            # within what a turn's search joins its ends within (a start on a change
+            # point is solved to about the square root of the tolerance), of the
+            # group's size over the turn
             if all(_one_pose(_first_solved(passes[0][2][k]), _last_solved(passes[-1][2][k]),
-                             SEAM_RTOL) for k in groups):
+                             SEAM_RTOL, float(np.nanmax(np.abs(passes[0][2][k]))))
+                   for k in groups):
                 break
             if count == MAX_TURNS:
                 warn_outside(f"circuit of {name!r}: not back where it began after "

@@ -7,6 +7,7 @@ point is also constructible, and on input that cannot be solved.
 """
 
 import time
+import warnings
 
 import numpy as np
 import pytest
@@ -813,6 +814,36 @@ def test_a_change_point_groups_circuit_makes_two_turns_on_its_smooth_assembly():
     on = np.min(np.abs(theta[:, None] - [np.pi, 3 * np.pi]), axis=1) < 1e-9
     np.testing.assert_allclose(s["B"][~on], expected[~on], atol=1e-9)
     np.testing.assert_allclose(s["B"][-1], s["B"][0], atol=1e-9)
+
+
+def _parallelogram(group: bool):
+    c = geokin.Construction("parallelogram")
+    c.input("theta", range=(0, 2 * np.pi))  # from a change point
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 100, 0)
+    c.polar("A", "O2", 60, "theta")
+    if group:
+        c.closure("joint", ["B"], [("A", "B", 100), ("O4", "B", 60)], near={"B": (160, 0.5)})
+    else:
+        c.circle_circle("B", ("A", "O4"), (100, 60), branch="left")
+    c.link("crank", "O2", "A")
+    c.link("coupler", "A", "B")
+    c.link("rocker", "O4", "B")
+    return c
+
+
+def test_a_parallelogram_group_from_a_change_point_is_reported_as_its_circles_are():
+    """Started on a change point, where the group is found to about the square root of
+    its tolerance: the report is the circle intersection node's, a coupler that does
+    not turn and a rocker that turns fully, with no warning, not a stroke of rounding."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        by_group = geokin.analyze(_parallelogram(True))
+    by_circles = geokin.analyze(_parallelogram(False))
+    assert sorted(by_group.strokes) == sorted(by_circles.strokes) == [
+        "crank.angle", "rocker.angle"]
+    assert by_group.strokes["rocker.angle"].turns
+    assert by_group.warnings == by_circles.warnings == ()
 
 
 @pytest.mark.parametrize(("samples", "start", "near"), [

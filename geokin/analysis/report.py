@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from ..circuits import Limits, circuit, describe_limit, limits, placed_in
+from ..closure import NEAR_SINGULAR, RESIDUAL_RTOL
 from ..construction import Compiled, Construction, Slider, as_compiled
 from ..engine import meeting_rtol, sweep
 from ..errors import AnalysisError, degrees_hint, looks_like_degrees, quote, warn_of_degrees
@@ -1120,7 +1121,11 @@ def _known_to(compiled: Compiled, motion: Sweep) -> dict[str, float]:
     of the points it is found from, times its lever: 1 + 2 L / b, L its
     largest distance from them and b their widest spread (a point
     of a rigid body far out on its frame turns with the frame's error).
-    A point found from no meeting is known to rounding (0 here).
+    A closure group that comes to a singular position (its margin below
+    :data:`~geokin.closure.NEAR_SINGULAR`, as at a change point it passes)
+    is known to MEETING_SPREAD times the square root of its residual's
+    tolerance there. A point found from no meeting is known to rounding (0
+    here).
 
     Examples
     --------
@@ -1158,6 +1163,12 @@ def _known_to(compiled: Compiled, motion: Sweep) -> dict[str, float]:
             far = max(float(np.nanmax(np.abs(a))) for a in moving)
             rtol = float(meeting_rtol(far / reach))
             carried = max(carried, MEETING_SPREAD * rtol * reach)
+        margin = motion.margins.get(node.name)
+        if node.continued and margin is not None and reach > 0 and np.nanmin(
+                np.where(motion.valid, margin, np.inf), initial=np.inf) < NEAR_SINGULAR:
+            # a closure group at a singular position (a change point it passes) is found
+            # there to about the square root of its residual's tolerance
+            carried = max(carried, MEETING_SPREAD * math.sqrt(RESIDUAL_RTOL) * reach)
         for point in node.defines:
             off[point] = carried
     return off
