@@ -788,23 +788,25 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
         turn = 2 * np.pi if declared.range[1] >= declared.range[0] else -2 * np.pi
         one_turn = np.linspace(start, start + turn, samples_per_pass)
         labels = run(one_turn, labels)
-        # a closure group through a change point comes round on its other assembly:
-        # on, turn by turn, till every group is back in the pose it began in
+        # through a change point a closure group comes round on its other assembly: on,
+        # turn by turn, till every group is back in the pose it began in
         for count in range(1, MAX_TURNS + 1):
-            # within what a turn's search joins its ends within (a start on a change
-            # point is solved to about the square root of the tolerance), of the
+            turned = float(one_turn[-1] + (count - 1) * turn)
+            # a group within what a turn's search joins its ends within (a start on a
+            # change point is solved to about the square root of the tolerance), of the
             # group's size over the turn
-            if all(_one_pose(_first_solved(passes[0][2][k]), _last_solved(passes[-1][2][k]),
-                             SEAM_RTOL, float(np.nanmax(np.abs(passes[0][2][k]))))
-                   for k in groups):
+            groups_back = all(
+                _one_pose(_first_solved(passes[0][2][k]), _last_solved(passes[-1][2][k]),
+                          SEAM_RTOL, float(np.nanmax(np.abs(passes[0][2][k]))))
+                for k in groups)
+            if groups_back:
                 break
             if count == MAX_TURNS:
                 warn_outside(f"circuit of {name!r}: not back where it began after "
                              f"{MAX_TURNS} turns; the motion is given as far as it went",
                              UserWarning)
                 break
-            across = _continuing(compiled, name, held, passes[-1],
-                                 Limit(float(one_turn[-1] + (count - 1) * turn), None, "range"))
+            across = _continuing(compiled, name, held, passes[-1], Limit(turned, None, "range"))
             labels = run(one_turn + count * turn, labels, across)
     else:
         # samples evenly spaced along the motion: first a fine sampling evenly spaced in
