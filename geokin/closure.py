@@ -435,6 +435,10 @@ TANGENT_MARGIN = 1e-10
 """Below this margin a solution's tangent is not told by its Jacobian: a step from
 it starts from a sample before (see :meth:`_Path._step`)."""
 
+DIP = 100.0
+"""How many times larger the margin at the sample a step starts from instead must be
+than at the sample on the singular position (see :meth:`_Path._step`)."""
+
 MAX_BACK = 64
 """The most samples back a step from a sample at a singular position starts (see
 :meth:`_Path._step`)."""
@@ -648,7 +652,10 @@ class _Path:
         else the furthest of those), its pieces coming up to the sample and
         stepping over the crossing as anywhere else. The samples before are
         taken back only while their margins grow, not back over a crossing
-        already passed. The fraction reached is of the step from last to j.
+        already passed, and only where the margin dips there, :data:`DIP`
+        times below theirs (a crossing); where it falls slowly (a fold
+        ahead) the step is from the sample itself. The fraction reached is
+        of the step from last to j.
         """
         direct = None
         if not self.margin[last] < TANGENT_MARGIN:
@@ -666,7 +673,9 @@ class _Path:
                 break
             h -= 1
             rows.insert(0, h)
-        if h == last or len(rows) == 1:
+        # a crossing is a sharp dip of the margin; a slow fall is a fold ahead, or a long
+        # nearly singular stretch, where the step from the sample itself is the one
+        if len(rows) == 1 or not self.margin[rows[0]] >= DIP * self.margin[last]:
             return direct if direct is not None else _substeps(
                 self.system, self.unknowns, self._along(last, j), self.z[last], self.scale)
         along, cuts, bends = self._along_samples([*rows, j])
