@@ -492,14 +492,18 @@ class _Path:
         no rate is known there to step over the crossing along. The first
         sample after it that the sketch solves away from singular positions
         begins the path instead, where the path followed from it comes back
-        to sample ``first``; else the path stays as it was.
+        to sample ``first`` through the solution found there (both
+        assemblies pass through it); else the path stays as it was.
         """
         kept = (self.z.copy(), self.margin.copy(), self.singular.copy(), list(self.obstacles))
         self.z[:], self.margin[:], self.singular[:], self.obstacles = np.nan, np.nan, False, []
         regular = self._first(start, first + 1, ANCHOR_MARGIN)
         if regular is not None:
             self._from(regular, resume)
-        if not np.isfinite(self.z[first]).all():
+        # at a crossing both assemblies pass through the first solution, to about the
+        # square root of the tolerance: a path through another point is another assembly
+        back = self.z[first] - kept[0][first]
+        if not np.max(np.abs(back)) <= 10 * np.sqrt(RESIDUAL_RTOL) * self.scale:
             self.z, self.margin, self.singular, self.obstacles = kept
 
     def _first(self, start: np.ndarray, since: int = 0,

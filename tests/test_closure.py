@@ -816,6 +816,29 @@ def test_a_change_point_groups_circuit_makes_two_turns_on_its_smooth_assembly():
     np.testing.assert_allclose(s["B"][-1], s["B"][0], atol=1e-9)
 
 
+def test_a_first_sample_near_singular_but_off_a_crossing_keeps_the_sketchs_assembly():
+    """A triad whose sketch is an assembly at theta = 0, nearly singular (margin 6.7e-7)
+    but 0.47 from any other: however far the sweep gets from it, its first sample is
+    the sketch's assembly, not another one reached by starting later and following back."""
+    pts = {"D": (1.6386, 2.5683), "E": (-1.1249, -1.6079), "A": (-0.9048, -4.501),
+           "B": (-4.3289, 3.7184), "C": (2.1448, 3.715), "F": (0.8121, 0.0)}
+    pairs = [("F", "D"), ("F", "E"), ("D", "E"), ("C", "A"), ("C", "B"), ("A", "B"),
+             ("D", "A"), ("E", "B")]
+    c = geokin.Construction("triad")
+    c.input("theta")
+    c.fixed("G", 0, 0)
+    c.fixed("C", *pts["C"])
+    c.polar("F", "G", pts["F"][0], "theta")
+    c.closure("triad", list("DEAB"),
+              [(p, q, float(np.hypot(*np.subtract(pts[p], pts[q])))) for p, q in pairs],
+              near={p: pts[p] for p in "DEAB"})
+    for samples in (13, 181):
+        s = geokin.sweep(c, np.linspace(0, 2 * np.pi, samples))
+        assert s.valid[0]
+        for p in "DEAB":
+            np.testing.assert_allclose(s[p][0], pts[p], atol=1e-9)
+
+
 def _parallelogram(group: bool):
     c = geokin.Construction("parallelogram")
     c.input("theta", range=(0, 2 * np.pi))  # from a change point
