@@ -736,6 +736,23 @@ def _change_point_roots(theta):
     return a + along * e + across * normal, a + along * e - across * normal
 
 
+def _change_point_fourbar(lengths=(100, 60, 90, 70), near=(30.9078, 11.237), group=True,
+                          input_range=None):
+    """A four-bar (ground, crank, coupler, rocker) on a change point, its joint B by a
+    one-point group (sketched near ``near``) or by circles (B left of A to O4)."""
+    ground, crank, coupler, rocker = lengths
+    c = geokin.Construction("change point")
+    c.input("theta", range=input_range)
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", ground, 0)
+    c.polar("A", "O2", crank, "theta")
+    if group:
+        c.closure("dyad", ["B"], [("A", "B", coupler), ("O4", "B", rocker)], near={"B": near})
+    else:
+        c.circle_circle("B", ("A", "O4"), (coupler, rocker), branch="left")
+    return c
+
+
 @pytest.mark.parametrize("start", [0.0, -np.pi])
 @pytest.mark.parametrize("samples", [13, 361, 7201])
 def test_a_change_point_crank_rocker_group_keeps_its_smooth_assembly(start, samples):
@@ -744,12 +761,7 @@ def test_a_change_point_crank_rocker_group_keeps_its_smooth_assembly(start, samp
     the crossed one (right of it). A sample lands on pi; from [-pi, pi] the first does.
     Every sample is on that smooth assembly, in closed form."""
     theta = np.linspace(start, start + 2 * np.pi, samples)
-    c = geokin.Construction("change point")
-    c.input("theta", range=(start, start + 2 * np.pi))
-    c.fixed("O2", 0, 0)
-    c.fixed("O4", 100, 0)
-    c.polar("A", "O2", 60, "theta")
-    c.closure("dyad", ["B"], [("A", "B", 90), ("O4", "B", 70)], near={"B": (88, 69)})
+    c = _change_point_fourbar(near=(88, 69), input_range=(start, start + 2 * np.pi))
     s = geokin.sweep(c, theta)
     assert s.valid.all()
     left, right = _change_point_roots(theta)
@@ -768,16 +780,6 @@ def test_a_change_point_crank_rocker_group_keeps_its_smooth_assembly(start, samp
     assert [end.node for end in found.intervals[0]] == [None, None]
 
 
-def _change_point_crank_rocker(near=(30.9078, 11.237)):
-    c = geokin.Construction("change point")
-    c.input("theta")
-    c.fixed("O2", 0, 0)
-    c.fixed("O4", 100, 0)
-    c.polar("A", "O2", 60, "theta")
-    c.closure("dyad", ["B"], [("A", "B", 90), ("O4", "B", 70)], near={"B": near})
-    return c
-
-
 @pytest.mark.parametrize("degrees", [
     [170, 180, 170], [170, 179.998, 170], [170, 180.01, 170], [170, 180.05, 170],
     [175, 180, 180, 185], [175, 180, 180, 175], [0, 180, 360, 180, 0],
@@ -788,7 +790,7 @@ def test_a_group_turning_back_at_a_change_point_stays_on_its_smooth_assembly(deg
     However the crank turns back on it, at the change point, next to it or past it, or
     stands on it for two samples, every sample is on that curve, in closed form."""
     theta = np.radians(degrees)
-    s = geokin.sweep(_change_point_crank_rocker(), theta)
+    s = geokin.sweep(_change_point_fourbar(), theta)
     assert s.valid.all()
     left, right = _change_point_roots(theta)
     expected = np.where((theta > np.pi)[:, None], right, left)  # up to 3 pi, its next
@@ -802,7 +804,7 @@ def test_a_change_point_groups_circuit_makes_two_turns_on_its_smooth_assembly():
     from one turn on its crossed assembly: the crank turns fully, and the circuit
     makes two turns, on the smooth curve (left of A to O4 below pi and above 3 pi,
     right between), back to where it began."""
-    c = _change_point_crank_rocker()
+    c = _change_point_fourbar()
     assert geokin.limits(c).full_turn
     s = geokin.circuit(c)
     assert s.valid.all()
@@ -840,15 +842,8 @@ def test_a_first_sample_near_singular_but_off_a_crossing_keeps_the_sketchs_assem
 
 
 def _parallelogram(group: bool):
-    c = geokin.Construction("parallelogram")
-    c.input("theta", range=(0, 2 * np.pi))  # from a change point
-    c.fixed("O2", 0, 0)
-    c.fixed("O4", 100, 0)
-    c.polar("A", "O2", 60, "theta")
-    if group:
-        c.closure("joint", ["B"], [("A", "B", 100), ("O4", "B", 60)], near={"B": (160, 0.5)})
-    else:
-        c.circle_circle("B", ("A", "O4"), (100, 60), branch="left")
+    c = _change_point_fourbar((100, 60, 100, 60), near=(160, 0.5), group=group,
+                              input_range=(0, 2 * np.pi))  # from a change point
     c.link("crank", "O2", "A")
     c.link("coupler", "A", "B")
     c.link("rocker", "O4", "B")
