@@ -661,10 +661,13 @@ class _Path:
         ahead) the step is from the sample itself. The fraction reached is
         of the step from last to j.
         """
+        def from_last() -> _Crossing:
+            return _substeps(self.system, self.unknowns, self._along(last, j), self.z[last],
+                             self.scale)
+
         direct = None
         if not self.margin[last] < TANGENT_MARGIN:
-            direct = _substeps(self.system, self.unknowns, self._along(last, j), self.z[last],
-                               self.scale)
+            direct = from_last()
             if direct.solution is not None or not self.margin[last] < ANCHOR_MARGIN:
                 return direct
         rows = [last]
@@ -680,8 +683,7 @@ class _Path:
         # a crossing is a sharp dip of the margin; a slow fall is a fold ahead, or a long
         # nearly singular stretch, where the step from the sample itself is the one
         if len(rows) == 1 or not self.margin[rows[0]] >= DIP * self.margin[last]:
-            return direct if direct is not None else _substeps(
-                self.system, self.unknowns, self._along(last, j), self.z[last], self.scale)
+            return direct if direct is not None else from_last()
         along, cuts, bends = self._along_samples([*rows, j])
         crossing = _substeps(self.system, self.unknowns, along, self.z[rows[0]], self.scale,
                              bends)
