@@ -429,8 +429,9 @@ def _limits_of_variants(compiled, name, grid, held, start, turn, varied, count):
 
 
 MAX_TURNS = 4
-"""The most turns a circuit of an input that turns fully makes to bring its closure
-groups back to the pose they began in."""
+"""The most turns a circuit of an input that turns fully makes to bring the
+mechanism back to the pose it began in (through a change point a two-root node
+or a closure group comes round on its other branch or assembly)."""
 
 SEAM_RTOL = 1e-6
 """How close (times the mechanism's size) the closure groups' solutions at the two
@@ -638,9 +639,10 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
     the start. At an end that is not a tangency (a slider at the end of its
     guide) the input reverses on the same branches. An input that turns
     fully makes one turn, the way its declared range runs (clockwise for a
-    range such as (2 pi, 0)); more where a closure group comes round on
-    another assembly (through a change point), till it is back in the pose
-    it began in (at most :data:`MAX_TURNS`).
+    range such as (2 pi, 0)); more where a two-root node or a closure group
+    comes round on its other branch or assembly (through a change point),
+    till the mechanism is back in the pose it began in (at most
+    :data:`MAX_TURNS`).
 
     Parameters
     ----------
@@ -716,6 +718,7 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
     labels = dict(found.held_branches)
     groups = [step.node.name for step in compiled.steps if step.node.continued]
     passes: list[tuple[np.ndarray, dict[str, np.ndarray], dict[str, np.ndarray]]] = []
+    meetings: list[dict[tuple[str, int], float]] = []  # of each pass, see run
 
     def along(values, labels, across):
         """Evaluate the motion along ``values`` (tracked) from the given branches.
@@ -724,15 +727,48 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
         closure groups), each group continues from the positions
         ``across(values[1])`` gives at the second sample, instead of its
         sketch; the first sample, where the last pass ended, is that pass's.
-        Returns the sweep from the sample where it starts, and that index.
+        The two-root nodes are tracked over the first step all the same, the
+        groups solved at its ends from where ``across`` puts them: a change
+        point there changes their branches.
+        Returns the sweep from the sample where it starts, that index, and
+        the branch events of the first step where the sweep starts after it.
         """
         inputs = {k: np.full(len(values), v) for k, v in held.items()}
         inputs[name] = values
         if across is None or len(values) < 2:
-            return evaluate(compiled, inputs, len(values), start=labels), 0
+            return evaluate(compiled, inputs, len(values), start=labels), 0, ()
+        first_step: tuple[BranchEvent, ...] = ()
+        if labels:
+            ends = [across(v) for v in values[:2]]
+            step = evaluate(compiled, {k: v[:2] for k, v in inputs.items()}, 2,
+                            {k: np.vstack([end[k] for end in ends]) for k in ends[0]},
+                            start=labels)
+            labels = {k: int(np.ravel(b)[-1]) for k, b in step.branches.items()}
+            first_step = step.events
         inputs = {k: v[1:] for k, v in inputs.items()}
         return evaluate(compiled, inputs, len(values) - 1, start=labels,
-                        sketches=across(values[1])), 1
+                        sketches=across(values[1])), 1, first_step
+
+    def onward(labels):
+        """Return the branches the motion goes on with past the last pass's end.
+
+        Those it ended on (``labels``), but for each node whose roots meet at
+        that very sample: the motion goes on on its other branch, as a
+        tracked sweep changes branch at the sample after such a meeting. A
+        meeting within the step beyond is left to the next pass, which
+        tracks it.
+        """
+        values, branches, solved = passes[-1]
+        if not labels or len(values) < 2:
+            return labels
+        at = np.array([values[-2], values[-1], 2 * values[-1] - values[-2]])
+        inputs = {k: np.full(3, v) for k, v in held.items()}
+        inputs[name] = at
+        guesses = {k: _nearest_solved(rows)[[-2, -1, -1]] for k, rows in solved.items()}
+        seam = evaluate(compiled, inputs, 3, guesses or None,
+                        start={k: int(b[-2]) for k, b in branches.items()})
+        met = {e.node for e in seam.events if e.index == 2 and e.fraction == 0}
+        return {k: 1 - label if k in met else label for k, label in labels.items()}
 
     def run(values, labels, across=None):
         """One pass from its first value to its last, tracked from the given branches.
@@ -740,9 +776,12 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
         Returns the branches it ends on (a graze on the way changes them);
         the pass's values, branches and groups' solutions are kept in ``passes``.
         """
-        part, skip = along(values, labels, across)
+        part, skip, first_step = along(values, labels, across)
         branches = {k: np.concatenate([np.full(skip, labels[k], dtype=np.int8), b])
                     for k, b in part.branches.items()}
+        # where within its step each change of branch lies, by node and sample of the pass
+        meetings.append({**{(e.node, e.index): e.fraction for e in first_step},
+                         **{(e.node, e.index + skip): e.fraction for e in part.events}})
         solved = assembly_guesses(part)
         if skip:
             solved = {k: np.vstack([passes[-1][2][k][-1:], v]) for k, v in solved.items()}
@@ -764,7 +803,7 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
         else:
             far = max(declared.range) if upward else min(declared.range)
         values = np.linspace(value, far, REACH_SAMPLES)
-        probe, skip = along(values, labels, across)  # of values[skip:]
+        probe, skip, _ = along(values, labels, across)  # of values[skip:]
         ok = _strictly_valid(probe)
         if ok.all():
             return Limit(float(far), None, "range")
@@ -787,9 +826,11 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
     if found.full_turn:  # one turn the way the declared range runs
         turn = 2 * np.pi if declared.range[1] >= declared.range[0] else -2 * np.pi
         one_turn = np.linspace(start, start + turn, samples_per_pass)
+        initial = labels
         labels = run(one_turn, labels)
-        # through a change point a closure group comes round on its other assembly: on,
-        # turn by turn, till every group is back in the pose it began in
+        # through a change point a node or a closure group comes round on its other
+        # branch or assembly: on, turn by turn, till the mechanism is back in the pose
+        # it began in
         for count in range(1, MAX_TURNS + 1):
             turned = float(one_turn[-1] + (count - 1) * turn)
             # a group within what a turn's search joins its ends within (a start on a
@@ -799,14 +840,18 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
                 _one_pose(_first_solved(passes[0][2][k]), _last_solved(passes[-1][2][k]),
                           SEAM_RTOL, float(np.nanmax(np.abs(passes[0][2][k]))))
                 for k in groups)
-            if groups_back:
+            # the branches the motion goes on with: at a change point the pose alone
+            # cannot tell them (both branches pass through it)
+            labels = onward(labels)
+            if groups_back and labels == initial:
                 break
             if count == MAX_TURNS:
                 warn_outside(f"circuit of {name!r}: not back where it began after "
                              f"{MAX_TURNS} turns; the motion is given as far as it went",
                              UserWarning)
                 break
-            across = _continuing(compiled, name, held, passes[-1], Limit(turned, None, "range"))
+            across = (_continuing(compiled, name, held, passes[-1], Limit(turned, None, "range"))
+                      if groups else None)
             labels = run(one_turn + count * turn, labels, across)
     else:
         # samples evenly spaced along the motion: first a fine sampling evenly spaced in
@@ -819,7 +864,7 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
             count = max(2, int(np.ceil(abs(pb - pa) / np.pi * samples_per_pass)) + 1)
             fine = centre + radius * np.sin(np.linspace(pa, pb, 8 * count))
             fine[[0, -1]] = a, b
-            motion, skip = along(fine, labels, across)
+            motion, skip, _ = along(fine, labels, across)
             steps = sum(np.nan_to_num(np.hypot(*np.diff(motion.points[p], axis=0).T))
                         for p in compiled.point_names)
             travelled = np.concatenate([np.zeros(1 + skip), np.cumsum(steps)])
@@ -893,13 +938,17 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
     inputs = {k: np.full(len(values), v) for k, v in held.items()}
     inputs[name] = values
     result = evaluate(compiled, inputs, len(values), {**per_sample, **solved}, track=False)
+    # each pass's first sample is the one before's last
+    last = np.cumsum([len(p[0]) - (i > 0) for i, p in enumerate(passes)]) - 1
+    fractions = {(node, int(at) + (last[i - 1] if i else 0)): fraction
+                 for i, met in enumerate(meetings) for (node, at), fraction in met.items()}
     events = []
     for node, label in per_sample.items():
         names = compiled.step_named(node).node.branch_names
         for i in np.flatnonzero(np.diff(label)) + 1:
-            events.append(BranchEvent(node, int(i), names[label[i - 1]], names[label[i]]))
+            events.append(BranchEvent(node, int(i), names[label[i - 1]], names[label[i]],
+                                      fractions.get((node, int(i)), 0.0)))
     # a closure group goes on to its other assembly at its fold, at the end of a pass
-    last = np.cumsum([len(p[0]) - (i > 0) for i, p in enumerate(passes)]) - 1
     for pass_index, node, sheet in folds:
         events.append(BranchEvent(node, int(last[pass_index]) + 1, f"assembly {sheet ^ 1}",
                                   f"assembly {sheet}"))

@@ -113,6 +113,74 @@ def test_a_circuit_of_a_crank_that_turns_fully_is_one_turn():
     np.testing.assert_allclose(s["P"][0], s["P"][-1], atol=1e-9)
 
 
+def change_point_crank_rocker(start):
+    """Ground 10, crank 4, coupler 9, rocker 5 (4 + 10 = 9 + 5), its range from ``start``.
+
+    Its change point is at pi, where A, O4 and B line up (|A - O4| = 14 = 9 + 5).
+    """
+    c = Construction("change-point crank-rocker")
+    c.input("theta", range=(start, start + 2 * np.pi))
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 10, 0)
+    c.polar("A", "O2", 4, "theta")
+    c.circle_circle("B", ("A", "O4"), (9, 5), branch="left")
+    return c
+
+
+def assert_on_the_smooth_curve(s, dense_factor=50):
+    """Every sample of ``s`` has B 9 from A and 5 from O4 (closed form) and is where a
+    sweep 50 times denser along the same path, tracked from the same branch, puts it."""
+    theta = s.input_values
+    a = np.column_stack([4 * np.cos(theta), 4 * np.sin(theta)])
+    np.testing.assert_allclose(np.hypot(*(s["B"] - a).T), 9, rtol=1e-9)
+    np.testing.assert_allclose(np.hypot(*(s["B"] - [10, 0]).T), 5, rtol=1e-9)
+    dense = sweep(s.construction, np.linspace(theta[0], theta[-1],
+                                              (len(theta) - 1) * dense_factor + 1),
+                  start_branches={"B": int(np.ravel(s.branches["B"])[0])})
+    np.testing.assert_allclose(dense["B"][::dense_factor], s["B"], rtol=0, atol=1e-9)
+
+
+@pytest.mark.parametrize("start", [0.0, 0.3, np.pi, np.pi - 0.01])
+def test_a_circuit_through_a_change_point_turns_on_till_its_node_is_back(start):
+    """After one turn B is on its other branch, in its mirror pose: a second turn brings
+    it back, wherever the turn starts (pi - 0.01: the change point within the first step
+    of each turn). Each event is where the change point is."""
+    s = circuit(change_point_crank_rocker(start))
+    theta = s.input_values
+    # a change of branch at each change point the path passes, not at its ends
+    inside = [k for k in range(-3, 6) if theta[0] < (2 * k + 1) * np.pi < theta[-1]]
+    assert s.valid.all() and len(s.events) == len(inside) >= 1
+    for event in s.events:
+        step = theta[event.index] - theta[event.index - 1]
+        met = theta[event.index - 1] + event.fraction * step
+        assert abs(np.angle(np.exp(1j * (met - np.pi)))) < 1e-6
+    np.testing.assert_allclose(s.input_values[-1] - s.input_values[0], 4 * np.pi)
+    np.testing.assert_allclose(s["B"][-1], s["B"][0], atol=1e-9)
+    assert_on_the_smooth_curve(s)
+
+
+def test_a_circuit_with_a_group_passes_a_node_through_a_change_point_at_a_turns_seam():
+    """A closure group driven by the same crank continues from turn to turn; the
+    node's change point within the first step of the second turn still changes its
+    branch there."""
+    c = change_point_crank_rocker(np.pi - 0.01)
+    c.fixed("O6", -40, 0)
+    alone = Construction("the group's four-bar with a circle node")
+    alone.input("theta")
+    alone.fixed("O2", 0, 0)
+    alone.fixed("O6", -40, 0)
+    alone.polar("A", "O2", 4, "theta")
+    alone.circle_circle("D", ("A", "O6"), (35, 30), branch="left")
+    sketch = sweep(alone, np.array([np.pi - 0.01]))["D"][0]
+    c.closure("dyad", ["D"], [("A", "D", 35), ("O6", "D", 30)], near={"D": tuple(sketch)})
+    s = circuit(c)
+    assert s.valid.all() and len(s.events) == 2
+    np.testing.assert_allclose(s.input_values[-1] - s.input_values[0], 4 * np.pi)
+    np.testing.assert_allclose(s["B"][-1], s["B"][0], atol=1e-9)
+    np.testing.assert_allclose(s["D"], sweep(alone, s.input_values)["D"], rtol=0, atol=1e-9)
+    assert_on_the_smooth_curve(s)
+
+
 def test_a_circuit_start_outside_every_interval_is_an_error_in_radians():
     toggle = np.arccos((R1 * R1 + R2 * R2 - (R3 + R4) ** 2) / (2 * R1 * R2))
     interval = f"{-toggle:.6g} to {toggle:.6g} rad"

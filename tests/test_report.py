@@ -310,7 +310,7 @@ def test_the_report_as_data_has_the_shape_and_values_of_the_closed_form():
                      "lower_pairs": 4, "higher_pairs": 0, "inputs": 1, "matches_inputs": True,
                      "formula": "DOF = 3(3) - 2(4) - 0 = 1; 1 input"},
         "inputs": {"theta": {"kind": "angle", "full_turn": True, "intervals": [[0.0, 360.0]],
-                             "limits": []}},
+                             "limits": [], "circuit_turns": 1}},
         "warnings": [],
         "four_bars": [{"node": "B", "points": ["O2", "A", "B", "O4"],
                        "ground": pytest.approx(40, rel=1e-12),
@@ -664,25 +664,37 @@ def change_point_fourbar():
     return c
 
 
-def test_a_turn_that_does_not_bring_the_mechanism_back_is_not_timed():
-    """After one turn B is on its other branch: nothing it moves repeats, and it is said.
+def test_a_change_point_circuit_turns_on_till_the_mechanism_is_back():
+    """After one turn B is on its other branch: the circuit makes a second turn.
 
-    The strokes are those of the circuit's turn, checked on a sweep of it
-    1,000 times denser on the same branches.
+    The first turn ends in B's mirror pose (in closed form), the second
+    back where it began; the report says so, and its strokes are those of
+    both turns, checked on a sweep of them 1,000 times denser, tracked
+    through the same change points.
     """
     c = change_point_fourbar()
     report = analyze(c)
     whole = circuit(c)
-    assert whole.events
-    np.testing.assert_allclose(np.ptp(whole.inputs["theta"]), 2 * np.pi)
-    np.testing.assert_allclose(whole["B"][-1], whole["B"][0] * [1, -1], atol=1e-9)
-    assert any("not back where it began ('B', 'P' end elsewhere)" in w for w in report.warnings)
-    assert report.strokes["crank.angle"].turns
     theta = whole.inputs["theta"]
-    dense = sweep(c, np.linspace(theta[0], theta[-1], 360_001),
+    assert len(whole.events) == 2 and whole.valid.all()
+    np.testing.assert_allclose(np.ptp(theta), 4 * np.pi)
+    one_turn = int(np.flatnonzero(np.isclose(theta - theta[0], 2 * np.pi))[0])
+    np.testing.assert_allclose(whole["B"][one_turn], whole["B"][0] * [1, -1], atol=1e-9)
+    np.testing.assert_allclose(whole["B"][-1], whole["B"][0], atol=1e-9)
+    # B in closed form: 9 from A and 5 from O4, on the side the branch says
+    a = np.column_stack([4 * np.cos(theta), 4 * np.sin(theta)])
+    np.testing.assert_allclose(np.hypot(*(whole["B"] - a).T), 9, rtol=1e-9)
+    np.testing.assert_allclose(np.hypot(*(whole["B"] - [10, 0]).T), 5, rtol=1e-9)
+    assert report.inputs["theta"].circuit_turns == 2
+    assert "back in its first pose after 2 turns" in report.to_text()
+    assert not report.warnings and report.strokes["crank.angle"].turns
+    assert report.curves["B"].closed and report.curves["P"].closed
+    dense = sweep(c, np.linspace(theta[0], theta[-1], 720_001),
                   start_branches={"B": int(np.ravel(whole.branches["B"])[0])})
+    np.testing.assert_allclose(dense["B"][-1], whole["B"][0], atol=1e-9)
     for label in ("B.x", "B.y", "P.x", "P.y"):
         swing = report.strokes[label]
+        # periodic in two turns, not in one: no time ratio
         assert swing.time_ratio is None and swing.strokes_per_turn is None
         values = dense[label[0]][:, "xy".index(label[-1])]
         np.testing.assert_allclose([swing.minimum, swing.maximum], [values.min(), values.max()],

@@ -15,7 +15,7 @@ import html
 import math
 import warnings
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import partial
 from itertools import combinations
 from typing import Any
@@ -125,16 +125,23 @@ class InputReport:
     limits : tuple of LimitReport
         The ends of the intervals that a node sets, in order (an end of the
         declared range is not one).
+    circuit_turns : int or None
+        Where the input turns fully and its circuit is analysed, how many
+        turns bring the mechanism back to the pose it began in: 1, or more
+        where a node comes round on its other branch through a change point
+        (see :func:`geokin.circuit`). None otherwise, and where the mechanism
+        is not back after the circuit's turns (the report warns).
     """
 
     kind: str
     full_turn: bool
     intervals: tuple[tuple[float, float], ...]
     limits: tuple[LimitReport, ...]
+    circuit_turns: int | None = None
 
     def __repr__(self) -> str:
         if self.full_turn:
-            where = "turns fully"
+            where = "turns fully" + self._back_after()
         elif not self.intervals:
             where = "no interval"
         else:
@@ -142,11 +149,22 @@ class InputReport:
                      f"{self.intervals[-1][1]:.6g}, {len(self.limits)} limit(s)")
         return f"<InputReport ({self.kind}): {where}>"
 
+    def _back_after(self) -> str:
+        """Say after how many turns the mechanism is back, where it takes more than one."""
+        if self.circuit_turns is None or self.circuit_turns == 1:
+            return ""
+        return f", back in its first pose after {self.circuit_turns} turns"
+
     def to_dict(self) -> dict[str, Any]:
-        """Return the input as plain data: ``kind``, ``full_turn``, ``intervals``, ``limits``."""
+        """Return the input as plain data.
+
+        The keys are ``kind``, ``full_turn``, ``intervals``, ``limits`` and
+        ``circuit_turns``.
+        """
         return {"kind": self.kind, "full_turn": self.full_turn,
                 "intervals": [[low, high] for low, high in self.intervals],
-                "limits": [limit.to_dict() for limit in self.limits]}
+                "limits": [limit.to_dict() for limit in self.limits],
+                "circuit_turns": self.circuit_turns}
 
 
 @dataclass(frozen=True)
@@ -540,7 +558,7 @@ class Report:
         for name, entry in self.inputs.items():
             unit = angles if entry.kind == "angle" else lengths
             if entry.full_turn:
-                lines.append(f"input {name}: turns fully")
+                lines.append(f"input {name}: turns fully{entry._back_after()}")
                 continue
             spans = ", ".join(f"{lo:.6f}{_range_end(entry, lo)} to {hi:.6f}{unit}"
                               f"{_range_end(entry, hi)}" for lo, hi in entry.intervals)
@@ -730,8 +748,10 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False,
         low, high = compiled.inputs[name].range
         if found_limits[name].full_turn and abs(high - low) < 2 * np.pi * (1 - 1e-9):
             unit = _input_unit(compiled, name, degrees)
-            warnings.append(f"input {quote(name)} turns fully: the figures below are of one "
-                            f"whole turn, not of its declared range ({angle(low):g} to "
+            span = round(float(np.ptp(motion.inputs[name])) / (2 * np.pi))
+            whole = "one whole turn" if span == 1 else f"{span} whole turns, its circuit"
+            warnings.append(f"input {quote(name)} turns fully: the figures below are of "
+                            f"{whole}, not of its declared range ({angle(low):g} to "
                             f"{angle(high):g}{unit})")
         if len(inputs[name].intervals) > 1:
             warnings.append(_which_circuit(compiled, name, len(inputs[name].intervals),
@@ -762,16 +782,19 @@ def analyze(construction: Construction | Compiled, *, degrees: bool = False,
                         f"{off_guide_text(slider, offset, compiled.units, at)}")
     off = _known_to(compiled, motion)
     back = _returning(compiled, motion, off)
-    if _whole_turns(compiled, motion) and motion.valid[[0, -1]].all() and not all(back.values()):
+    if _whole_turns(compiled, motion) and motion.valid[[0, -1]].all():
         name = next(iter(compiled.inputs))
-        turns = round((motion.inputs[name][-1] - motion.inputs[name][0]) / (2 * np.pi))
+        turns = abs(round((motion.inputs[name][-1] - motion.inputs[name][0]) / (2 * np.pi)))
         away = [p for p, returns in back.items() if not returns]
-        warnings.append(
-            f"after {turns} turn{'s' if turns > 1 else ''} of {name!r} the mechanism is not "
-            f"back where it began ({', '.join(map(repr, away[:4]))}"
-            f"{', ...' if len(away) > 4 else ''} {'end' if len(away) > 1 else 'ends'} "
-            "elsewhere): what moves with these points is given over this motion, without "
-            "time ratios")
+        if not away and inputs[name].full_turn:
+            inputs[name] = replace(inputs[name], circuit_turns=turns)
+        elif away:
+            warnings.append(
+                f"after {turns} turn{'s' if turns > 1 else ''} of {name!r} the mechanism is "
+                f"not back where it began ({', '.join(map(repr, away[:4]))}"
+                f"{', ...' if len(away) > 4 else ''} {'end' if len(away) > 1 else 'ends'} "
+                "elsewhere): what moves with these points is given over this motion, without "
+                "time ratios")
     unit = "deg" if degrees else "rad"
     if not motion.valid.any():
         return Report(compiled.name, unit, mobility, inputs, tuple(warnings), assembled=False,
