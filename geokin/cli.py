@@ -361,10 +361,9 @@ def _circuit_of(construction, compiled, args, at):
         inp = construction.inputs[next(iter(result.inputs))]
         path = result.input_values
         value = float(from_script(inp, at))
-        if inp.kind == "angle":  # the same angle, as many turns away as the circuit is
-            value += 2 * math.pi * round((0.5 * (path.min() + path.max()) - value)
-                                         / (2 * math.pi))
         slack = float(from_script(inp, START_SLACK))  # an end copied from analyze's six decimals
+        if inp.kind == "angle":  # the same angle where the circuit first passes it
+            value = _first_passed(path, value, slack)
         if not path.min() - slack <= value <= path.max() + slack:
             raise _outside(at, inp, to_script(inp, path.min()), to_script(inp, path.max()),
                            "the circuit")
@@ -396,6 +395,39 @@ def _circuit_start(construction: Construction, compiled: Compiled, value: float)
 
 START_SLACK = 1e-6
 """How far (script units) a --start may lie outside an interval and still start at its end."""
+
+
+def _first_passed(path: np.ndarray, angle: float, slack: float) -> float:
+    """Return ``angle`` as many turns away as the circuit's ``path`` first passes it.
+
+    An angle the path reaches is meant as it is. Another is meant as many
+    turns away as the path first reaches it: a circuit of several turns
+    (through a change point) passes one angle once a turn, each time in
+    another pose. Where the path never passes it, the turn nearest its
+    middle, for the message.
+
+    Examples
+    --------
+    >>> float(np.degrees(_first_passed(np.radians([0.0, 360.0, 720.0]), np.radians(420), 0.0)))
+    420.0
+    >>> float(np.degrees(_first_passed(np.radians([0.0, 360.0, 720.0]), np.radians(-300), 0.0)))
+    60.0
+    >>> float(np.degrees(_first_passed(np.radians([0.0, -360.0, -720.0]), np.radians(60), 0.0)))
+    -300.0
+    """
+    turn = 2 * math.pi
+    low, high = float(path.min()) - slack, float(path.max()) + slack
+    if low <= angle <= high:
+        return angle
+    middle = angle + turn * round((0.5 * (low + high) - angle) / turn)
+    passed = []
+    for k in range(math.ceil((low - angle) / turn), math.floor((high - angle) / turn) + 1):
+        value = angle + k * turn
+        at = min(max(value, path.min()), path.max())
+        crossing = np.flatnonzero((path[:-1] - at) * (path[1:] - at) <= 0)
+        if crossing.size:
+            passed.append((int(crossing[0]), value))
+    return min(passed)[1] if passed else middle
 
 
 def _circuit_at(result, at):

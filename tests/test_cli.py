@@ -1302,6 +1302,29 @@ def test_a_range_for_the_first_of_several_inputs_warns_that_the_pairing_changes(
         assert (status, err) == (0, "")
 
 
+@pytest.mark.parametrize("at, drawn", [(60, 60), (420, 420), (-300, 60), (780, 60)])
+def test_at_on_a_circuit_of_two_turns_is_the_angle_where_it_first_passes(capsys, tmp_path,
+                                                                           monkeypatch, at,
+                                                                           drawn):
+    """A change-point crank-rocker's circuit makes two turns, each angle met in two poses:
+    an angle the circuit reaches is drawn there, another where the circuit first meets it."""
+    import geokin.cli as cli
+
+    script = tmp_path / "change_point.toml"
+    script.write_text((CONSTRUCTIONS / "crank_rocker.toml").read_text()
+                      .replace("l1 = { value = 40", "l1 = { value = 10")
+                      .replace("l2 = { value = 10", "l2 = { value = 4")
+                      .replace("l3 = { value = 35", "l3 = { value = 9")
+                      .replace("l4 = { value = 30", "l4 = { value = 5"))
+    shown = []
+    draw_at = cli._circuit_at
+    monkeypatch.setattr(cli, "_circuit_at", lambda result, value: (
+        shown.append(np.degrees(value)) or draw_at(result, value)))
+    status, _, err = run(capsys, "plot", script, "--circuit", "--at", at, "-o", tmp_path / "x.png")
+    assert (status, err) == (0, f"wrote {tmp_path / 'x.png'}\n")
+    assert shown == [pytest.approx(drawn, abs=1e-9)]
+
+
 def test_circuit_values_copied_from_analyze_or_turns_away_are_taken(capsys, tmp_path):
     """The double rocker's limits to six decimals, and -60 deg for 300, are in its circuits."""
     script = tmp_path / "double_rocker.toml"
