@@ -64,6 +64,7 @@ from .errors import (
     range_looks_like_degrees,
     warn_of_degrees,
 )
+from .expressions import Expr
 from .nodes import Candidates, Node, failure_reasons
 from .primitives import extremes, largest_element, least_element
 from .results import BranchEvent, PointTable, Sweep
@@ -238,11 +239,16 @@ def _plan(compiled: Compiled, varied: frozenset[str] = _NONE) -> tuple[_PlannedS
     planned = []
     fixed = compiled.parameters.keys() - varied
     found: dict[str, tuple] = {}  # the coordinates of the points found once
+    finding = {p: step.node for step in compiled.steps for p in step.node.defines}
     with np.errstate(all="ignore"):
         for step in compiled.steps:
             node = step.node
             constants, varying = {}, []
-            for field_name, expr in node.value_fields().items():
+            fields = node.value_fields()
+            length = _frame_length(node, finding)
+            if length is not None:
+                fields["frame_length"] = length
+            for field_name, expr in fields.items():
                 if expr.names() <= fixed:
                     constants[field_name] = float(expr.evaluate(compiled.parameters))
                 else:
@@ -262,6 +268,24 @@ def _plan(compiled: Compiled, varied: frozenset[str] = _NONE) -> tuple[_PlannedS
     weakref.finalize(compiled, _PLANS.pop, key, None)
     _PLANS[key] = plan
     return plan
+
+
+def _frame_length(node: Node, finding: Mapping[str, Node]) -> Expr | None:
+    """Return the distance between the two points a node is built in the frame of, if known.
+
+    Known where one lies on a circle about the other (:meth:`Node.radius_about`):
+    a coupler point in the frame of the crank pin and the joint found on a
+    circle about it. ``finding`` gives the node that finds each point.
+    """
+    frame = node.missing_where_coincide
+    if frame is None:
+        return None
+    for center, on_circle in (frame, frame[::-1]):
+        found_by = finding.get(on_circle)
+        radius = None if found_by is None else found_by.radius_about(center)
+        if radius is not None:
+            return radius
+    return None
 
 
 FRAME_RATIO = 4.0

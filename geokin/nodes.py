@@ -280,6 +280,16 @@ class Node:
         """
         return None
 
+    def radius_about(self, center: str) -> Expr | None:
+        """Return how far every root of this node is from ``center``, if it is a circle's centre.
+
+        The evaluation plan gives a node built in the frame of two points
+        (:attr:`missing_where_coincide`), one on a circle about the other,
+        that radius as the value ``frame_length``: the distance between them,
+        known without measuring it.
+        """
+        return None
+
     @property
     def equidistant_from(self) -> tuple[str, ...]:
         """Return the points every root of this node is equally far from: a circle's centre."""
@@ -478,7 +488,8 @@ class Polar(Node):
             y = _scaled_and_shifted(sin, distance, oy)
         else:
             (x1, y1), (x2, y2) = coords[self.reference[0]], coords[self.reference[1]]
-            x, y = prim.relative_point_xy(ox, oy, x1, y1, x2, y2, distance, angle)
+            x, y = prim.relative_point_xy(ox, oy, x1, y1, x2, y2, distance, angle,
+                                          values.get("frame_length"))
         return Candidates((x,), (y,))
 
 
@@ -519,7 +530,8 @@ class Local(Node):
 
     def candidates(self, coords: Coords, values: Values) -> Candidates:
         (ox, oy), (tx, ty) = coords[self.origin], coords[self.toward]
-        x, y = prim.local_point_xy(ox, oy, tx, ty, values["u"], values["v"])
+        x, y = prim.local_point_xy(ox, oy, tx, ty, values["u"], values["v"],
+                                   values.get("frame_length"))
         return Candidates((x,), (y,))
 
 
@@ -541,7 +553,8 @@ class Along(Node):
 
     def candidates(self, coords: Coords, values: Values) -> Candidates:
         (x1, y1), (x2, y2) = coords[self.line[0]], coords[self.line[1]]
-        x, y = prim.relative_point_xy(x1, y1, x1, y1, x2, y2, values["distance"], 0.0)
+        x, y = prim.relative_point_xy(x1, y1, x1, y1, x2, y2, values["distance"], 0.0,
+                                      values.get("frame_length"))
         return Candidates((x,), (y,))
 
 
@@ -633,6 +646,10 @@ class CircleCircle(_TwoRoot):
     def equidistant_from(self) -> tuple[str, ...]:
         return self.centers
 
+    def radius_about(self, center: str) -> Expr | None:
+        return next((r for c, r in zip(self.centers, self.radii, strict=True) if c == center),
+                    None)
+
     def describe(self) -> str:
         (a, b), (ra, rb) = self.centers, self.radii
         return f"circle_circle({a}, {ra}; {b}, {rb})  [{self.choice()}]"
@@ -668,6 +685,9 @@ class _LineCircle(_TwoRoot):
     @property
     def equidistant_from(self) -> tuple[str, ...]:
         return (self.center,)
+
+    def radius_about(self, center: str) -> Expr | None:
+        return self.radius if center == self.center else None
 
     @property
     def missing_by_branch(self) -> bool:

@@ -882,13 +882,23 @@ def _relative_point_rescaled(ox, oy, dx, dy, distance, angle):
     return _relative_point(ox, oy, dx / s, dy / s, distance, angle)[0]
 
 
-def relative_point_xy(ox, oy, x1, y1, x2, y2, distance, angle):
+def relative_point_xy(ox, oy, x1, y1, x2, y2, distance, angle, length=None):
     """Kernel of :func:`relative_point` on coordinate arrays.
+
+    ``length``, where given, is the distance from (x1, y1) to (x2, y2),
+    known without measuring it (a point on a circle about the other is as
+    far from it as the radius): the direction is then scaled by it, which
+    spares the square root and the check of the squares. A length that is
+    not positive somewhere, or a ratio to it that overflows, takes the
+    measured way.
 
     Examples
     --------
     >>> [round(float(v), 12) for v in relative_point_xy(0.0, 0.0, 0.0, 0.0, 0.0, 10.0, 2.0,
     ...                                                 np.pi / 2)]
+    [-2.0, 0.0]
+    >>> [round(float(v), 12) for v in relative_point_xy(0.0, 0.0, 0.0, 0.0, 0.0, 10.0, 2.0,
+    ...                                                 np.pi / 2, length=10.0)]
     [-2.0, 0.0]
     >>> with np.errstate(all="ignore"):  # a zero-length line has no direction
     ...     [float(v) for v in relative_point_xy(0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 2.0, 0.0)]
@@ -896,10 +906,35 @@ def relative_point_xy(ox, oy, x1, y1, x2, y2, distance, angle):
     """
     dx = x2 - x1
     dy = y2 - y1
+    if length is not None:
+        k = _ratio(distance, length)
+        if k is not None:
+            c, s = cos_sin(angle)
+            kc, ks = k * c, k * s  # numbers, for a constant distance and angle
+            return ox + (kc * dx - ks * dy), oy + (ks * dx + kc * dy)
     if type(dx) in _PLAIN:
         dx = np.float64(dx)
     return _guarded(_relative_point, _relative_point_rescaled, (_RP_WINDOW,),
                     ox, oy, dx, dy, distance, angle)
+
+
+def _ratio(value, length):
+    """Return ``value / length``, or None where a length is not positive or it is not finite.
+
+    Examples
+    --------
+    >>> _ratio(3.0, 2.0), _ratio(3.0, 0.0), _ratio(1e300, 1e-300)
+    (1.5, None, None)
+    """
+    if type(value) is float and type(length) is float:  # the commonest: numbers
+        if not length > 0:
+            return None
+        ratio = value / length
+        return ratio if math.isfinite(ratio) else None
+    with np.errstate(all="ignore"):
+        ratio = np.divide(value, length)
+        ok = np.all(np.asarray(length) > 0) and np.all(np.isfinite(ratio))
+    return ratio if ok else None
 
 
 def local_point(origin, toward, u, v):
@@ -956,12 +991,17 @@ def _local_point_rescaled(ox, oy, dx, dy, u, v):
     return _local_point(ox, oy, dx / s, dy / s, u, v)[0]
 
 
-def local_point_xy(ox, oy, tx, ty, u, v):
+def local_point_xy(ox, oy, tx, ty, u, v, length=None):
     """Kernel of :func:`local_point` on coordinate arrays.
+
+    ``length``, where given, is the distance from origin to toward, known
+    without measuring it, as for :func:`relative_point_xy`.
 
     Examples
     --------
     >>> [float(c) for c in local_point_xy(1.0, 1.0, 4.0, 5.0, 10.0, 5.0)]
+    [3.0, 12.0]
+    >>> [float(c) for c in local_point_xy(1.0, 1.0, 4.0, 5.0, 10.0, 5.0, length=5.0)]
     [3.0, 12.0]
     >>> with np.errstate(all="ignore"):  # origin and toward coincide: no frame
     ...     [float(c) for c in local_point_xy(1.0, 1.0, 1.0, 1.0, 2.0, 0.0)]
@@ -969,6 +1009,11 @@ def local_point_xy(ox, oy, tx, ty, u, v):
     """
     dx = tx - ox
     dy = ty - oy
+    if length is not None:
+        k = _ratio(1.0, length)
+        if k is not None:
+            ku, kv = u * k, v * k  # numbers, for coordinates that are
+            return ox + (ku * dx - kv * dy), oy + (ku * dy + kv * dx)
     if type(dx) in _PLAIN:
         dx = np.float64(dx)
     return _guarded(_local_point, _local_point_rescaled, (_RP_WINDOW,), ox, oy, dx, dy, u, v)

@@ -875,6 +875,49 @@ def test_local_point_lies_at_its_coordinates_in_the_frame(origin, toward, u, v, 
     assert abs(wrapped) <= 1e-13 + 1e-15 * C / np.hypot(u, v)
 
 
+@given(point, point, point, coord, angle, exponent, st.floats(-1.0, 1.0))
+def test_a_known_length_gives_the_relative_point_the_measured_one_gives(origin, start, through,
+                                                                          distance, theta, k,
+                                                                          error):
+    """Given the line's length, relative_point_xy scales the direction by it, as measured:
+    the same point to rounding of the configuration's size (the length given to rounding
+    too, as a radius gives it)."""
+    lam = 10.0**k
+    origin, start, through, distance = (lam * v for v in (origin, start, through, distance))
+    length = _norm(through - start)
+    assume(length > 1e-6 * lam)
+    known = length * (1 + error * 2.2e-16)
+    measured = relative_point_xy(*origin, *start, *through, distance, theta)
+    scaled = relative_point_xy(*origin, *start, *through, distance, theta, length=known)
+    C = max(_norm(origin), abs(distance), lam)
+    np.testing.assert_allclose(scaled, measured, rtol=0, atol=1e-14 * C)
+
+
+@given(point, point, coord, coord, exponent)
+def test_a_known_length_gives_the_local_point_the_measured_one_gives(origin, toward, u, v, k):
+    """local_point_xy with the frame's length given: the point it measures, to rounding."""
+    lam = 10.0**k
+    origin, toward, u, v = lam * origin, lam * toward, lam * u, lam * v
+    length = _norm(toward - origin)
+    assume(length > 1e-6 * lam)
+    measured = local_point_xy(*origin, *toward, u, v)
+    scaled = local_point_xy(*origin, *toward, u, v, length=length)
+    C = max(_norm(origin), abs(u), abs(v), lam)
+    np.testing.assert_allclose(scaled, measured, rtol=0, atol=1e-14 * C)
+
+
+@pytest.mark.parametrize("length", [0.0, -1.0, np.nan, 1e-320])
+def test_a_known_length_that_cannot_scale_takes_the_measured_way(length):
+    """A length that is not positive, or one the distance overflows against, is measured
+    instead: a zero-length line has no direction (NaN); a real one its point."""
+    with np.errstate(all="ignore"):
+        nowhere = relative_point_xy(0.0, 0.0, 1.0, 1.0, 1.0, 1.0, 2.0, 0.0, length=length)
+        assert np.isnan(nowhere).all()
+        # a subnormal length given for a line of length 10: the ratio overflows
+        here = relative_point_xy(0.0, 0.0, 0.0, 0.0, 0.0, 10.0, 1e10, 0.0, length=length)
+    np.testing.assert_allclose(here, [0.0, 1e10], rtol=1e-15)
+
+
 @given(point, point, coord, coord)
 def test_local_point_is_relative_point_by_distance_and_angle(origin, toward, u, v):
     """The coordinates (u, v) are the distance hypot(u, v) at the angle atan2(v, u)."""

@@ -497,3 +497,53 @@ def test_a_points_coordinates_cannot_be_written_through():
     with pytest.raises(ValueError, match="read-only"):
         x[0] = 99.0
     assert np.hypot(*(swept["B"][0] - swept["O4"][0])) == pytest.approx(30)
+
+
+# -- points in the frame of a joint and the centre of its circle ---------------------
+
+
+def frames_on_circles():
+    """A four-bar whose coupler and rocker carry points in frames whose length is a radius.
+
+    B is on circles of radius l3 about A and l4 about O4: each frame below is
+    as long as one of them, which the evaluation takes instead of measuring.
+    """
+    c = Construction("frames on circles")
+    c.input("theta")
+    c.parameter("l3", 35)
+    c.parameter("l4", 30)
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 40, 0)
+    c.polar("A", "O2", 10, "theta")
+    c.circle_circle("B", ("A", "O4"), ("l3", "l4"), branch="left")
+    c.local("P1", "A", "B", (20, 7))
+    c.local("P2", "B", "A", (-5, 3))
+    c.local("P3", "O4", "B", (12, -4))
+    c.polar("P4", "A", 9, np.radians(40), reference=("B", "O4"))
+    c.along("P5", ("O4", "B"), -6)
+    return c
+
+
+def in_frame(s, origin, toward, u, v):
+    """(u, v) in the frame of two points of a sweep, its length measured."""
+    d = s[toward] - s[origin]
+    d = d / np.hypot(d[..., 0], d[..., 1])[..., None]
+    return s[origin] + u * d + v * np.stack([-d[..., 1], d[..., 0]], axis=-1)
+
+
+@pytest.mark.parametrize("variants", [None, {"l3": [30.0, 35.0, 40.0], "l4": [28.0, 30.0, 33.0]}])
+def test_points_in_frames_on_circles_are_where_the_measured_frame_puts_them(variants):
+    """Each point against its frame measured on the sweep's own joints, for the
+    construction's lengths and for variants whose lengths (the frames') differ."""
+    c = frames_on_circles()
+    theta = np.linspace(0, 2 * np.pi, 361)
+    s = sweep(c, theta, parameters=variants)
+    assert s.valid.all()
+    angle = np.radians(40)
+    expected = {"P1": in_frame(s, "A", "B", 20, 7), "P2": in_frame(s, "B", "A", -5, 3),
+                "P3": in_frame(s, "O4", "B", 12, -4),
+                "P4": s["A"] + in_frame(s, "B", "O4", 9 * np.cos(angle), 9 * np.sin(angle))
+                - s["B"],
+                "P5": in_frame(s, "O4", "B", -6, 0)}
+    for name, where in expected.items():
+        np.testing.assert_allclose(s[name], where, rtol=0, atol=1e-12 * 50, err_msg=name)
