@@ -43,12 +43,14 @@ Branch rules
 
 from __future__ import annotations
 
+import functools
 import math
 import threading
 import weakref
 from collections.abc import Callable, Iterator, Mapping
 from dataclasses import dataclass, replace
 from functools import partial
+from types import MappingProxyType
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -65,6 +67,7 @@ from .errors import (
     warn_of_degrees,
 )
 from .expressions import Expr
+from .frozen import read_only, read_only_mapping
 from .nodes import Candidates, Node, failure_reasons
 from .primitives import extremes, largest_element, least_element
 from .results import BranchEvent, PointTable, Sweep
@@ -216,6 +219,8 @@ class _PlannedStep:
     known: Candidates | None = None
     # whether the node's branch can decide where it or a later node is found
     branch_decides: bool = True
+    # where that point is, if it is known and finite (no sample can fail there)
+    fixed_at: tuple[float, float] | None = None
 
 
 _PLANS: dict[tuple[int, frozenset[str]], tuple[_PlannedStep, ...]] = {}
@@ -262,7 +267,11 @@ def _plan(compiled: Compiled, varied: frozenset[str] = _NONE) -> tuple[_PlannedS
                     found[node.name] = (x, y)
                 else:
                     cand = None
-            planned.append(_PlannedStep(step.index, node, constants, tuple(varying), cand))
+            fixed_at = (found[node.name] if cand is not None
+                        and math.isfinite(found[node.name][0])
+                        and math.isfinite(found[node.name][1]) else None)
+            planned.append(_PlannedStep(step.index, node, constants, tuple(varying), cand,
+                                        fixed_at=fixed_at))
     plan = tuple(_deciding_branches(planned))
     # the plan lives as long as the construction: a later one may reuse the id
     weakref.finalize(compiled, _PLANS.pop, key, None)
@@ -449,6 +458,7 @@ class _Evaluated:
     valid: np.ndarray
     failed_step: np.ndarray
     reason_code: np.ndarray
+    complete: bool | None = None  # whether valid is True everywhere, where known
 
 
 @renamed_keywords(branches="held", initial="start")
@@ -553,18 +563,55 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
         parts.coords = {name: (x + frame[0], y + frame[1])
                         for name, (x, y) in parts.coords.items()}
 
-    def per_sample(array, dtype=float):
-        return _over_samples(np.asarray(array, dtype=dtype), n)
+    def per_sample(array):
+        return _sealed(_over_samples(np.asarray(array, dtype=float), n))
 
-    # the Sweep makes its arrays and mappings read-only
-    return Sweep(
-        construction=compiled, inputs=inputs, points=PointTable(parts.coords, parts.valid),
-        valid=parts.valid, failed_step=parts.failed_step, reason_code=parts.reason_code,
-        branches={name: per_sample(label, np.int8) for name, label in parts.labels.items()},
+    def labels(label):
+        if type(label) is int:  # one branch throughout, the commonest
+            return _throughout(label, n, "int8")
+        return read_only(_over_samples(np.asarray(label, dtype=np.int8), n))
+
+    # read-only as made, without the checks of Sweep(...): a sweep is made at every call
+    return Sweep._made_read_only(
+        construction=compiled, inputs=read_only_mapping(inputs),
+        points=PointTable(parts.coords, parts.valid, parts.complete),
+        valid=_sealed(parts.valid), failed_step=_sealed(parts.failed_step),
+        reason_code=_sealed(parts.reason_code),
+        branches=_proxy({name: labels(label) for name, label in parts.labels.items()}),
         events=tuple(parts.events),
-        margins={name: per_sample(margin) for name, margin in parts.margins.items()},
-        line_parameters={name: per_sample(t) for name, t in parts.parameters.items()},
-        parameters={} if per_path else varied)
+        margins=_proxy({name: per_sample(margin) for name, margin in parts.margins.items()}),
+        line_parameters=_proxy({name: per_sample(t) for name, t in parts.parameters.items()}),
+        parameters=read_only_mapping({} if per_path else varied))
+
+
+def _sealed(array: np.ndarray) -> np.ndarray:
+    """Return an array the evaluation made, marked read-only in place (no view needed)."""
+    if array.flags.writeable:
+        array.setflags(write=False)
+    return array
+
+
+def _proxy(mapping: dict) -> Mapping:
+    """Return a read-only view of a mapping whose values are read-only already."""
+    return MappingProxyType(mapping) if mapping else _NO_VALUES
+
+
+_NO_VALUES: Mapping = MappingProxyType({})
+
+
+@functools.lru_cache(maxsize=64)
+def _steps_of(length: float, count: int) -> np.ndarray:
+    """Return ``count`` equal steps of one ``length``: read-only, shared (a linspace's)."""
+    return _constant(length, count, shared=True)
+
+
+@functools.lru_cache(maxsize=64)
+def _throughout(value: int, n: int, dtype: str) -> np.ndarray:
+    """Return one whole number at N samples: read-only, without memory for them, shared.
+
+    A branch label, or no failing step (0) at any sample.
+    """
+    return _constant(value, n, np.dtype(dtype), shared=True)
 
 
 def _blocks_apart(plan, start, held) -> bool:
@@ -621,7 +668,7 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
             **{k: (v if per_path else v[::rows[1]]).reshape(-1, 1) for k, v in varied.items()}})
         by_rows: dict[str, tuple] = {}
     else:
-        env = _environment(compiled, {**inputs, **(varied or {})})
+        env = _environment(compiled, {**inputs, **varied} if varied else inputs)
     coords: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     label: np.ndarray | int | None
     labels: dict[str, np.ndarray | int] = {}
@@ -630,19 +677,28 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
     events: list[BranchEvent] = []
     valid = np.empty(n, dtype=bool)
     valid.fill(True)  # what np.ones does, in a third of the time
-    failed_step = np.zeros(n, dtype=np.int32)
-    reason_code = np.zeros(n, dtype=np.int8)
+    # made where a first sample fails: most sweeps have none
+    failed_step: np.ndarray | None = None
+    reason_code: np.ndarray | None = None
+    complete = True  # till a step is not found everywhere
+    # where the samples lie in the space of the inputs, for the closure groups
+    positions = None
     with np.errstate(all="ignore"):
         tracker = (_Tracker(compiled, plan, inputs, n, origin, varied, paths, per_path,
                             track_incomplete)
                    if track and n // paths >= 2 else None)
-        # where the samples lie in the space of the inputs, for the closure groups
-        positions = (_positions(env, compiled, n) if any(s.node.continued for s in plan)
-                     else None)
         for position, step in enumerate(plan):
             node = step.node
+            if step.fixed_at is not None and origin is None:
+                # a point that never moves, where it is found at every sample
+                coords[node.name] = step.fixed_at
+                if rows is not None:
+                    by_rows[node.name] = step.fixed_at
+                continue
             values = _step_values(step, env)
             if node.continued:  # all samples at once: it follows them as a path
+                if positions is None:
+                    positions = _positions(env, compiled, n)
                 # between samples, what it is found from moves as the inputs do, along
                 # the straight segment, the branches before it held as at the first
                 between = (None if any(s.node.continued for s in plan[:position]) else
@@ -660,9 +716,12 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
                 cand = step.known
             elif rows is not None:
                 cand = _candidates_in_rows(step, by_rows, values, origin, rows)
+            elif n > BLOCKED_ABOVE:
+                cand = _candidates_in_blocks(step, coords, values, origin, n)
+            elif origin is None:  # what _candidates does, without its call
+                cand = node.candidates(coords, values)
             else:
-                cand = (_candidates(step, coords, values, origin) if n <= BLOCKED_ABOVE
-                        else _candidates_in_blocks(step, coords, values, origin, n))
+                cand = _candidates(step, coords, values, origin)
             if node.roots == 1:
                 if cand.margin is not None:
                     margins[node.name] = cand.margin
@@ -695,6 +754,7 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
                 by_rows[node.name] = (_as_rows(x, rows), _as_rows(y, rows))
             if _all_finite(x, y):
                 continue
+            complete = False
             finite = np.isfinite(x) & np.isfinite(y)
             failing = valid & ~finite if np.ndim(finite) else (None if finite else valid.copy())
             if failing is not None and failing.any():
@@ -702,11 +762,16 @@ def _evaluate_steps(compiled, plan, inputs, n, held, start, origin, track,
                 # that no step's candidates are kept for later
                 if rows is not None:
                     values = {k: _as_samples(v, rows) for k, v in values.items()}
+                if failed_step is None or reason_code is None:
+                    failed_step = np.zeros(n, dtype=np.int32)
+                    reason_code = np.zeros(n, dtype=np.int8)
                 _record_failures(step, cand, values, label, failing, failed_step, reason_code)
                 valid &= ~failing
     events.sort(key=lambda e: (e.index, e.fraction))
-    return _Evaluated(coords, labels, margins, parameters, events, valid, failed_step,
-                      reason_code)
+    return _Evaluated(coords, labels, margins, parameters, events, valid,
+                      _throughout(0, n, "int32") if failed_step is None else failed_step,
+                      _throughout(0, n, "int8") if reason_code is None else reason_code,
+                      complete)
 
 
 def _positions(env, compiled, n: int) -> np.ndarray:
@@ -746,11 +811,17 @@ def _between_samples(compiled, plan, position, env, labels, origin, a, b, t):
     return parts.coords, _step_values(plan[position], step_env)
 
 
-def _constant(value: float | np.ndarray, n: int, dtype=float) -> np.ndarray:
-    """Return one number as a read-only array of N samples, without memory for them."""
+def _constant(value: float | np.ndarray, n: int, dtype=float, shared: bool = False) -> np.ndarray:
+    """Return one number as a read-only array of N samples, without memory for them.
+
+    A ``shared`` one (kept and given to several sweeps) has its one element
+    read-only too, so that none can be made writeable again.
+    """
     # what np.broadcast_to(value, (n,)) gives, a few times faster
     one = np.empty(1, dtype)
     one[0] = value
+    if shared:
+        one.setflags(write=False)
     array = np.ndarray((n,), dtype, one, 0, (0,))
     array.setflags(write=False)
     return array
@@ -1076,10 +1147,11 @@ def sweep(construction: Construction | Compiled,
 def _warn_of_degrees(compiled: Compiled, inputs: Mapping[str, np.ndarray],
                      given: ArrayLike | Mapping[str, ArrayLike]) -> None:
     """Warn of each angle input given values that run between ends that look like degrees."""
-    for name in (given if isinstance(given, Mapping) else inputs):
+    for name in (inputs if type(given) is np.ndarray or not isinstance(given, Mapping)
+                 else given):
         values = inputs[name]
         if compiled.inputs[name].kind == "angle" and values.ndim == 1:
-            low, high = float(values[0]), float(values[-1])
+            low, high = values.item(0), values.item(-1)
             if range_looks_like_degrees(low, high):
                 warn_of_degrees(f"sweep: input {name!r} runs from {low:g} to {high:g}, which "
                                 f"{degrees_hint(abs(high - low))}")
@@ -1450,7 +1522,8 @@ class _Tracker:
         travel = None
         # where the path turns back, and which steps are between finite inputs: made
         # only for paths that need them, to spare a monotone sweep two arrays
-        self.turning = np.zeros(n - 1, dtype=bool) if n > 2 else np.ones(n - 1, dtype=bool)
+        self.turning: np.ndarray | bool = (np.zeros(n - 1, dtype=bool) if n > 2
+                                           else np.ones(n - 1, dtype=bool))
         turns_back = n <= 2
         self.finite: np.ndarray | bool = True
         # each input's shortest and longest step, where it runs one way
@@ -1539,10 +1612,10 @@ class _Tracker:
         # steps either way, NaN and infinite ones fail this test
         if not 0 < shortest <= longest <= shortest + 1e-9 * longest < math.inf:
             return False
-        self.turning = np.zeros(self.n - 1, dtype=bool)
+        self.turning = False  # at no step: a number serves for all
         self.finite = True
         self.longest, self.even = longest, True
-        self.travel = _constant(longest, self.n - 1)
+        self.travel = _steps_of(longest, self.n - 1)
         if self.compiled.inputs[name].kind == "angle":
             self.angle_steps = self.travel
             self.any_coarse = longest > ANGLE_RESOLUTION * (1 + 1e-9)

@@ -174,9 +174,10 @@ def range_looks_like_degrees(low: float, high: float) -> bool:
     >>> range_looks_like_degrees(0, 360), range_looks_like_degrees(0, 6.283185307179586)
     (True, False)
     """
-    return (all((looks_like_degrees(end) or end == 0) and abs(end) <= 1e5
-                for end in (low, high))
-            and looks_like_degrees(high - low))
+    # the width first: it settles the commonest call, a range in radians, at once
+    return (looks_like_degrees(high - low)
+            and all((looks_like_degrees(end) or end == 0) and abs(end) <= 1e5
+                    for end in (low, high)))
 
 
 def degrees_hint(angle: float, converts: str = "np.radians converts degrees") -> str:

@@ -25,6 +25,7 @@ import numpy as np
 __all__ = ["Frozen", "read_only", "read_only_mapping"]
 
 K = TypeVar("K")
+F = TypeVar("F", bound="Frozen")
 
 
 def read_only(array: np.ndarray) -> np.ndarray:
@@ -66,6 +67,18 @@ class Frozen:
                 object.__setattr__(self, name, read_only(value))
             elif isinstance(value, _MAPPINGS):
                 object.__setattr__(self, name, read_only_mapping(value))
+
+    @classmethod
+    def _made_read_only(cls: type[F], **fields: Any) -> F:
+        """Make one from every field, its arrays and mappings already read-only.
+
+        What the engine makes for every sweep, without the dataclass's
+        checks: the caller guarantees what ``__post_init__`` would make sure
+        of (see :func:`read_only` and :func:`read_only_mapping`).
+        """
+        made = object.__new__(cls)
+        made.__dict__.update(fields)
+        return made
 
     def __reduce__(self) -> tuple[Any, ...]:
         values = [getattr(self, f.name) for f in dataclasses.fields(self)  # type: ignore

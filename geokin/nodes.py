@@ -134,7 +134,9 @@ Values: TypeAlias = Mapping[str, np.ndarray | float]
 """A node's evaluated value fields, angles in radians."""
 
 
-@dataclass(frozen=True, slots=True)
+# not frozen: a frozen dataclass takes four times as long to make, and every node of
+# every sweep makes one; nothing changes one once made
+@dataclass(slots=True)
 class Candidates:
     """What a node computes for every sample, before a branch is chosen.
 

@@ -620,12 +620,16 @@ class PointTable(Mapping):
         Each point's coordinates as evaluated, arrays of shape (N,) or
         numbers for a point that does not move.
     valid : ndarray of bool, shape (N,)
+    complete : bool, optional
+        Whether ``valid`` is True at every sample, where the caller knows;
+        by default it is counted when a first point is read.
     """
 
     def __init__(self, coords: Mapping[str, tuple[np.ndarray, np.ndarray]],
-                 valid: np.ndarray) -> None:
+                 valid: np.ndarray, complete: bool | None = None) -> None:
         self._coords = coords
         self._valid = valid
+        self._complete = complete
         self._stacked: dict[str, np.ndarray] = {}
 
     def xy(self, name: str) -> tuple[np.ndarray, np.ndarray]:
@@ -673,17 +677,21 @@ class PointTable(Mapping):
         return name
 
     def __getitem__(self, name: str) -> np.ndarray:
-        name = self._name(name)
         stacked = self._stacked.get(name)
-        if stacked is None:
-            x, y = self._coords[name]
-            stacked = np.empty((*self._valid.shape, 2))
-            stacked[..., 0] = x
-            stacked[..., 1] = y
+        if stacked is not None:
+            return stacked
+        name = self._name(name)
+        x, y = self._coords[name]
+        stacked = np.empty((*self._valid.shape, 2))
+        stacked[..., 0] = x
+        stacked[..., 1] = y
+        if self._complete is None:
             # as valid.all(), a few times faster
-            if np.count_nonzero(self._valid) != self._valid.size:
-                stacked[~self._valid] = np.nan
-            self._stacked[name] = stacked = read_only(stacked)
+            self._complete = np.count_nonzero(self._valid) == self._valid.size
+        if not self._complete:
+            stacked[~self._valid] = np.nan
+        stacked.setflags(write=False)  # its own memory: no view needed
+        self._stacked[name] = stacked
         return stacked
 
     def __iter__(self):
