@@ -358,11 +358,18 @@ def test_a_point_is_found_by_any_spelling_of_its_name_that_reads_the_same():
 
 def test_a_sweep_and_its_construction_cannot_be_changed_once_made():
     c = fourbar()
-    s = sweep(c, np.linspace(0, 1, 5))
+    theta = np.linspace(0, 1, 5)
+    s = sweep(c, theta)
     for array in (s.valid, s.failed_step, s.reason_code, s["B"], s.inputs["theta"],
                   s.branches["B"], s.margins["B"]):
         with pytest.raises(ValueError, match="read-only"):
             array[0] = 0
+    assert theta.flags.writeable  # the caller's own array is left as it was
+    # what sweeps may share (no failing step, one branch throughout) cannot be made
+    # writeable again through one of them
+    for array in (s.failed_step, s.reason_code, s.branches["B"]):
+        with pytest.raises(ValueError):
+            array.flags.writeable = True
     with pytest.raises(dataclasses.FrozenInstanceError):
         s.events = ()  # type: ignore[misc]
     compiled = c.compile()
