@@ -1606,7 +1606,9 @@ class _Tracker:
         other, nothing is kept and False returned.
         """
         ((name, values),) = self.inputs.items()
-        step = np.subtract(values[1:], values[:-1], out=kept_memory(self.n - 1, "tracking"))
+        # a few thousand steps cost less to allocate than to look up kept memory for
+        step = np.subtract(values[1:], values[:-1],
+                           out=kept_memory(self.n - 1, "tracking") if self.n > DOT_BELOW else None)
         low, high = extremes(step)
         shortest, longest = (low, high) if low > 0 else (-high, -low)
         # steps either way, NaN and infinite ones fail this test

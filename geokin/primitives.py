@@ -323,12 +323,16 @@ def _guarded(kernel, rescaled, windows, *args):
     of two). The common case, everything within, costs a reduction or two.
     """
     outputs, *checked = kernel(*args)
-    # a loop, not all() of a generator: this runs for most nodes of every sweep
-    for q, w in zip(checked, windows, strict=True):
-        if q is not None and not _within(q, w):
-            break
+    if len(checked) == 1:  # the commonest: one quantity, unrolled
+        if checked[0] is None or _within(checked[0], windows[0]):
+            return outputs
     else:
-        return outputs
+        # a loop, not all() of a generator: this runs for most nodes of every sweep
+        for q, w in zip(checked, windows, strict=True):
+            if q is not None and not _within(q, w):
+                break
+        else:
+            return outputs
     shape = np.shape(outputs[0])
     mask = np.zeros(shape, dtype=bool)
     for q, w in zip(checked, windows, strict=True):
@@ -363,7 +367,8 @@ def _circle_circle(x1, y1, dx, dy, r1, r2):
     largest = max(abs(r1), abs(r2)) if plain else np.maximum(np.abs(r1), np.abs(r2))
     # NaN in a reduction fails every test below, and takes the masked way
     fits = False
-    if np.ndim(d) and _nonnegative(r1) and _nonnegative(r2):
+    if (type(d) is np.ndarray and d.ndim
+            and (r1 >= 0 and r2 >= 0 if plain else _nonnegative(r1) and _nonnegative(r2))):
         if plain or np.ndim(largest) == 0:
             low, high = extremes(d)
             least, most = max(low, largest), max(high, largest)  # of the scale
@@ -508,7 +513,7 @@ def circle_circle_scale(x1, y1, r1, x2, y2, r2):
 
 def _nonnegative(r) -> bool:
     """Whether every element of ``r`` is a number >= 0 (fast for Python floats)."""
-    if isinstance(r, float | int):
+    if type(r) is float or isinstance(r, (float, int)):
         return r >= 0
     return bool(np.all(np.asarray(r) >= 0))
 
