@@ -544,7 +544,7 @@ def evaluate(construction: Construction | Compiled, inputs: Mapping[str, np.ndar
                 and all(v.shape == (paths,) for v in varied.values()))
     if per_path and any(step.node.continued for step in compiled.steps):
         varied, per_path = {k: _repeated(v, n // paths) for k, v in varied.items()}, False
-    if not per_path:
+    if varied and not per_path:
         varied = {k: np.broadcast_to(v, (n,)) for k, v in varied.items()}
     plan = _plan(compiled, frozenset(varied) if varied else _NONE)
     # a construction far from (0, 0) is found around its fixed points, its positions
