@@ -77,7 +77,7 @@ from . import display
 from .budgets import check_sweep_memory
 from .compat import renamed_attribute, renamed_keywords
 from .construction import Slider
-from .engine import BLOCKED_ABOVE, assembly_guesses, evaluate, kept_memory
+from .engine import BLOCKED_ABOVE, MEET_RTOL, assembly_guesses, evaluate, kept_memory, meeting_rtol
 from .errors import ConstructionError
 from .frozen import Frozen, read_only
 from .primitives import nearby_rows
@@ -338,11 +338,16 @@ def input_derivatives(sweep: Sweep, input_name: str | None = None, *,
 def _along(sweep: Sweep, direction: dict, h: float, label: str,
            sizes: np.ndarray | None = None,
            largest: tuple[np.ndarray, np.ndarray] | None = None,
-           frame: list | None = None) -> Derivatives:
+           frame: list | None = None, length: int | None = None,
+           one_way: bool = False) -> Derivatives:
     """Differentiate every point along a direction in the inputs' space.
 
     The construction is evaluated again at ``inputs + k * h * direction`` on
-    each sample's branches, :data:`SAMPLES_PER_BLOCK` samples at a time;
+    each sample's branches, :data:`SAMPLES_PER_BLOCK` samples at a time
+    (past a change point on the path, on the branch the path has there: see
+    :class:`_Path`; ``length`` samples a path, design variants one after the
+    other, the whole sweep by default; ``one_way`` where the first input
+    of ``direction`` is known to move one way along each);
     ``direction`` holds, per input, an array of its rate at each sample
     (inputs left out are held). ``sizes`` gives the mechanism's size at each
     sample where it differs from sample to sample (design variants).
@@ -386,10 +391,14 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
     # in another frame the sample itself is evaluated again: the sweep's own
     # positions carry the rounding of the far frame
     extra = () if origin is None else (0,)
+    path = _Path(sweep, next(iter(direction)), n if length is None else length,
+                 float(meeting_rtol(np.hypot(*middle) / size)) if size > 0 else MEET_RTOL,
+                 one_way)
     work = None
     for lo in range(0, n, SAMPLES_PER_BLOCK):
         hi = min(lo + SAMPLES_PER_BLOCK, n)
-        block = _Block(sweep, slice(lo, hi), rates, h, origin, noise, QUICK + extra, quick=True)
+        block = _Block(sweep, slice(lo, hi), rates, h, origin, noise, QUICK + extra, quick=True,
+                       path=path)
         if work is None:
             # the quick stencil's differences, in memory kept from motion to motion
             shape = (4, len(moving), 2, min(n, SAMPLES_PER_BLOCK))
@@ -405,7 +414,7 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
         # near a singular position: fourth order, where it can be assembled, else one-sided
         again = lo + np.flatnonzero(again & ok)
         if again.size:
-            fine = _Block(sweep, again, rates, h, origin, noise, CENTRAL + extra)
+            fine = _Block(sweep, again, rates, h, origin, noise, CENTRAL + extra, path=path)
             central = fine.valid(CENTRAL + extra)
             estimate = _Estimate(again[central], h)
             fine.central(central, moving, first, second, estimate)
@@ -418,7 +427,8 @@ def _along(sweep: Sweep, direction: dict, h: float, label: str,
         largest[0][rest] = largest[1][rest] = 0.0
         rest = rest[sweep.valid[rest]]
         if rest.size:
-            side = _Block(sweep, rest, rates, h, origin, noise, FORWARD + BACKWARD + extra)
+            side = _Block(sweep, rest, rates, h, origin, noise, FORWARD + BACKWARD + extra,
+                          path=path)
             forward = side.valid(FORWARD + extra)
             backward = side.valid(BACKWARD + extra) & ~forward
             for sign, mask in ((1, forward), (-1, backward)):
@@ -464,6 +474,143 @@ def _held(sweep: Sweep, at: slice | np.ndarray, times: int) -> dict:
                   for name, b in sweep.branches.items()}
     held.update(assembly_guesses(sweep, at, times))
     return held
+
+
+class _Path:
+    """Where along a sweep's path each two-root node changes branch, for its perturbations.
+
+    A perturbation of a sample lies on the path's step to a neighbouring
+    sample, or beyond the path (past its end, or past a sample where it
+    turns back). On a step it takes the branch the path has there: the
+    sample's own, changed where the step passes a change of branch (an event
+    of the sweep, at its fraction of the step). Beyond the path it takes the
+    sample's branch, changed where the node's roots meet at the sample
+    itself (within ``tolerance`` of its scale): the smooth motion through a
+    change point. So a sample on a change point is differentiated on the
+    motion, not across onto its other branch. ``length`` samples make a
+    path; the input ``driver`` measures the steps, ``one_way`` where it
+    is known to move one way along each path. What it looks at is found
+    once: the events, and the samples where a node's roots meet that a
+    perturbation can pass the path's end at (its ends, and where it turns
+    back or stands still).
+    """
+
+    def __init__(self, sweep: Sweep, driver: str, length: int, tolerance: float,
+                 one_way: bool = False):
+        self.driver = driver
+        self.values = values = sweep.inputs[driver]
+        n = len(values)
+        length = max(int(length), 1)
+        # each change of branch as (node, the samples it is ahead of, the step's ends,
+        # fraction): a meeting at a sample is also ahead of the samples repeating it
+        self.events = []
+        for e in sweep.events:
+            if e.node not in sweep.branches or not 0 < e.index < n:
+                continue
+            first = e.index - 1
+            if e.fraction == 0:
+                while first > 0 and values[first - 1] == values[e.index - 1]:
+                    first -= 1
+            self.events.append((e.node, range(first, e.index), e.index, e.fraction))
+        # the samples a perturbation can pass the path's end at: the ends of each path,
+        # and where it turns back or stands still (none along a path run one way)
+        starts = np.arange(0, n, length)
+        ends = [starts, np.minimum(starts + length - 1, n - 1)]
+        if not one_way:
+            way = np.sign(np.diff(values))
+            way[length - 1::length] = 0  # no step from one path to the next
+            ends.append(1 + np.flatnonzero(way[:-1] * way[1:] <= 0))
+        candidates = np.unique(np.concatenate(ends))
+        # of them, those where a node's roots meet, with the way from each to the next
+        # sample elsewhere on its path, and to the last one elsewhere before it (0 where
+        # there is none): repeated samples skipped
+        self.meetings: list[tuple[str, int, float, float]] = []
+        for node, margin in sweep.margins.items():
+            if node not in sweep.branches:
+                continue
+            apart = np.sqrt(np.maximum(np.asarray(margin)[candidates], 0.0))
+            for sample in candidates[apart <= tolerance]:
+                place = sample % length
+                self.meetings.append((node, int(sample),
+                                      _way_to(values, sample, sample + length - place, 1),
+                                      _way_to(values, sample, sample - place - 1, -1)))
+
+    def branch_where(self, held: dict, at: slice | np.ndarray, perturbed: np.ndarray) -> None:
+        """Give each perturbation, (K, M) values of the driver, its node's branch there.
+
+        ``held`` holds each node's branch at the samples ``at``, repeated
+        for the K perturbations (offset after offset); it is changed in place.
+        """
+        if not (self.events or self.meetings):
+            return
+        values = self.values
+        k, m = perturbed.shape
+        samples = np.arange(len(values))[at] if isinstance(at, slice) else np.asarray(at)
+
+        def column_of(sample: int) -> int | None:
+            """Return the column of ``sample`` here, None if it is not one of ``at``."""
+            place = min(int(np.searchsorted(samples, sample)), m - 1)
+            return place if samples[place] == sample else None
+
+        flips: dict[str, np.ndarray] = {}
+
+        def flip(node: str, column: int, rows: np.ndarray) -> None:
+            if node not in flips:
+                flips[node] = np.zeros((k, m), dtype=bool)
+            flips[node][rows, column] ^= True
+
+        # a step's change of branch, within the reach of the samples at its ends
+        for node, behind, after, fraction in self.events:
+            before = after - 1
+            step = values[after] - values[before]
+            if not step:
+                continue
+            for sample in (*behind, after):
+                column = column_of(sample)
+                if column is None:
+                    continue
+                u = (perturbed[:, column] - values[before]) / step
+                rows = ((u > fraction) & (u > 0) if sample < after
+                        else (u < fraction) & (u < 1))
+                if rows.any():
+                    flip(node, column, rows)
+        # beyond the path where a node's roots meet: past its ends, and where it turns
+        # back or stands still
+        for node, sample, ahead, behind_way in self.meetings:
+            if node not in held:
+                continue
+            column = column_of(sample)
+            if column is None:
+                continue
+            side = np.sign(perturbed[:, column] - values[sample])
+            beyond = (side != 0) & (side != ahead) & (side != behind_way)
+            if beyond.any():
+                flip(node, column, beyond)
+        for node, flipped in flips.items():
+            branch = held[node]
+            if np.ndim(branch) == 0:
+                branch = np.full(k * m, int(branch), dtype=np.int8)
+            branch = branch.reshape(k, m)
+            branch[flipped] = 1 - branch[flipped]
+            held[node] = branch.reshape(-1)
+
+
+def _way_to(values: np.ndarray, sample: int, stop: int, step: int) -> float:
+    """Return the sign of the way from ``sample`` to the next value elsewhere, 0 if none.
+
+    The next values are looked at ``step`` by ``step`` (1 ahead, -1 behind)
+    up to ``stop`` (excluded), the end of the sample's path.
+
+    Examples
+    --------
+    >>> values = np.array([0.0, 1.0, 1.0, 0.5])
+    >>> _way_to(values, 1, 4, 1), _way_to(values, 1, -1, -1), _way_to(values, 0, -1, -1)
+    (-1.0, -1.0, 0.0)
+    """
+    for other in range(sample + step, stop, step):
+        if values[other] != values[sample]:
+            return float(np.sign(values[other] - values[sample]))
+    return 0.0
 
 
 def _in_frame(sweep: Sweep, origin: tuple[float, float]) -> Sweep:
@@ -516,7 +663,8 @@ class _Block:
 
     def __init__(self, sweep: Sweep, at: slice | np.ndarray, rates: dict, h: float,
                  origin: tuple[float, float] | None, noise: float | np.ndarray,
-                 offsets: tuple[int, ...] = CENTRAL, quick: bool = False):
+                 offsets: tuple[int, ...] = CENTRAL, quick: bool = False,
+                 path: _Path | None = None):
         self.sweep, self.at, self.h, self.noise = sweep, at, h, noise
         self.offsets = offsets
         m, k = len(sweep.valid[at]), len(offsets)
@@ -528,6 +676,8 @@ class _Block:
             inputs[name] = ((values[at] + steps * rates[name][at]).reshape(-1) if name in rates
                             else np.tile(values[at], k))
         held = _held(sweep, at, k)
+        if path is not None:
+            path.branch_where(held, at, inputs[path.driver].reshape(k, m))
         varied = {name: np.tile(values[at], k) for name, values in sweep.parameters.items()}
         # the quick stencil's perturbations are rows of nearby inputs, evaluated in one
         # piece (SAMPLES_PER_BLOCK): their angles' cosines follow from the first row's
@@ -1095,7 +1245,8 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
     sizes = _sizes(whole)  # once: each sample's scale, for its step, noise and flags
     largest = (np.empty(n), np.empty(n))
     frame: list = []
-    d = _along(sweep, rates, _time_step(sweep, rates, step), driver, sizes, largest, frame)
+    d = _along(sweep, rates, _time_step(sweep, rates, step), driver, sizes, largest, frame,
+               length=n // (count or 1), one_way=bool(one_way))
     velocity = d.first
     accel = d.second
     velocity_error, acceleration_error = d.first_error, d.second_error
@@ -1110,7 +1261,8 @@ def motion(sweep: Sweep, input_name: str | None = None, *, speed: ArrayLike | No
                                for p in accel}
     elif accelerating:
         # the inputs' own accelerations add a first derivative along them
-        extra = _along(sweep, accelerating, _time_step(sweep, accelerating, step), driver, sizes)
+        extra = _along(sweep, accelerating, _time_step(sweep, accelerating, step), driver, sizes,
+                       length=n // (count or 1))
         accel = {p: accel[p] + extra.first[p] for p in accel}
         acceleration_error = acceleration_error + extra.first_error
         acceleration_errors = {p: acceleration_errors[p] + extra.first_errors[p] for p in accel}

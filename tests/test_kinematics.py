@@ -691,3 +691,62 @@ def test_a_sliders_point_off_its_guide_line_is_found_where_it_is_farthest(offset
     size = np.ptp(np.concatenate([s[p] for p in s.construction.point_names]), axis=0).max()
     assert ("beside" in found) == (offset > GUIDE_RTOL * size)
     assert "block" not in found
+
+
+# -- samples on a change point ---------------------------------------------------------
+
+
+def change_point_fourbar(ground, crank, coupler, rocker):
+    """A four-bar whose B is on circles about A and O4, on its left branch."""
+    c = Construction("change point")
+    c.input("theta")
+    c.parameter("l3", coupler)
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", ground, 0)
+    c.polar("A", "O2", crank, "theta")
+    c.circle_circle("B", ("A", "O4"), ("l3", rocker), branch="left")
+    c.link("rocker", "O4", "B")
+    return c
+
+
+@pytest.mark.parametrize("variants", [None, {"l3": [10.0, 10.0]}])
+def test_a_parallelogram_is_differentiated_on_its_motion_at_its_change_points(variants):
+    """A parallelogram's rocker turns with its crank: B = O4 + 4 (cos, sin) at every
+    sample, its change points at 0, 180 and 360 deg included, where B's roots meet and a
+    perturbation past the sample on the same branch would be on the crossed assembly."""
+    c = change_point_fourbar(10, 4, 10, 4)
+    theta = np.linspace(0, 2 * np.pi, 361)
+    m = motion(sweep(c, theta, parameters=variants), speed=1.0)
+    turn = np.stack([np.cos(theta), np.sin(theta)], axis=-1)
+    velocity, acceleration = m.velocity["B"], m.acceleration["B"]
+    np.testing.assert_allclose(velocity, np.broadcast_to(4 * turn @ [[0, 1], [-1, 0]],
+                                                         velocity.shape), rtol=0, atol=1e-6)
+    np.testing.assert_allclose(acceleration, np.broadcast_to(-4 * turn, acceleration.shape),
+                               rtol=0, atol=1e-4)
+    np.testing.assert_allclose(m.angular_velocity["rocker"], 1.0, rtol=0, atol=1e-6)
+
+
+@pytest.mark.parametrize("theta", [np.linspace(0, 2 * np.pi, 361),
+                                   np.radians(np.arange(178.0, 183.0)),
+                                   np.radians(np.r_[np.arange(170.0, 180.0),
+                                                    np.arange(180.0, 169.0, -1)]),
+                                   np.radians([178.0, 179.0, 180.0, 180.0, 181.0, 182.0]),
+                                   np.linspace(0, np.pi, 181)])
+def test_a_sample_on_a_change_point_is_differentiated_on_the_motion_through_it(theta):
+    """Ground 10, crank 4, coupler 9, rocker 5: B's roots meet at 180 deg, where the
+    motion goes on smoothly on the other branch. The rates there are those of a dense
+    sweep through it, tracked across it: on the path, where it turns back there, where it
+    stands still there a sample and where it ends there."""
+    c = change_point_fourbar(10, 4, 9, 5)
+    m = motion(sweep(c, theta), speed=1.0)
+    at = int(np.argmin(np.abs(theta - np.pi)))
+    assert theta[at] == np.pi
+    delta = 1e-3
+    # the direction the path arrives in: from below 180 deg on every path here
+    dense = sweep(c, np.pi + np.array([-delta, 0.0, delta]),
+                  start_branches={"B": int(np.ravel(m.sweep.branches["B"])[at - 1])})
+    b = dense["B"]
+    np.testing.assert_allclose(m.velocity["B"][at], (b[2] - b[0]) / (2 * delta), rtol=0,
+                               atol=1e-5)
+    np.testing.assert_allclose(m.acceleration["B"][at], (b[2] - 2 * b[1] + b[0]) / delta**2,
+                               rtol=0, atol=1e-4)
