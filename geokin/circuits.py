@@ -720,34 +720,49 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
     passes: list[tuple[np.ndarray, dict[str, np.ndarray], dict[str, np.ndarray]]] = []
     meetings: list[dict[tuple[str, int], float]] = []  # of each pass, see run
 
-    def along(values, labels, across):
+    def along(values, labels, across, sketches=None):
         """Evaluate the motion along ``values`` (tracked) from the given branches.
 
-        With ``across`` (a pass after the first, in a construction with
-        closure groups), each group continues from the positions
-        ``across(values[1])`` gives at the second sample, instead of its
-        sketch; the first sample, where the last pass ended, is that pass's.
-        The two-root nodes are tracked over the first step all the same, the
-        groups solved at its ends from where ``across`` puts them: a change
-        point there changes their branches.
-        Returns the sweep from the sample where it starts, that index, and
-        the branch events of the first step where the sweep starts after it.
+        With ``across`` (a pass after the first, past a fold, in a
+        construction with closure groups), each group continues from the
+        positions ``across(values[1])`` gives at the second sample, instead
+        of its sketch; the first sample, where the last pass ended, is that
+        pass's. The two-root nodes are tracked over the first step all the
+        same, the groups solved near where ``across`` puts them: a change
+        point there, or at the second sample itself, changes their branches.
+        With ``sketches`` instead (a turn after the first), each group
+        continues from these positions at the first sample.
+        Returns the sweep from the sample where it starts, that index, the
+        branch events before it (their indices in the pass), and the branch
+        of each node whose roots meet at that sample, where it differs from
+        the branch the sweep goes on with.
         """
         inputs = {k: np.full(len(values), v) for k, v in held.items()}
         inputs[name] = values
         if across is None or len(values) < 2:
-            return evaluate(compiled, inputs, len(values), start=labels), 0, ()
+            return (evaluate(compiled, inputs, len(values), start=labels, sketches=sketches),
+                    0, (), {})
         first_step: tuple[BranchEvent, ...] = ()
+        at_meeting: dict[str, int] = {}
         if labels:
-            ends = [across(v) for v in values[:2]]
-            step = evaluate(compiled, {k: v[:2] for k, v in inputs.items()}, 2,
+            # the first step, and the one after it for a meeting at the second sample:
+            # the sweep from there would go on on the branch it meets on
+            probe = values[:3]
+            ends = [across(v) for v in probe]
+            step = evaluate(compiled, {k: v[:len(probe)] for k, v in inputs.items()},
+                            len(probe),
                             {k: np.vstack([end[k] for end in ends]) for k in ends[0]},
                             start=labels)
-            labels = {k: int(np.ravel(b)[-1]) for k, b in step.branches.items()}
-            first_step = step.events
+            labels = {k: int(np.ravel(b)[1]) for k, b in step.branches.items()}
+            first_step = tuple(e for e in step.events if e.index == 1)
+            for e in step.events:
+                if e.index == 2 and e.fraction == 0:
+                    at_meeting[e.node] = labels[e.node]
+                    labels[e.node] = 1 - labels[e.node]
+                    first_step += (e,)
         inputs = {k: v[1:] for k, v in inputs.items()}
-        return evaluate(compiled, inputs, len(values) - 1, start=labels,
-                        sketches=across(values[1])), 1, first_step
+        return (evaluate(compiled, inputs, len(values) - 1, start=labels,
+                         sketches=across(values[1])), 1, first_step, at_meeting)
 
     def onward(labels):
         """Return the branches the motion goes on with past the last pass's end.
@@ -770,15 +785,17 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
         met = {e.node for e in seam.events if e.index == 2 and e.fraction == 0}
         return {k: 1 - label if k in met else label for k, label in labels.items()}
 
-    def run(values, labels, across=None):
+    def run(values, labels, across=None, sketches=None):
         """One pass from its first value to its last, tracked from the given branches.
 
         Returns the branches it ends on (a graze on the way changes them);
         the pass's values, branches and groups' solutions are kept in ``passes``.
         """
-        part, skip, first_step = along(values, labels, across)
+        part, skip, first_step, at_meeting = along(values, labels, across, sketches)
         branches = {k: np.concatenate([np.full(skip, labels[k], dtype=np.int8), b])
                     for k, b in part.branches.items()}
+        for node, label in at_meeting.items():
+            branches[node][skip] = label  # it changes branch after the sample it meets at
         # where within its step each change of branch lies, by node and sample of the pass
         meetings.append({**{(e.node, e.index): e.fraction for e in first_step},
                          **{(e.node, e.index + skip): e.fraction for e in part.events}})
@@ -803,7 +820,7 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
         else:
             far = max(declared.range) if upward else min(declared.range)
         values = np.linspace(value, far, REACH_SAMPLES)
-        probe, skip, _ = along(values, labels, across)  # of values[skip:]
+        probe, skip, _, _ = along(values, labels, across)  # of values[skip:]
         ok = _strictly_valid(probe)
         if ok.all():
             return Limit(float(far), None, "range")
@@ -832,7 +849,6 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
         # branch or assembly: on, turn by turn, till the mechanism is back in the pose
         # it began in
         for count in range(1, MAX_TURNS + 1):
-            turned = float(one_turn[-1] + (count - 1) * turn)
             # a group within what a turn's search joins its ends within (a start on a
             # change point is solved to about the square root of the tolerance), of the
             # group's size over the turn
@@ -850,9 +866,11 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
                              f"{MAX_TURNS} turns; the motion is given as far as it went",
                              UserWarning)
                 break
-            across = (_continuing(compiled, name, held, passes[-1], Limit(turned, None, "range"))
-                      if groups else None)
-            labels = run(one_turn + count * turn, labels, across)
+            # each group goes on from where the turn before ended, the same input value:
+            # its continuation follows it over the first step, change points included
+            labels = run(one_turn + count * turn, labels,
+                         sketches={k: _last_solved(v) for k, v in passes[-1][2].items()}
+                         or None)
     else:
         # samples evenly spaced along the motion: first a fine sampling evenly spaced in
         # phi, where input = centre + radius * sin(phi), which crowds towards the limits
@@ -864,7 +882,7 @@ def circuit(construction: Construction | Compiled, input_name: str | None = None
             count = max(2, int(np.ceil(abs(pb - pa) / np.pi * samples_per_pass)) + 1)
             fine = centre + radius * np.sin(np.linspace(pa, pb, 8 * count))
             fine[[0, -1]] = a, b
-            motion, skip, _ = along(fine, labels, across)
+            motion, skip, _, _ = along(fine, labels, across)
             steps = sum(np.nan_to_num(np.hypot(*np.diff(motion.points[p], axis=0).T))
                         for p in compiled.point_names)
             travelled = np.concatenate([np.zeros(1 + skip), np.cumsum(steps)])

@@ -159,11 +159,12 @@ def test_a_circuit_through_a_change_point_turns_on_till_its_node_is_back(start):
     assert_on_the_smooth_curve(s)
 
 
-def test_a_circuit_with_a_group_passes_a_node_through_a_change_point_at_a_turns_seam():
+@pytest.mark.parametrize("start", [np.pi - 0.01, np.pi - np.pi / 180])
+def test_a_circuit_with_a_group_passes_a_node_through_a_change_point_at_a_turns_seam(start):
     """A closure group driven by the same crank continues from turn to turn; the
-    node's change point within the first step of the second turn still changes its
-    branch there."""
-    c = change_point_crank_rocker(np.pi - 0.01)
+    node's change point within the first step of the second turn, or on its second
+    sample, still changes its branch there."""
+    c = change_point_crank_rocker(start)
     c.fixed("O6", -40, 0)
     alone = Construction("the group's four-bar with a circle node")
     alone.input("theta")
@@ -171,7 +172,7 @@ def test_a_circuit_with_a_group_passes_a_node_through_a_change_point_at_a_turns_
     alone.fixed("O6", -40, 0)
     alone.polar("A", "O2", 4, "theta")
     alone.circle_circle("D", ("A", "O6"), (35, 30), branch="left")
-    sketch = sweep(alone, np.array([np.pi - 0.01]))["D"][0]
+    sketch = sweep(alone, np.array([start]))["D"][0]
     c.closure("dyad", ["D"], [("A", "D", 35), ("O6", "D", 30)], near={"D": tuple(sketch)})
     s = circuit(c)
     assert s.valid.all() and len(s.events) == 2
@@ -179,6 +180,32 @@ def test_a_circuit_with_a_group_passes_a_node_through_a_change_point_at_a_turns_
     np.testing.assert_allclose(s["B"][-1], s["B"][0], atol=1e-9)
     np.testing.assert_allclose(s["D"], sweep(alone, s.input_values)["D"], rtol=0, atol=1e-9)
     assert_on_the_smooth_curve(s)
+
+
+@pytest.mark.parametrize("start, backwards", [(np.pi - 0.01, False), (np.pi + 0.01, True),
+                                              (np.pi - np.pi / 180, False)])
+def test_a_groups_change_point_in_the_first_step_of_a_turn_is_passed_each_turn(start,
+                                                                             backwards):
+    """B as a one-point closure group of the change-point crank-rocker, its change point
+    within the first step of each turn (or on its second sample), either way round: two
+    turns, back where it began, every sample where the circle node's circuit puts B."""
+    ends = (start + 2 * np.pi, start) if backwards else (start, start + 2 * np.pi)
+    c = Construction("change-point crank-rocker, B by a group")
+    c.input("theta", range=ends)
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", 10, 0)
+    c.polar("A", "O2", 4, "theta")
+    near = circuit(change_point_crank_rocker(start))["B"][0]
+    c.closure("dyad", ["B"], [("A", "B", 9), ("O4", "B", 5)], near={"B": tuple(near)})
+    s = circuit(c)
+    assert s.valid.all()
+    np.testing.assert_allclose(abs(s.input_values[-1] - s.input_values[0]), 4 * np.pi)
+    np.testing.assert_allclose(s["B"][-1], s["B"][0], atol=1e-9)
+    # the smooth motion: B by circles, tracked along the same path from the same pose
+    by_circles = [sweep(change_point_crank_rocker(start), s.input_values,
+                        start_branches={"B": branch}) for branch in (0, 1)]
+    same = min(by_circles, key=lambda other: float(np.abs(other["B"][0] - s["B"][0]).max()))
+    np.testing.assert_allclose(s["B"], same["B"], rtol=0, atol=1e-6)
 
 
 def test_a_circuit_start_outside_every_interval_is_an_error_in_radians():
