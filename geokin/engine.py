@@ -814,14 +814,15 @@ def _between_samples(compiled, plan, position, env, labels, origin, a, b, t):
 def _constant(value: float | np.ndarray, n: int, dtype=float, shared: bool = False) -> np.ndarray:
     """Return one number as a read-only array of N samples, without memory for them.
 
-    A ``shared`` one (kept and given to several sweeps) has its one element
-    read-only too, so that none can be made writeable again.
+    A ``shared`` one (kept and given to several sweeps) holds its one element
+    in immutable bytes, so that neither it nor its base can be made writeable
+    again.
     """
     # what np.broadcast_to(value, (n,)) gives, a few times faster
     one = np.empty(1, dtype)
     one[0] = value
     if shared:
-        one.setflags(write=False)
+        one = np.frombuffer(one.tobytes(), dtype)
     array = np.ndarray((n,), dtype, one, 0, (0,))
     array.setflags(write=False)
     return array
