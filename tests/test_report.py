@@ -686,7 +686,7 @@ def test_a_change_point_circuit_turns_on_till_the_mechanism_is_back():
     np.testing.assert_allclose(np.hypot(*(whole["B"] - a).T), 9, rtol=1e-9)
     np.testing.assert_allclose(np.hypot(*(whole["B"] - [10, 0]).T), 5, rtol=1e-9)
     assert report.inputs["theta"].circuit_turns == 2
-    assert "back in its first pose after 2 turns" in report.to_text()
+    assert "turns fully, its motion repeating after 2 turns" in report.to_text()
     assert not report.warnings and report.strokes["crank.angle"].turns
     assert report.curves["B"].closed and report.curves["P"].closed
     dense = sweep(c, np.linspace(theta[0], theta[-1], 720_001),

@@ -126,11 +126,13 @@ class InputReport:
         The ends of the intervals that a node sets, in order (an end of the
         declared range is not one).
     circuit_turns : int or None
-        Where the input turns fully and its circuit is analysed, how many
-        turns bring the mechanism back to the pose it began in: 1, or more
-        where a node comes round on its other branch through a change point
-        (see :func:`geokin.circuit`). None otherwise, and where the mechanism
-        is not back after the circuit's turns (the report warns).
+        Where the input turns fully and its circuit is analysed, after how
+        many turns the mechanism's motion repeats: 1, or more where a node
+        comes round on its other branch through a change point (see
+        :func:`geokin.circuit`; started on the change point itself, it is
+        back in the same pose after one turn, yet goes on on the other
+        branch). None otherwise, and where the mechanism is not back after
+        the circuit's turns (the report warns).
     """
 
     kind: str
@@ -150,10 +152,10 @@ class InputReport:
         return f"<InputReport ({self.kind}): {where}>"
 
     def _back_after(self) -> str:
-        """Say after how many turns the mechanism is back, where it takes more than one."""
+        """Say after how many turns the motion repeats, where it takes more than one."""
         if self.circuit_turns is None or self.circuit_turns == 1:
             return ""
-        return f", back in its first pose after {self.circuit_turns} turns"
+        return f", its motion repeating after {self.circuit_turns} turns"
 
     def to_dict(self) -> dict[str, Any]:
         """Return the input as plain data.
