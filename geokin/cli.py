@@ -362,7 +362,7 @@ def _circuit_of(construction, compiled, args, at):
         path = result.input_values
         value = float(from_script(inp, at))
         slack = float(from_script(inp, START_SLACK))  # an end copied from analyze's six decimals
-        if inp.kind == "angle":  # the same angle where the circuit first passes it
+        if inp.kind == "angle":  # the same angle, where the circuit's motion meets it
             value = _first_passed(path, value, slack)
         if not path.min() - slack <= value <= path.max() + slack:
             raise _outside(at, inp, to_script(inp, path.min()), to_script(inp, path.max()),
@@ -398,27 +398,34 @@ START_SLACK = 1e-6
 
 
 def _first_passed(path: np.ndarray, angle: float, slack: float) -> float:
-    """Return ``angle`` as many turns away as the circuit's ``path`` first passes it.
+    """Return ``angle`` as many turns away as the circuit's ``path`` meets it in its motion.
 
-    An angle the path reaches is meant as it is. Another is meant as many
-    turns away as the path first reaches it: a circuit of several turns
-    (through a change point) passes one angle once a turn, each time in
-    another pose. Where the path never passes it, the turn nearest its
-    middle, for the message.
+    An angle the path reaches is meant as it is. Beyond a circuit of whole
+    turns, which the mechanism repeats (two through a change point, where
+    each angle has another pose in each turn), it is meant as many circuits
+    away as it is: the same pose. Beyond any other circuit, as many turns
+    away as the path first reaches it; where it never does, the turn
+    nearest the path's middle, for the message.
 
     Examples
     --------
-    >>> float(np.degrees(_first_passed(np.radians([0.0, 360.0, 720.0]), np.radians(420), 0.0)))
-    420.0
-    >>> float(np.degrees(_first_passed(np.radians([0.0, 360.0, 720.0]), np.radians(-300), 0.0)))
-    60.0
-    >>> float(np.degrees(_first_passed(np.radians([0.0, -360.0, -720.0]), np.radians(60), 0.0)))
+    >>> two_turns = np.radians([0.0, 360.0, 720.0])
+    >>> [float(np.degrees(_first_passed(two_turns, np.radians(a), 0.0)))
+    ...  for a in (420, 1120, -40, -300)]
+    [420.0, 400.0, 680.0, 420.0]
+    >>> float(np.degrees(_first_passed(np.radians([0.0, -360.0]), np.radians(60), 0.0)))
     -300.0
+    >>> float(np.degrees(_first_passed(np.radians([-90.0, 90.0, -90.0]), np.radians(300), 0.0)))
+    -60.0
     """
     turn = 2 * math.pi
     low, high = float(path.min()) - slack, float(path.max()) + slack
     if low <= angle <= high:
         return angle
+    span = float(path[-1] - path[0])
+    turns = round(span / turn)
+    if turns and abs(span - turns * turn) <= 1e-9 * abs(span):
+        return float(path[0]) + (angle - float(path[0])) % span
     middle = angle + turn * round((0.5 * (low + high) - angle) / turn)
     passed = []
     for k in range(math.ceil((low - angle) / turn), math.floor((high - angle) / turn) + 1):

@@ -1302,12 +1302,14 @@ def test_a_range_for_the_first_of_several_inputs_warns_that_the_pairing_changes(
         assert (status, err) == (0, "")
 
 
-@pytest.mark.parametrize("at, drawn", [(60, 60), (420, 420), (-300, 60), (780, 60)])
-def test_at_on_a_circuit_of_two_turns_is_the_angle_where_it_first_passes(capsys, tmp_path,
-                                                                           monkeypatch, at,
-                                                                           drawn):
+@pytest.mark.parametrize("at, drawn", [(60, 60), (420, 420), (780, 60), (1120, 400),
+                                       (-40, 680), (-300, 420)])
+def test_at_on_a_circuit_of_two_turns_is_the_angle_in_the_motion_it_repeats(capsys, tmp_path,
+                                                                          monkeypatch, at,
+                                                                          drawn):
     """A change-point crank-rocker's circuit makes two turns, each angle met in two poses:
-    an angle the circuit reaches is drawn there, another where the circuit first meets it."""
+    an angle the circuit reaches is drawn there, another as many circuits away (two turns
+    each) as it is, the pose the mechanism is in there."""
     import geokin.cli as cli
 
     script = tmp_path / "change_point.toml"
