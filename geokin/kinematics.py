@@ -479,18 +479,20 @@ def _held(sweep: Sweep, at: slice | np.ndarray, times: int) -> dict:
 class _Path:
     """Where along a sweep's path each two-root node changes branch, for its perturbations.
 
-    A perturbation of a sample lies on the path's step to a neighbouring
-    sample, or beyond the path (past its end, or past a sample where it
-    turns back). On a step it takes the branch the path has there: the
-    sample's own, changed where the step passes a change of branch (an event
-    of the sweep, at its fraction of the step). Beyond the path it takes the
+    A perturbation of a sample lies on the path's steps near it, or beyond
+    the path (past its end, or past a sample where it turns back). On the
+    path it takes the branch the path has there: the sample's own, changed
+    at each change of branch (an event of the sweep, at its fraction of its
+    step) between the sample and it, a few steps away for a dense sweep
+    (the path taken to run one way that near). Beyond the path it takes the
     sample's branch, changed where the node's roots meet at the sample
     itself (within ``tolerance`` of its scale): the smooth motion through a
     change point. So a sample on a change point is differentiated on the
     motion, not across onto its other branch. ``length`` samples make a
     path; the input ``driver`` measures the steps, ``one_way`` where it
     is known to move one way along each path. What it looks at is found
-    once: the events, and the samples where a node's roots meet that a
+    once: the events, sorted, so that a block of samples looks at those
+    within its reach only, and the samples where a node's roots meet that a
     perturbation can pass the path's end at (its ends, and where it turns
     back or stands still).
     """
@@ -501,17 +503,25 @@ class _Path:
         self.values = values = sweep.inputs[driver]
         n = len(values)
         length = max(int(length), 1)
-        # each change of branch as (node, the samples it is ahead of, the step's ends,
-        # fraction): a meeting at a sample is also ahead of the samples repeating it
-        self.events = []
-        for e in sweep.events:
-            if e.node not in sweep.branches or not 0 < e.index < n:
-                continue
-            first = e.index - 1
-            if e.fraction == 0:
-                while first > 0 and values[first - 1] == values[e.index - 1]:
-                    first -= 1
-            self.events.append((e.node, range(first, e.index), e.index, e.fraction))
+        # each change of branch: its node, the step it is on (the sample after it), and
+        # where along the input its roots meet; sorted by step
+        kept = [e for e in sweep.events if e.node in sweep.branches and 0 < e.index < n]
+        kept.sort(key=lambda e: e.index)
+        self.nodes = list(sweep.branches)
+        code = {name: i for i, name in enumerate(self.nodes)}
+        self.event_codes = np.array([code[e.node] for e in kept], dtype=np.intp)
+        self.event_steps = np.array([e.index for e in kept], dtype=np.intp)
+        self.event_at = np.array([values[e.index - 1]
+                                  + e.fraction * (values[e.index] - values[e.index - 1])
+                                  for e in kept], dtype=float)
+        self.event_on_sample = np.array([e.fraction == 0 for e in kept], dtype=bool)
+        self.length = length
+        # the shortest step the input takes: how many samples a perturbation can reach
+        self.shortest = math.inf
+        if kept:
+            steps = np.abs(np.diff(values))
+            moving = steps[steps > 0]
+            self.shortest = float(moving.min()) if moving.size else math.inf
         # the samples a perturbation can pass the path's end at: the ends of each path,
         # and where it turns back or stands still (none along a path run one way)
         starts = np.arange(0, n, length)
@@ -524,16 +534,21 @@ class _Path:
         # of them, those where a node's roots meet, with the way from each to the next
         # sample elsewhere on its path, and to the last one elsewhere before it (0 where
         # there is none): repeated samples skipped
-        self.meetings: list[tuple[str, int, float, float]] = []
+        meetings = []
         for node, margin in sweep.margins.items():
             if node not in sweep.branches:
                 continue
             apart = np.sqrt(np.maximum(np.asarray(margin)[candidates], 0.0))
             for sample in candidates[apart <= tolerance]:
                 place = sample % length
-                self.meetings.append((node, int(sample),
-                                      _way_to(values, sample, sample + length - place, 1),
-                                      _way_to(values, sample, sample - place - 1, -1)))
+                meetings.append((int(sample), node,
+                                 _way_to(values, sample, sample + length - place, 1),
+                                 _way_to(values, sample, sample - place - 1, -1)))
+        meetings.sort(key=lambda meeting: meeting[0])
+        self.meeting_samples = np.array([mt[0] for mt in meetings], dtype=np.intp)
+        self.meeting_codes = np.array([code[mt[1]] for mt in meetings], dtype=np.intp)
+        self.meeting_ahead = np.array([mt[2] for mt in meetings], dtype=float)
+        self.meeting_behind = np.array([mt[3] for mt in meetings], dtype=float)
 
     def branch_where(self, held: dict, at: slice | np.ndarray, perturbed: np.ndarray) -> None:
         """Give each perturbation, (K, M) values of the driver, its node's branch there.
@@ -541,52 +556,75 @@ class _Path:
         ``held`` holds each node's branch at the samples ``at``, repeated
         for the K perturbations (offset after offset); it is changed in place.
         """
-        if not (self.events or self.meetings):
+        if not (self.event_steps.size or self.meeting_samples.size):
             return
         values = self.values
         k, m = perturbed.shape
-        samples = np.arange(len(values))[at] if isinstance(at, slice) else np.asarray(at)
+        samples = (np.arange(*at.indices(len(values))) if isinstance(at, slice)
+                   else np.asarray(at))
+        # how many times each perturbation passes a change of branch, by node
+        passes: dict[str, np.ndarray] = {}
 
-        def column_of(sample: int) -> int | None:
-            """Return the column of ``sample`` here, None if it is not one of ``at``."""
-            place = min(int(np.searchsorted(samples, sample)), m - 1)
-            return place if samples[place] == sample else None
-
-        flips: dict[str, np.ndarray] = {}
-
-        def flip(node: str, column: int, rows: np.ndarray) -> None:
-            if node not in flips:
-                flips[node] = np.zeros((k, m), dtype=bool)
-            flips[node][rows, column] ^= True
-
-        # a step's change of branch, within the reach of the samples at its ends
-        for node, behind, after, fraction in self.events:
-            before = after - 1
-            step = values[after] - values[before]
-            if not step:
-                continue
-            for sample in (*behind, after):
-                column = column_of(sample)
-                if column is None:
+        def count(nodes: np.ndarray, columns: np.ndarray, passed: np.ndarray) -> None:
+            """Count ``passed`` (K, P), the perturbations at ``columns`` (P,), by node."""
+            for code in np.unique(nodes):
+                name = self.nodes[code]
+                if name not in held:
                     continue
-                u = (perturbed[:, column] - values[before]) / step
-                rows = ((u > fraction) & (u > 0) if sample < after
-                        else (u < fraction) & (u < 1))
-                if rows.any():
-                    flip(node, column, rows)
+                mine = nodes == code
+                if name not in passes:
+                    passes[name] = np.zeros((k, m), dtype=np.int32)
+                rows, which = np.nonzero(passed[:, mine])
+                np.add.at(passes[name], (rows, columns[mine][which]), 1)
+
+        # a change of branch between a sample and its perturbation along the path: the
+        # events on the steps within their reach, a few samples for a dense sweep
+        if self.event_steps.size:
+            reach = float(np.max(np.abs(perturbed - values[samples]), initial=0.0))
+            around = 1 + (int(math.ceil(reach / self.shortest)) if reach < math.inf else 0)
+            first = np.searchsorted(self.event_steps, samples[0] - around + 1)
+            last = np.searchsorted(self.event_steps, samples[-1] + around, side="right")
+            steps = self.event_steps[first:last]
+            # each event's samples within reach on its own path, as columns here
+            starts = (steps - 1) // self.length * self.length
+            los = np.searchsorted(samples, np.maximum(steps - around, starts))
+            his = np.searchsorted(samples, np.minimum(steps - 1 + around,
+                                                      starts + self.length - 1), side="right")
+            many = np.maximum(his - los, 0)
+            if many.any():
+                # one pair per event and column it reaches
+                event = first + np.repeat(np.arange(steps.size), many)
+                offset = np.arange(int(many.sum())) - np.repeat(np.cumsum(many) - many, many)
+                columns = np.repeat(los, many) + offset
+                here = values[samples[columns]]
+                t = perturbed[:, columns]
+                meets = self.event_at[event]
+                # roots meeting between the sample and the perturbation; at the sample
+                # itself, for the perturbations the way the path goes on from it
+                passed = (here - meets) * (t - meets) < 0
+                way = np.sign(values[self.event_steps[event]] - meets)
+                passed |= (self.event_on_sample[event] & (here == meets)
+                           & (samples[columns] < self.event_steps[event])
+                           & (np.sign(t - meets) == way))
+                count(self.event_codes[event], columns, passed)
         # beyond the path where a node's roots meet: past its ends, and where it turns
         # back or stands still
-        for node, sample, ahead, behind_way in self.meetings:
-            if node not in held:
+        first = np.searchsorted(self.meeting_samples, samples[0])
+        last = np.searchsorted(self.meeting_samples, samples[-1], side="right")
+        if last > first:
+            at_samples = self.meeting_samples[first:last]
+            place = np.minimum(np.searchsorted(samples, at_samples), m - 1)
+            here = samples[place] == at_samples
+            chosen = first + np.flatnonzero(here)
+            columns = place[here]
+            side = np.sign(perturbed[:, columns] - values[self.meeting_samples[chosen]])
+            beyond = ((side != 0) & (side != self.meeting_ahead[chosen])
+                      & (side != self.meeting_behind[chosen]))
+            count(self.meeting_codes[chosen], columns, beyond)
+        for node, passed in passes.items():
+            flipped = (passed % 2).astype(bool)
+            if not flipped.any():
                 continue
-            column = column_of(sample)
-            if column is None:
-                continue
-            side = np.sign(perturbed[:, column] - values[sample])
-            beyond = (side != 0) & (side != ahead) & (side != behind_way)
-            if beyond.any():
-                flip(node, column, beyond)
-        for node, flipped in flips.items():
             branch = held[node]
             if np.ndim(branch) == 0:
                 branch = np.full(k * m, int(branch), dtype=np.int8)

@@ -750,3 +750,22 @@ def test_a_sample_on_a_change_point_is_differentiated_on_the_motion_through_it(t
                                atol=1e-5)
     np.testing.assert_allclose(m.acceleration["B"][at], (b[2] - 2 * b[1] + b[0]) / delta**2,
                                rtol=0, atol=1e-4)
+
+
+def test_samples_denser_than_the_perturbation_are_differentiated_on_the_motion_near_it():
+    """36,001 samples a turn, closer than the perturbation's reach: the samples near the
+    change point at 180 deg are differentiated on the path, where their perturbations
+    pass it, as central differences of a tracked sweep about each of them say."""
+    c = change_point_fourbar(10, 4, 9, 5)
+    theta = np.linspace(0, 2 * np.pi, 36_001)
+    s = sweep(c, theta)
+    m = motion(s, speed=1.0)
+    near = np.flatnonzero((np.abs(theta - np.pi) < 1e-3) & (np.abs(theta - np.pi) > 1e-6))
+    assert near.size >= 8
+    delta = 1e-7
+    for i in near:
+        around = sweep(c, theta[i] + np.array([-delta, 0.0, delta]),
+                       start_branches={"B": int(np.ravel(s.branches["B"])[i])})
+        b = around["B"]
+        np.testing.assert_allclose(m.velocity["B"][i], (b[2] - b[0]) / (2 * delta), rtol=0,
+                                   atol=1e-3, err_msg=f"sample {i}")
