@@ -600,16 +600,10 @@ _NO_VALUES: Mapping = MappingProxyType({})
 
 
 @functools.lru_cache(maxsize=64)
-def _steps_of(length: float, count: int) -> np.ndarray:
-    """Return ``count`` equal steps of one ``length``: read-only, shared (a linspace's)."""
-    return _constant(length, count, shared=True)
+def _throughout(value: float, n: int, dtype: str = "float64") -> np.ndarray:
+    """Return one number at N samples: read-only, without memory for them, shared.
 
-
-@functools.lru_cache(maxsize=64)
-def _throughout(value: int, n: int, dtype: str) -> np.ndarray:
-    """Return one whole number at N samples: read-only, without memory for them, shared.
-
-    A branch label, or no failing step (0) at any sample.
+    A branch label, no failing step (0) at any sample, or a linspace's steps.
     """
     return _constant(value, n, np.dtype(dtype), shared=True)
 
@@ -1618,7 +1612,7 @@ class _Tracker:
         self.turning = False  # at no step: a number serves for all
         self.finite = True
         self.longest, self.even = longest, True
-        self.travel = _steps_of(longest, self.n - 1)
+        self.travel = _throughout(longest, self.n - 1)
         if self.compiled.inputs[name].kind == "angle":
             self.angle_steps = self.travel
             self.any_coarse = longest > ANGLE_RESOLUTION * (1 + 1e-9)
