@@ -97,6 +97,24 @@ def parallelograms_in_series(x=0.0, y=0.0):
     return c
 
 
+def change_point_fourbar(ground=10.0, crank=4.0, coupler=9.0, rocker=5.0, start=None):
+    """A four-bar whose B is on circles about A (radius parameter ``l3``) and O4, left branch.
+
+    By default a change-point crank-rocker (4 + 10 = 9 + 5): at pi A, O4 and
+    B line up, and B's roots meet. With ``start``, the input's range is the
+    turn from there.
+    """
+    c = Construction("change-point four-bar")
+    c.input("theta", range=None if start is None else (start, start + 2 * np.pi))
+    c.parameter("l3", coupler)
+    c.fixed("O2", 0, 0)
+    c.fixed("O4", ground, 0)
+    c.polar("A", "O2", crank, "theta")
+    c.circle_circle("B", ("A", "O4"), ("l3", rocker), branch="left")
+    c.link("rocker", "O4", "B")
+    return c
+
+
 def fourbar_closed_form(theta2, a, b, c, d, omega2=1.0, sign=-1):
     """Coupler and rocker angles and rates of a four-bar, by Freudenstein and Norton.
 

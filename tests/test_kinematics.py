@@ -1,6 +1,15 @@
 import numpy as np
 import pytest
-from mechanisms import R1, R2, R3, R4, coupler_fourbar, slider_crank_closed_form, triple_rocker
+from mechanisms import (
+    R1,
+    R2,
+    R3,
+    R4,
+    change_point_fourbar,
+    coupler_fourbar,
+    slider_crank_closed_form,
+    triple_rocker,
+)
 
 from geokin import Construction, sweep
 from geokin.kinematics import (
@@ -694,19 +703,6 @@ def test_a_sliders_point_off_its_guide_line_is_found_where_it_is_farthest(offset
 
 
 # -- samples on a change point ---------------------------------------------------------
-
-
-def change_point_fourbar(ground, crank, coupler, rocker):
-    """A four-bar whose B is on circles about A and O4, on its left branch."""
-    c = Construction("change point")
-    c.input("theta")
-    c.parameter("l3", coupler)
-    c.fixed("O2", 0, 0)
-    c.fixed("O4", ground, 0)
-    c.polar("A", "O2", crank, "theta")
-    c.circle_circle("B", ("A", "O4"), ("l3", rocker), branch="left")
-    c.link("rocker", "O4", "B")
-    return c
 
 
 @pytest.mark.parametrize("variants", [None, {"l3": [10.0, 10.0]}])

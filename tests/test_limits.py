@@ -2,7 +2,17 @@ import numpy as np
 import pytest
 from hypothesis import assume, given, settings
 from hypothesis import strategies as st
-from mechanisms import R1, R2, R3, R4, coupler_fourbar, five_bar, fourbar, triple_rocker
+from mechanisms import (
+    R1,
+    R2,
+    R3,
+    R4,
+    change_point_fourbar,
+    coupler_fourbar,
+    five_bar,
+    fourbar,
+    triple_rocker,
+)
 
 import geokin
 from geokin import AssemblyError, Construction, ConstructionError, sweep
@@ -113,20 +123,6 @@ def test_a_circuit_of_a_crank_that_turns_fully_is_one_turn():
     np.testing.assert_allclose(s["P"][0], s["P"][-1], atol=1e-9)
 
 
-def change_point_crank_rocker(start):
-    """Ground 10, crank 4, coupler 9, rocker 5 (4 + 10 = 9 + 5), its range from ``start``.
-
-    Its change point is at pi, where A, O4 and B line up (|A - O4| = 14 = 9 + 5).
-    """
-    c = Construction("change-point crank-rocker")
-    c.input("theta", range=(start, start + 2 * np.pi))
-    c.fixed("O2", 0, 0)
-    c.fixed("O4", 10, 0)
-    c.polar("A", "O2", 4, "theta")
-    c.circle_circle("B", ("A", "O4"), (9, 5), branch="left")
-    return c
-
-
 def assert_on_the_smooth_curve(s, dense_factor=50):
     """Every sample of ``s`` has B 9 from A and 5 from O4 (closed form) and is where a
     sweep 50 times denser along the same path, tracked from the same branch, puts it."""
@@ -145,7 +141,7 @@ def test_a_circuit_through_a_change_point_turns_on_till_its_node_is_back(start):
     """After one turn B is on its other branch, in its mirror pose: a second turn brings
     it back, wherever the turn starts (pi - 0.01: the change point within the first step
     of each turn). Each event is where the change point is."""
-    s = circuit(change_point_crank_rocker(start))
+    s = circuit(change_point_fourbar(start=start))
     theta = s.input_values
     # a change of branch at each change point the path passes, not at its ends
     inside = [k for k in range(-3, 6) if theta[0] < (2 * k + 1) * np.pi < theta[-1]]
@@ -164,7 +160,7 @@ def test_a_circuit_with_a_group_passes_a_node_through_a_change_point_at_a_turns_
     """A closure group driven by the same crank continues from turn to turn; the
     node's change point within the first step of the second turn, or on its second
     sample, still changes its branch there."""
-    c = change_point_crank_rocker(start)
+    c = change_point_fourbar(start=start)
     c.fixed("O6", -40, 0)
     alone = Construction("the group's four-bar with a circle node")
     alone.input("theta")
@@ -195,14 +191,14 @@ def test_a_groups_change_point_in_the_first_step_of_a_turn_is_passed_each_turn(s
     c.fixed("O2", 0, 0)
     c.fixed("O4", 10, 0)
     c.polar("A", "O2", 4, "theta")
-    near = circuit(change_point_crank_rocker(start))["B"][0]
+    near = circuit(change_point_fourbar(start=start))["B"][0]
     c.closure("dyad", ["B"], [("A", "B", 9), ("O4", "B", 5)], near={"B": tuple(near)})
     s = circuit(c)
     assert s.valid.all()
     np.testing.assert_allclose(abs(s.input_values[-1] - s.input_values[0]), 4 * np.pi)
     np.testing.assert_allclose(s["B"][-1], s["B"][0], atol=1e-9)
     # the smooth motion: B by circles, tracked along the same path from the same pose
-    by_circles = [sweep(change_point_crank_rocker(start), s.input_values,
+    by_circles = [sweep(change_point_fourbar(start=start), s.input_values,
                         start_branches={"B": branch}) for branch in (0, 1)]
     same = min(by_circles, key=lambda other: float(np.abs(other["B"][0] - s["B"][0]).max()))
     np.testing.assert_allclose(s["B"], same["B"], rtol=0, atol=1e-6)
